@@ -1,0 +1,49 @@
+// posefilter/depth_image.h — depth (and colour) images and their PNG I/O.
+//
+// Depth is camera z in metres (not range along the ray), row-major, width×height floats.
+// 0 means missing; a depth image never holds NaN/inf after loading (loaders reject them).
+// 16-bit PNG convention (BOP, SPEC §2): metres = png_value × depth_scale; 0 = missing.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace posefilter {
+
+struct DepthImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> data;  // row-major, metres, 0 = missing
+
+  DepthImage() = default;
+  DepthImage(int w, int h, float fill = 0.f) : width(w), height(h), data(size_t(w) * h, fill) {}
+  float& at(int u, int v) { return data[size_t(v) * width + u]; }
+  float at(int u, int v) const { return data[size_t(v) * width + u]; }
+  bool empty() const { return data.empty(); }
+  // Number of pixels with a valid (> 0) depth.
+  size_t CountValid() const;
+};
+
+// 8-bit RGB image, row-major, 3 bytes per pixel (for overlays).
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> data;  // size width*height*3
+
+  RgbImage() = default;
+  RgbImage(int w, int h) : width(w), height(h), data(size_t(w) * h * 3, 0) {}
+  std::uint8_t* px(int u, int v) { return &data[(size_t(v) * width + u) * 3]; }
+};
+
+// Reads a 16-bit (or 8-bit) single-channel PNG; metres = value × depth_scale.
+// Throws Error naming the file if missing, not a PNG, corrupt, not single-channel, or if
+// depth_scale is not finite and positive.
+DepthImage LoadDepthPng(const std::string& path, double depth_scale);
+// Writes a 16-bit PNG with value = round(metres / depth_scale), clamped to 65535; missing → 0.
+void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth_scale);
+// Reads an 8-bit RGB/RGBA/gray PNG as RGB. Throws Error naming the file on failure.
+RgbImage LoadRgbPng(const std::string& path);
+void SaveRgbPng(const RgbImage& image, const std::string& path);
+
+}  // namespace posefilter

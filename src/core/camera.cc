@@ -1,0 +1,57 @@
+// core/camera.cc — validation of the pinhole camera (include/posefilter/camera.h).
+#include "posefilter/camera.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace posefilter {
+
+namespace {
+
+// Largest accepted image side, pixels. Real sensors are far below; the bound keeps
+// width·height (and the images allocated from a camera file) from overflowing.
+constexpr int kMaxImageSide = 100000;
+
+// Tolerance on base_to_camera's rotation block: max |RᵀR − I| and |det R − 1|. Loose enough for
+// matrices typed with 4–6 decimals in a JSON file, tight enough to catch a scale or a shear.
+constexpr double kRotationTolerance = 1e-3;
+
+bool Fail(std::string* why, const std::string& message) {
+  if (why != nullptr) *why = message;
+  return false;
+}
+
+}  // namespace
+
+bool Camera::IsValid(std::string* why) const {
+  if (width <= 0 || width > kMaxImageSide) {
+    return Fail(why, "width must be in [1, " + std::to_string(kMaxImageSide) + "] pixels (got " +
+                         std::to_string(width) + ")");
+  }
+  if (height <= 0 || height > kMaxImageSide) {
+    return Fail(why, "height must be in [1, " + std::to_string(kMaxImageSide) +
+                         "] pixels (got " + std::to_string(height) + ")");
+  }
+  if (!std::isfinite(fx) || fx <= 0) return Fail(why, "fx must be finite and > 0");
+  if (!std::isfinite(fy) || fy <= 0) return Fail(why, "fy must be finite and > 0");
+  if (!std::isfinite(cx)) return Fail(why, "cx must be finite");
+  if (!std::isfinite(cy)) return Fail(why, "cy must be finite");
+
+  const Eigen::Matrix4d& m = base_to_camera.matrix();
+  if (!m.allFinite()) return Fail(why, "base_to_camera must be finite");
+  if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9) {
+    return Fail(why, "base_to_camera's last row must be [0, 0, 0, 1]");
+  }
+  const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
+  const double ortho_err = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double det = r.determinant();
+  if (ortho_err > kRotationTolerance || std::abs(det - 1.0) > kRotationTolerance) {
+    std::ostringstream os;
+    os << "base_to_camera's 3x3 block must be a rotation (max |R^T R - I| = " << ortho_err
+       << ", det = " << det << ", tolerance " << kRotationTolerance << ")";
+    return Fail(why, os.str());
+  }
+  return true;
+}
+
+}  // namespace posefilter

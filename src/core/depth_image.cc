@@ -1,0 +1,361 @@
+// core/depth_image.cc — PNG I/O of depth and colour images with libpng's classic API.
+//
+// libpng reports errors by longjmp. To keep that well-defined in C++, every setjmp lives in a
+// small function whose frame holds only trivially destructible locals, and the longjmp only
+// unwinds libpng's C frames and our error callback; all C++ objects (buffers, row pointers)
+// are allocated by the callers before/after those functions. libpng's error text is copied
+// into a fixed buffer and turned into posefilter::Error by the caller.
+#include "posefilter/depth_image.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "posefilter/error.h"
+
+namespace posefilter {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Error plumbing shared by reader and writer.
+
+struct PngMessage {
+  char text[256] = "";
+};
+
+void PngErrorFn(png_structp png, png_const_charp msg) {
+  auto* m = static_cast<PngMessage*>(png_get_error_ptr(png));
+  if (m != nullptr) {
+    std::snprintf(m->text, sizeof(m->text), "%s", msg != nullptr ? msg : "unknown libpng error");
+  }
+  png_longjmp(png, 1);
+}
+
+void PngWarningFn(png_structp, png_const_charp) {}  // warnings (e.g. sRGB profile) are ignored
+
+// ---------------------------------------------------------------------------------------------
+// Reading.
+
+// What the caller wants from a PNG, applied as libpng transformations.
+enum class ReadMode { kRaw, kRgb8 };
+
+struct PngReadState {
+  FILE* fp = nullptr;
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  PngMessage msg;
+  // Filled by PngReadHeader:
+  png_uint_32 width = 0, height = 0;
+  int bit_depth = 0, color_type = 0;
+  size_t rowbytes = 0;  // bytes per row after the transformations
+  int channels = 0;     // channels per pixel after the transformations
+};
+
+void PngReadClose(PngReadState* s) {
+  if (s->png != nullptr) png_destroy_read_struct(&s->png, s->info != nullptr ? &s->info : nullptr, nullptr);
+  s->png = nullptr;
+  s->info = nullptr;
+  if (s->fp != nullptr) std::fclose(s->fp);
+  s->fp = nullptr;
+}
+
+// RAII owner of a PngReadState (lives in the C++ caller's frame, never crossed by longjmp).
+class PngReader {
+ public:
+  PngReader() = default;
+  PngReader(const PngReader&) = delete;
+  PngReader& operator=(const PngReader&) = delete;
+  ~PngReader() { PngReadClose(&s); }
+  PngReadState s;
+};
+
+// Opens the file, checks the signature and reads the header. For kRgb8 it also sets up the
+// conversion to 8-bit RGB. Returns false with s->msg set on failure.
+// Only trivially destructible locals: see the file comment.
+bool PngReadHeader(PngReadState* s, const char* path, ReadMode mode) {
+  s->fp = std::fopen(path, "rb");
+  if (s->fp == nullptr) {
+    std::snprintf(s->msg.text, sizeof(s->msg.text), "cannot open (%s)", std::strerror(errno));
+    return false;
+  }
+  unsigned char sig[8];
+  if (std::fread(sig, 1, 8, s->fp) != 8 || png_sig_cmp(sig, 0, 8) != 0) {
+    std::snprintf(s->msg.text, sizeof(s->msg.text), "not a PNG file");
+    return false;
+  }
+  s->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s->msg, PngErrorFn, PngWarningFn);
+  if (s->png == nullptr) {
+    std::snprintf(s->msg.text, sizeof(s->msg.text), "libpng initialisation failed");
+    return false;
+  }
+  s->info = png_create_info_struct(s->png);
+  if (s->info == nullptr) {
+    std::snprintf(s->msg.text, sizeof(s->msg.text), "libpng initialisation failed");
+    return false;
+  }
+  if (setjmp(png_jmpbuf(s->png))) return false;
+  png_init_io(s->png, s->fp);
+  png_set_sig_bytes(s->png, 8);
+  png_read_info(s->png, s->info);
+  s->width = png_get_image_width(s->png, s->info);
+  s->height = png_get_image_height(s->png, s->info);
+  s->bit_depth = png_get_bit_depth(s->png, s->info);
+  s->color_type = png_get_color_type(s->png, s->info);
+  if (mode == ReadMode::kRgb8) {
+    if (s->color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(s->png);
+    if (s->color_type == PNG_COLOR_TYPE_GRAY && s->bit_depth < 8) {
+      png_set_expand_gray_1_2_4_to_8(s->png);
+    }
+    if (s->bit_depth == 16) png_set_strip_16(s->png);
+    if ((s->color_type & PNG_COLOR_MASK_ALPHA) != 0) png_set_strip_alpha(s->png);
+    if (s->color_type == PNG_COLOR_TYPE_GRAY || s->color_type == PNG_COLOR_TYPE_GRAY_ALPHA) {
+      png_set_gray_to_rgb(s->png);
+    }
+    // tRNS (transparency for palette/gray/RGB) is left unexpanded: RGB stays 3 channels.
+  }
+  png_set_interlace_handling(s->png);
+  png_read_update_info(s->png, s->info);
+  s->rowbytes = png_get_rowbytes(s->png, s->info);
+  s->channels = png_get_channels(s->png, s->info);
+  return true;
+}
+
+// Reads all rows into the caller's buffers (row pointers prepared by the caller).
+bool PngReadRows(PngReadState* s, png_bytep* rows) {
+  if (setjmp(png_jmpbuf(s->png))) return false;
+  png_read_image(s->png, rows);
+  png_read_end(s->png, nullptr);
+  return true;
+}
+
+// Opens `path`, reads the header and all rows. Returns the raw transformed rows, packed.
+std::vector<std::uint8_t> ReadPngPixels(const std::string& path, const char* what, ReadMode mode,
+                                        PngReader* reader) {
+  PngReadState* s = &reader->s;
+  if (!PngReadHeader(s, path.c_str(), mode)) {
+    throw Error(path + ": cannot read " + what + " PNG: " + s->msg.text);
+  }
+  if (s->width == 0 || s->height == 0) throw Error(path + ": " + what + " PNG has zero size");
+  // Guard the allocation against absurd headers (libpng already caps sides at 1e6).
+  const unsigned long long total = static_cast<unsigned long long>(s->rowbytes) * s->height;
+  if (total > (1ull << 32)) throw Error(path + ": " + what + " PNG is too large");
+  std::vector<std::uint8_t> pixels(static_cast<size_t>(total));
+  std::vector<png_bytep> rows(s->height);
+  for (png_uint_32 r = 0; r < s->height; ++r) rows[r] = pixels.data() + size_t(r) * s->rowbytes;
+  if (!PngReadRows(s, rows.data())) {
+    throw Error(path + ": corrupt or truncated " + what + " PNG: " + s->msg.text);
+  }
+  return pixels;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing.
+
+struct PngWriteState {
+  FILE* fp = nullptr;
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  PngMessage msg;
+};
+
+class PngWriter {
+ public:
+  PngWriter() = default;
+  PngWriter(const PngWriter&) = delete;
+  PngWriter& operator=(const PngWriter&) = delete;
+  ~PngWriter() {
+    if (s.png != nullptr) png_destroy_write_struct(&s.png, s.info != nullptr ? &s.info : nullptr);
+    if (s.fp != nullptr) std::fclose(s.fp);
+  }
+  PngWriteState s;
+};
+
+// Writes a whole non-interlaced image. color_type PNG_COLOR_TYPE_GRAY or _RGB. Rows must already
+// be in PNG byte order (16-bit samples big-endian).
+bool PngWriteAll(PngWriteState* s, const char* path, png_uint_32 w, png_uint_32 h, int bit_depth,
+                 int color_type, png_bytep* rows) {
+  s->fp = std::fopen(path, "wb");
+  if (s->fp == nullptr) {
+    std::snprintf(s->msg.text, sizeof(s->msg.text), "cannot open for writing (%s)",
+                  std::strerror(errno));
+    return false;
+  }
+  s->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s->msg, PngErrorFn, PngWarningFn);
+  if (s->png == nullptr) {
+    std::snprintf(s->msg.text, sizeof(s->msg.text), "libpng initialisation failed");
+    return false;
+  }
+  s->info = png_create_info_struct(s->png);
+  if (s->info == nullptr) {
+    std::snprintf(s->msg.text, sizeof(s->msg.text), "libpng initialisation failed");
+    return false;
+  }
+  if (setjmp(png_jmpbuf(s->png))) return false;
+  png_init_io(s->png, s->fp);
+  png_set_IHDR(s->png, s->info, w, h, bit_depth, color_type, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(s->png, s->info);
+  png_write_image(s->png, rows);
+  png_write_end(s->png, nullptr);
+  return true;
+}
+
+void WritePng(const std::string& path, const char* what, int w, int h, int bit_depth,
+              int color_type, std::vector<std::uint8_t>& pixels, size_t rowbytes) {
+  std::vector<png_bytep> rows(static_cast<size_t>(h));
+  for (int r = 0; r < h; ++r) rows[r] = pixels.data() + size_t(r) * rowbytes;
+  PngWriter writer;
+  bool ok = PngWriteAll(&writer.s, path.c_str(), static_cast<png_uint_32>(w),
+                        static_cast<png_uint_32>(h), bit_depth, color_type, rows.data());
+  const bool file_created = writer.s.fp != nullptr;
+  if (writer.s.png != nullptr) {
+    png_destroy_write_struct(&writer.s.png, writer.s.info != nullptr ? &writer.s.info : nullptr);
+  }
+  writer.s.png = nullptr;
+  writer.s.info = nullptr;
+  if (file_created) {
+    // Close here rather than in the destructor to catch a failed flush (e.g. a full disk).
+    const bool closed = std::fclose(writer.s.fp) == 0;
+    writer.s.fp = nullptr;
+    if (ok && !closed) {
+      std::snprintf(writer.s.msg.text, sizeof(writer.s.msg.text), "write failed on close");
+      ok = false;
+    }
+  }
+  if (!ok) {
+    if (file_created) std::remove(path.c_str());  // do not leave a truncated PNG behind
+    throw Error(path + ": cannot write " + what + " PNG: " + writer.s.msg.text);
+  }
+}
+
+}  // namespace
+
+size_t DepthImage::CountValid() const {
+  return static_cast<size_t>(std::count_if(data.begin(), data.end(), [](float d) { return d > 0.f; }));
+}
+
+DepthImage LoadDepthPng(const std::string& path, double depth_scale) {
+  if (!std::isfinite(depth_scale) || depth_scale <= 0) {
+    throw Error(path + ": depth_scale must be finite and > 0 (got " + std::to_string(depth_scale) +
+                ")");
+  }
+  if (depth_scale * 65535.0 > FLT_MAX) {
+    throw Error(path + ": depth_scale " + std::to_string(depth_scale) +
+                " overflows float depths");
+  }
+  PngReader reader;
+  // Peek at the header first to reject colour images with a clear message before decoding.
+  if (!PngReadHeader(&reader.s, path.c_str(), ReadMode::kRaw)) {
+    throw Error(path + ": cannot read depth PNG: " + reader.s.msg.text);
+  }
+  const PngReadState& h = reader.s;
+  if (h.color_type != PNG_COLOR_TYPE_GRAY) {
+    const char* kind = h.color_type == PNG_COLOR_TYPE_RGB          ? "RGB"
+                       : h.color_type == PNG_COLOR_TYPE_RGB_ALPHA  ? "RGBA"
+                       : h.color_type == PNG_COLOR_TYPE_PALETTE    ? "palette"
+                       : h.color_type == PNG_COLOR_TYPE_GRAY_ALPHA ? "gray+alpha"
+                                                                   : "unknown";
+    throw Error(path + ": depth PNG must be single-channel gray, but it is " + kind);
+  }
+  if (h.bit_depth != 8 && h.bit_depth != 16) {
+    throw Error(path + ": depth PNG must be 8- or 16-bit, but it is " +
+                std::to_string(h.bit_depth) + "-bit");
+  }
+  if (h.width > static_cast<png_uint_32>(std::numeric_limits<int>::max()) ||
+      h.height > static_cast<png_uint_32>(std::numeric_limits<int>::max())) {
+    throw Error(path + ": depth PNG is too large");
+  }
+  const int w = static_cast<int>(h.width), hh = static_cast<int>(h.height);
+  const int bytes_per_px = h.bit_depth / 8;
+  const size_t rowbytes = h.rowbytes;
+  if (static_cast<unsigned long long>(rowbytes) * h.height > (1ull << 32)) {
+    throw Error(path + ": depth PNG is too large");
+  }
+  if (rowbytes != size_t(w) * bytes_per_px) throw Error(path + ": unexpected depth PNG row size");
+  std::vector<std::uint8_t> pixels(rowbytes * hh);
+  std::vector<png_bytep> rows(hh);
+  for (int r = 0; r < hh; ++r) rows[r] = pixels.data() + size_t(r) * rowbytes;
+  if (!PngReadRows(&reader.s, rows.data())) {
+    throw Error(path + ": corrupt or truncated depth PNG: " + reader.s.msg.text);
+  }
+  DepthImage depth(w, hh);
+  const size_t n = size_t(w) * hh;
+  if (bytes_per_px == 2) {
+    for (size_t i = 0; i < n; ++i) {
+      // 16-bit PNG samples are big-endian in the file (libpng hands them over unswapped).
+      const unsigned v = (unsigned(pixels[2 * i]) << 8) | pixels[2 * i + 1];
+      depth.data[i] = static_cast<float>(v * depth_scale);
+    }
+  } else {
+    for (size_t i = 0; i < n; ++i) depth.data[i] = static_cast<float>(pixels[i] * depth_scale);
+  }
+  return depth;
+}
+
+void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth_scale) {
+  if (!std::isfinite(depth_scale) || depth_scale <= 0) {
+    throw Error(path + ": depth_scale must be finite and > 0 (got " + std::to_string(depth_scale) +
+                ")");
+  }
+  if (depth.width <= 0 || depth.height <= 0 ||
+      depth.data.size() != size_t(depth.width) * size_t(depth.height)) {
+    throw Error(path + ": cannot write depth PNG: image is empty or its size (" +
+                std::to_string(depth.width) + "x" + std::to_string(depth.height) +
+                ") does not match its data (" + std::to_string(depth.data.size()) + " values)");
+  }
+  const size_t n = depth.data.size();
+  std::vector<std::uint8_t> pixels(2 * n);
+  for (size_t i = 0; i < n; ++i) {
+    const double d = depth.data[i];
+    unsigned v = 0;  // missing (0, negative, NaN or inf) → 0
+    if (std::isfinite(d) && d > 0) {
+      const double q = std::round(d / depth_scale);
+      v = q >= 65535.0 ? 65535u : static_cast<unsigned>(q);
+    }
+    pixels[2 * i] = static_cast<std::uint8_t>(v >> 8);  // big-endian sample
+    pixels[2 * i + 1] = static_cast<std::uint8_t>(v & 0xffu);
+  }
+  WritePng(path, "depth", depth.width, depth.height, 16, PNG_COLOR_TYPE_GRAY, pixels,
+           size_t(depth.width) * 2);
+}
+
+RgbImage LoadRgbPng(const std::string& path) {
+  PngReader reader;
+  std::vector<std::uint8_t> pixels = ReadPngPixels(path, "RGB", ReadMode::kRgb8, &reader);
+  const PngReadState& s = reader.s;
+  if (s.channels != 3 || s.rowbytes != size_t(s.width) * 3) {
+    throw Error(path + ": RGB PNG did not convert to 8-bit RGB");
+  }
+  if (s.width > static_cast<png_uint_32>(std::numeric_limits<int>::max()) ||
+      s.height > static_cast<png_uint_32>(std::numeric_limits<int>::max())) {
+    throw Error(path + ": RGB PNG is too large");
+  }
+  RgbImage image;
+  image.width = static_cast<int>(s.width);
+  image.height = static_cast<int>(s.height);
+  image.data = std::move(pixels);
+  return image;
+}
+
+void SaveRgbPng(const RgbImage& image, const std::string& path) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.data.size() != size_t(image.width) * size_t(image.height) * 3) {
+    throw Error(path + ": cannot write RGB PNG: image is empty or its size (" +
+                std::to_string(image.width) + "x" + std::to_string(image.height) +
+                ") does not match its data (" + std::to_string(image.data.size()) + " bytes)");
+  }
+  std::vector<std::uint8_t> pixels = image.data;  // libpng takes non-const row pointers
+  WritePng(path, "RGB", image.width, image.height, 8, PNG_COLOR_TYPE_RGB, pixels,
+           size_t(image.width) * 3);
+}
+
+}  // namespace posefilter
