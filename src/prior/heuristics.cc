@@ -1,0 +1,215 @@
+// Per-cell heuristic volumes (SPEC §5, thesis §7.4). See include/posefilter/heuristics.h.
+#include "posefilter/heuristics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <tuple>
+
+#include "posefilter/error.h"
+
+namespace posefilter {
+namespace {
+
+bool Fail(std::string* why, const std::string& msg) {
+  if (why) *why = msg;
+  return false;
+}
+
+// Nearest-rank quantiles lo ≤ hi of v (non-empty), exact, in O(n) with small constants:
+// a 256-bin histogram over [min, max] finds the bins holding the two ranks, and
+// std::nth_element runs only on those bins' values (about 3× faster than nth_element on the
+// whole array, which mispredicts a branch per comparison).
+void Quantiles(const std::vector<double>& v, double p_lo, double p_hi, double* lo, double* hi,
+               std::vector<std::uint8_t>& bin_of, std::vector<double>& tmp) {
+  const size_t n = v.size();
+  const size_t r_lo = size_t(std::lround(p_lo * double(n - 1)));
+  const size_t r_hi = std::max(r_lo, size_t(std::lround(p_hi * double(n - 1))));
+  // Min/max with four independent accumulators (breaks the minsd dependency chain).
+  double mn4[4] = {v[0], v[0], v[0], v[0]}, mx4[4] = {v[0], v[0], v[0], v[0]};
+  size_t i4 = 0;
+  for (; i4 + 4 <= n; i4 += 4) {
+    for (int k = 0; k < 4; ++k) {
+      mn4[k] = std::min(mn4[k], v[i4 + k]);
+      mx4[k] = std::max(mx4[k], v[i4 + k]);
+    }
+  }
+  for (; i4 < n; ++i4) {
+    mn4[0] = std::min(mn4[0], v[i4]);
+    mx4[0] = std::max(mx4[0], v[i4]);
+  }
+  const double mn = std::min(std::min(mn4[0], mn4[1]), std::min(mn4[2], mn4[3]));
+  const double mx = std::max(std::max(mx4[0], mx4[1]), std::max(mx4[2], mx4[3]));
+  if (!(mx > mn)) {
+    *lo = *hi = mn;
+    return;
+  }
+  constexpr int kBins = 256;
+  const double scale = kBins / (mx - mn);
+  int count[kBins] = {};
+  bin_of.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const int b = std::min(kBins - 1, int((v[i] - mn) * scale));
+    bin_of[i] = std::uint8_t(b);
+    ++count[b];
+  }
+  auto select = [&](size_t rank) {
+    size_t before = 0;
+    int b = 0;
+    while (before + size_t(count[b]) <= rank) before += size_t(count[b++]);
+    tmp.clear();
+    for (size_t i = 0; i < n; ++i)
+      if (bin_of[i] == b) tmp.push_back(v[i]);
+    std::nth_element(tmp.begin(), tmp.begin() + (rank - before), tmp.end());
+    return tmp[rank - before];
+  };
+  *lo = select(r_lo);
+  *hi = select(r_hi);
+}
+
+struct Scratch {
+  std::vector<double> x, y, z;
+  std::vector<std::uint8_t> bin_of;
+  std::vector<double> tmp;
+};
+
+Volume OneVolume(const DepthImage& depth, const Camera& cam, const Eigen::Matrix3d& R,
+                 const Eigen::Vector3d& t, const Box& b, const HeuristicOptions& opt,
+                 Scratch& s) {
+  Volume vol;
+  const int W = depth.width, H = depth.height;
+  // Pixels whose centre lies in [cx − w/2, cx + w/2) × [cy − h/2, cy + h/2), cut to the image.
+  // (Edges are clamped to [−1, size] before the int cast so huge boxes cannot overflow.)
+  auto edge = [](double e, int size) { return int(std::ceil(std::clamp(e, -1.0, double(size)))); };
+  const int u0 = std::max(0, edge(b.cx - b.w / 2, W));
+  const int u1 = std::min(W - 1, edge(b.cx + b.w / 2, W) - 1);
+  const int v0 = std::max(0, edge(b.cy - b.h / 2, H));
+  const int v1 = std::min(H - 1, edge(b.cy + b.h / 2, H) - 1);
+  if (u1 < u0 || v1 < v0) return vol;
+  const long nu = u1 - u0 + 1, nv = v1 - v0 + 1;
+  // Grid step so that at most max_samples pixels are read.
+  long step = std::max(1L, long(std::ceil(std::sqrt(double(nu * nv) / opt.max_samples))));
+  while (((nu - 1) / step + 1) * ((nv - 1) / step + 1) > opt.max_samples) ++step;
+  const long ku = (nu - 1) / step + 1, kv = (nv - 1) / step + 1;
+  const int su = u0 + int((nu - 1 - (ku - 1) * step) / 2);  // centre the grid in the box
+  const int sv = v0 + int((nv - 1 - (kv - 1) * step) / 2);
+
+  // Per sample: ray direction d = R·((u − cx)/fx, (v − cy)/fy, 1), so the base-frame point is
+  // pb = z·d + t (= R·Backproject(u, v, z) + t) and the extended point pe = pb + ext·d/|d|.
+  // The column part of d is precomputed per row to keep the inner loop to a few FMAs.
+  const double ext = opt.depth_extension_m;
+  const size_t cap = size_t(ku * kv) * (ext > 0 ? 2 : 1);
+  s.x.resize(cap);
+  s.y.resize(cap);
+  s.z.resize(cap);
+  size_t m = 0;
+  int count = 0;
+  const Eigen::Vector3d rx = R.col(0) / cam.fx;
+  for (long j = 0; j < kv; ++j) {
+    const int v = sv + int(j * step);
+    const double bv = (v - cam.cy) / cam.fy;
+    const Eigen::Vector3d row = bv * R.col(1) + R.col(2) - cam.cx * rx;  // d at u = 0
+    const float* depth_row = &depth.data[size_t(v) * W];
+    for (long i = 0; i < ku; ++i) {
+      const int u = su + int(i * step);
+      const double z = depth_row[u];
+      if (!(z > 0) || z > opt.max_depth_m) continue;  // missing or too far
+      ++count;
+      const Eigen::Vector3d d = row + double(u) * rx;
+      s.x[m] = z * d.x() + t.x();
+      s.y[m] = z * d.y() + t.y();
+      s.z[m] = z * d.z() + t.z();
+      ++m;
+      if (ext > 0) {
+        // The same point pushed `ext` metres further along its viewing ray (|d| = |ray|
+        // since R is a rotation).
+        const double k = z + ext / d.norm();
+        s.x[m] = k * d.x() + t.x();
+        s.y[m] = k * d.y() + t.y();
+        s.z[m] = k * d.z() + t.z();
+        ++m;
+      }
+    }
+  }
+  s.x.resize(m);
+  s.y.resize(m);
+  s.z.resize(m);
+  if (count < opt.min_valid_pixels) return vol;
+  Quantiles(s.x, opt.percentile_lo, opt.percentile_hi, &vol.min.x(), &vol.max.x(), s.bin_of, s.tmp);
+  Quantiles(s.y, opt.percentile_lo, opt.percentile_hi, &vol.min.y(), &vol.max.y(), s.bin_of, s.tmp);
+  Quantiles(s.z, opt.percentile_lo, opt.percentile_hi, &vol.min.z(), &vol.max.z(), s.bin_of, s.tmp);
+  vol.valid = true;
+  return vol;
+}
+
+}  // namespace
+
+bool HeuristicOptions::IsValid(std::string* why) const {
+  if (!(std::isfinite(percentile_lo) && std::isfinite(percentile_hi) && percentile_lo >= 0 &&
+        percentile_lo <= percentile_hi && percentile_hi <= 1)) {
+    return Fail(why, "need 0 ≤ percentile_lo ≤ percentile_hi ≤ 1");
+  }
+  if (!std::isfinite(depth_extension_m) || depth_extension_m < 0) {
+    return Fail(why, "depth_extension_m must be finite and ≥ 0");
+  }
+  if (max_samples < 1) return Fail(why, "max_samples must be ≥ 1");
+  if (!std::isfinite(max_depth_m) || max_depth_m <= 0) {
+    return Fail(why, "max_depth_m must be finite and > 0");
+  }
+  if (min_valid_pixels < 1) return Fail(why, "min_valid_pixels must be ≥ 1");
+  return true;
+}
+
+std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& camera,
+                                      const std::vector<Box>& boxes,
+                                      const HeuristicOptions& opt) {
+  std::string why;
+  if (!opt.IsValid(&why)) throw Error("heuristic options: " + why);
+  if (!camera.IsValid(&why)) throw Error("heuristics: invalid camera: " + why);
+  if (depth.width != camera.width || depth.height != camera.height ||
+      depth.data.size() != size_t(depth.width) * size_t(depth.height)) {
+    throw Error("heuristics: depth image is " + std::to_string(depth.width) + "×" +
+                std::to_string(depth.height) + " but the camera is " +
+                std::to_string(camera.width) + "×" + std::to_string(camera.height));
+  }
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Box& b = boxes[i];
+    if (!(std::isfinite(b.cx) && std::isfinite(b.cy) && std::isfinite(b.w) &&
+          std::isfinite(b.h) && b.w >= 0 && b.h >= 0)) {
+      throw Error("heuristics: box " + std::to_string(i) +
+                  " is not finite or has a negative size");
+    }
+  }
+  const Eigen::Isometry3d cam_to_base = camera.base_to_camera.inverse();
+  const Eigen::Matrix3d R = cam_to_base.linear();
+  const Eigen::Vector3d t = cam_to_base.translation();
+  // Identical boxes share one volume (a detection prior gives every cell overlapping a
+  // detection the detection's box): compute each distinct box once.
+  std::vector<int> order(boxes.size());
+  std::iota(order.begin(), order.end(), 0);
+  auto key = [&](int i) { return std::tie(boxes[i].cx, boxes[i].cy, boxes[i].w, boxes[i].h); };
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  std::vector<int> uniq;  // first index (in `order`) of each run of equal boxes
+  for (size_t k = 0; k < order.size(); ++k)
+    if (k == 0 || key(order[k]) != key(order[k - 1])) uniq.push_back(int(k));
+
+  std::vector<Volume> out(boxes.size());
+  const long n = long(uniq.size());
+#pragma omp parallel if (n > 256)
+  {
+    Scratch s;
+    s.x.reserve(2 * size_t(opt.max_samples));
+    s.y.reserve(2 * size_t(opt.max_samples));
+    s.z.reserve(2 * size_t(opt.max_samples));
+#pragma omp for schedule(dynamic, 32)
+    for (long u = 0; u < n; ++u) {
+      const size_t begin = uniq[u], end = u + 1 < n ? size_t(uniq[u + 1]) : order.size();
+      const Volume v = OneVolume(depth, camera, R, t, boxes[order[begin]], opt, s);
+      for (size_t k = begin; k < end; ++k) out[order[k]] = v;
+    }
+  }
+  return out;
+}
+
+}  // namespace posefilter
