@@ -1,0 +1,88 @@
+// The reference score kernel and the full-image depth renderer (readable float/int64 C++).
+#include <cmath>
+#include <limits>
+
+#include "render/raster.h"
+
+namespace posefilter {
+namespace {
+
+// One rendered fragment at depth z against the scene depth zs (0 = missing: never an inlier).
+inline void Compare(float z, float zs, const InlierParams& p, ScoreKernelResult* r) {
+  if (zs <= 0) return;
+  const float chi = SoftInlier(std::fabs(z - zs), p);
+  r->inlier_sum += chi;
+  if (chi == 0.f && zs < z) ++r->n_occluded;
+}
+
+}  // namespace
+
+ScoreKernelResult ScoreReference(const ScoreKernelParams& k, RenderWorkspace* ws) {
+  ScoreKernelResult r;
+  r.faces_total = k.num_faces;
+  const PixelRect& w = k.window;
+  if (w.width <= 0 || w.height <= 0) return r;
+  ws->cam_vertices.resize(std::size_t(k.num_vertices) * 3);
+  render::TransformVertices(k, ws->cam_vertices.data());
+  auto scene_depth = [&](int u, int v) { return k.depth[std::size_t(v) * k.depth_width + u]; };
+
+  if (k.zbuffer) {
+    // Exact z-buffer over the window: only the nearest fragment of each pixel counts.
+    constexpr float kEmpty = std::numeric_limits<float>::infinity();
+    ws->zbuffer.assign(std::size_t(w.Area()), kEmpty);
+    float* zb = ws->zbuffer.data();
+    r.faces_front = render::RasterizeMesh(k, ws->cam_vertices.data(), w, [&](int u, int v, float z) {
+      float& cell = zb[std::size_t(v - w.v0) * w.width + (u - w.u0)];
+      if (z < cell) cell = z;
+    });
+    for (int v = 0; v < w.height; ++v) {
+      for (int u = 0; u < w.width; ++u) {
+        const float z = zb[std::size_t(v) * w.width + u];
+        if (z == kEmpty) continue;
+        ++r.n_raster;
+        Compare(z, scene_depth(w.u0 + u, w.v0 + v), k.inlier, &r);
+      }
+    }
+  } else {
+    // Thesis mode (§7.5.1): no z-buffer, every front-face fragment is compared directly.
+    r.faces_front = render::RasterizeMesh(k, ws->cam_vertices.data(), w, [&](int u, int v, float z) {
+      ++r.n_raster;
+      Compare(z, scene_depth(u, v), k.inlier, &r);
+    });
+  }
+  return r;
+}
+
+void RenderDepth(const Mesh& mesh, const Eigen::Isometry3d& T_cam_obj, const Camera& camera,
+                 DepthImage* depth, std::vector<int>* labels, int label) {
+  if (depth->width != camera.width || depth->height != camera.height) {
+    *depth = DepthImage(camera.width, camera.height, 0.f);
+  }
+  if (labels && labels->size() != std::size_t(camera.width) * camera.height) {
+    labels->assign(std::size_t(camera.width) * camera.height, 0);
+  }
+  ScoreKernelParams k;
+  k.vertices = mesh.vertices.empty() ? nullptr : mesh.vertices[0].data();
+  k.num_vertices = int(mesh.vertices.size());
+  k.faces = mesh.faces.empty() ? nullptr : mesh.faces[0].data();
+  k.num_faces = int(mesh.faces.size());
+  const Eigen::Matrix3d R = T_cam_obj.linear();
+  for (int i = 0; i < 9; ++i) k.R[i] = float(R(i / 3, i % 3));
+  for (int i = 0; i < 3; ++i) k.t[i] = float(T_cam_obj.translation()[i]);
+  k.fx = float(camera.fx);
+  k.fy = float(camera.fy);
+  k.cx = float(camera.cx);
+  k.cy = float(camera.cy);
+  k.window = PixelRect{0, 0, camera.width, camera.height};
+  std::vector<float> cam(std::size_t(k.num_vertices) * 3);
+  render::TransformVertices(k, cam.data());
+  render::RasterizeMesh(k, cam.data(), k.window, [&](int u, int v, float z) {
+    float& d = depth->at(u, v);
+    if (d == 0.f || z < d) {
+      d = z;
+      if (labels) (*labels)[std::size_t(v) * camera.width + u] = label;
+    }
+  });
+}
+
+}  // namespace posefilter
