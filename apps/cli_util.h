@@ -1,0 +1,15 @@
+// apps/cli_util.h — shared plumbing of the subcommands: option parsing and error reporting.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace posefilter::cli {
+
+// Parses argv with `app`, then runs `body`. Maps failures to exit codes:
+//   CLI11 parse error → CLI11's message, exit 2 (0 for --help);
+//   posefilter::Error or std::exception → "posefilter <name>: error: <what>", exit 1.
+int RunApp(CLI::App& app, int argc, char** argv, const std::function<void()>& body);
+
+}  // namespace posefilter::cli

@@ -1,0 +1,16 @@
+// apps/commands.h — the CLI's subcommands, each a testable RunX(argc, argv).
+//
+// argv[0] is the subcommand name ("estimate", ...). Each returns the process exit status:
+// 0 on success, 1 on an input error (one line "posefilter <cmd>: error: ..." on stderr),
+// 2 on a usage error (unknown or malformed option, printed by CLI11).
+#pragma once
+
+namespace posefilter::cli {
+
+int RunEstimate(int argc, char** argv);  // apps/estimate_cmd.cc
+int RunDemo(int argc, char** argv);      // apps/demo_cmd.cc
+int RunSynth(int argc, char** argv);     // apps/synth_cmd.cc
+int RunEval(int argc, char** argv);      // apps/eval_cmd.cc
+int RunSuite(int argc, char** argv);     // apps/suite_cmd.cc
+
+}  // namespace posefilter::cli

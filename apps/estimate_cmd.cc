@@ -1,0 +1,139 @@
+// posefilter estimate — poses of one or more objects from a depth PNG, a camera, meshes and a
+// stage-1 prior (raw pyramid file, detections JSON, or none).
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "filter_cli.h"
+#include "posefilter/error.h"
+#include "posefilter/overlay.h"
+#include "posefilter/prior.h"
+#include "posefilter/scene_io.h"
+
+namespace posefilter::cli {
+namespace {
+
+std::vector<std::string> ReadClassList(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open class list");
+  std::vector<std::string> classes;
+  std::string line;
+  while (std::getline(in, line)) {
+    line.erase(line.find_last_not_of(" \t\r") + 1);
+    if (!line.empty()) classes.push_back(line);
+  }
+  if (classes.empty()) throw Error(path + ": class list is empty");
+  return classes;
+}
+
+// "NAME=PATH" or "PATH" (name = the file's stem).
+std::pair<std::string, std::string> SplitNamedPath(const std::string& arg) {
+  const auto eq = arg.find('=');
+  if (eq == std::string::npos) return {std::filesystem::path(arg).stem().string(), arg};
+  if (eq == 0 || eq + 1 == arg.size()) throw Error("--mesh '" + arg + "': expected NAME=PATH or PATH");
+  return {arg.substr(0, eq), arg.substr(eq + 1)};
+}
+
+}  // namespace
+
+int RunEstimate(int argc, char** argv) {
+  CLI::App app{"Estimate 6-DoF object poses with the particle filter", "estimate"};
+  std::string depth_path, camera_path, prior_arg = "none", classes_path, out_path, overlay_path, rgb_path;
+  std::vector<std::string> mesh_args;
+  double depth_scale = 0, unit_scale = 1.0;
+  bool quiet = false;
+  FilterOptions opt;
+  app.add_option("--depth", depth_path, "depth PNG (16-bit; metres = value x depth scale)")->required();
+  app.add_option("--camera", camera_path, "camera JSON (fx, fy, cx, cy, width, height, depth_scale)")->required();
+  app.add_option("--depth-scale", depth_scale, "metres per PNG unit (default: the camera JSON's depth_scale)");
+  app.add_option("--mesh", mesh_args, "object mesh, NAME=PATH or PATH (repeatable; NAME = prior class)")->required();
+  app.add_option("--unit-scale", unit_scale, "mesh units to metres (0.001 for millimetre meshes)")->capture_default_str();
+  app.add_option("--prior", prior_arg,
+                 "stage-1 prior: detections JSON (*.json), raw pyramid file (15x20+30x40+60x80 cells x (classes+5) float32), or 'none'")
+      ->capture_default_str();
+  app.add_option("--classes", classes_path, "class list (one per line) of a raw pyramid prior (default: the 21 YCB-Video classes)");
+  app.add_option("--out", out_path, "write the results JSON here");
+  app.add_option("--overlay", overlay_path, "write an overlay PNG of the estimated poses here");
+  app.add_option("--rgb", rgb_path, "RGB PNG to draw the overlay on (default: shaded depth)");
+  app.add_flag("--quiet", quiet, "no progress on stderr");
+  AddFilterOptions(app, &opt);
+
+  return RunApp(app, argc, argv, [&] {
+    CheckFilterOptions(opt);
+    if (!(unit_scale > 0)) throw Error("--unit-scale must be > 0");
+    CameraFile cam = ReadCameraJson(camera_path);
+    if (depth_scale == 0) depth_scale = cam.depth_scale;
+    if (!(depth_scale > 0)) throw Error("--depth-scale must be > 0");
+    SceneInput scene{LoadDepthPng(depth_path, depth_scale), cam.camera};
+    ValidateScene(scene, depth_path);
+
+    std::vector<Mesh> meshes;
+    for (const auto& arg : mesh_args) {
+      auto [name, path] = SplitNamedPath(arg);
+      meshes.push_back(LoadMesh(path, unit_scale));
+      meshes.back().name = name;
+    }
+
+    // The prior and its class list.
+    const int W = scene.camera.width, H = scene.camera.height;
+    Prior prior;
+    if (prior_arg == "none") {
+      std::vector<std::string> classes;
+      for (const auto& m : meshes) classes.push_back(m.name);
+      prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    } else if (std::filesystem::path(prior_arg).extension() == ".json") {
+      const std::vector<Detection> dets = ReadDetectionsJson(prior_arg);
+      std::vector<std::string> classes;
+      std::set<std::string> seen;
+      auto add = [&](const std::string& c) {
+        if (seen.insert(c).second) classes.push_back(c);
+      };
+      for (const auto& m : meshes) add(m.name);
+      for (const auto& d : dets) add(d.cls);
+      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    } else {
+      const std::vector<std::string> classes = classes_path.empty() ? YcbVideoClassNames() : ReadClassList(classes_path);
+      const PyramidLayout layout = PyramidLayout::Thesis(W, H, int(classes.size()));
+      prior = PostProcessPyramid(ReadRawPyramid(prior_arg, layout), layout, classes);
+    }
+
+    std::vector<ObjectResult> results;
+    std::printf("%-20s %9s %9s %9s %8s %8s %8s %7s %5s %8s\n", "object", "x[m]", "y[m]", "z[m]", "roll", "pitch",
+                "yaw", "weight", "iter", "time[ms]");
+    for (const Mesh& mesh : meshes) {
+      const int cls = prior.ClassIndex(mesh.name);
+      if (cls < 0) throw Error("object '" + mesh.name + "' is not a class of the prior (see --classes)");
+      if (!(prior.ClassMass(cls) > 0)) throw Error("the prior holds no probability for '" + mesh.name + "'");
+      const EstimateResult r = EstimatePose(scene, mesh, prior, cls, opt, StderrProgress(mesh.name, opt.max_iterations, quiet));
+      if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
+      ObjectResult o;
+      o.obj = mesh.name;
+      o.pose_base = r.pose_base;
+      o.T_cam_obj = r.T_cam_obj;
+      o.weight = r.weight;
+      o.iterations = r.iterations;
+      o.time_ms = r.time_ms;
+      results.push_back(o);
+      std::printf("%-20s %9.4f %9.4f %9.4f %8.3f %8.3f %8.3f %7.3f %5d %8.0f\n", o.obj.c_str(), o.pose_base.x,
+                  o.pose_base.y, o.pose_base.z, o.pose_base.roll, o.pose_base.pitch, o.pose_base.yaw, o.weight,
+                  o.iterations, o.time_ms);
+    }
+    if (!out_path.empty()) WriteResultsJson(results, out_path);
+    if (!overlay_path.empty()) {
+      RgbImage img = rgb_path.empty() ? ShadeDepth(scene.depth) : LoadRgbPng(rgb_path);
+      if (img.width != W || img.height != H) throw Error(rgb_path + ": RGB image size differs from the camera's");
+      for (std::size_t i = 0; i < results.size(); ++i)
+        DrawPoseOverlay(&img, meshes[i], results[i].T_cam_obj, scene.camera, {40, 220, 60});
+      SaveRgbPng(img, overlay_path);
+    }
+  });
+}
+
+}  // namespace posefilter::cli

@@ -1,0 +1,22 @@
+// apps/filter_cli.h — the particle-filter options shared by `estimate` and `demo`, and the
+// progress/summary printing both use.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "posefilter/filter.h"
+
+namespace posefilter::cli {
+
+// Registers --particles, --iterations, --confidence, --alpha/--beta/--gamma, --inlier-thr,
+// --hard-inlier, --no-zbuffer, --window, --elite, --pool, --sigma-t, --sigma-r, --seed,
+// --threads, --engine on `app`, writing into `opt` (defaults = FilterOptions defaults).
+void AddFilterOptions(CLI::App& app, FilterOptions* opt);
+// Validates after parsing; throws Error naming the option ("--alpha ...: ...").
+void CheckFilterOptions(const FilterOptions& opt);
+// A progress callback printing "<obj>: iteration i/N, best weight w" to stderr (rewritten in
+// place on a terminal, every 10 iterations otherwise). Empty when quiet.
+ProgressFn StderrProgress(const std::string& obj, int max_iterations, bool quiet);
+
+}  // namespace posefilter::cli

@@ -1,0 +1,47 @@
+// posefilter CLI: a thin dispatcher over the RunX subcommands of apps/commands.h.
+#include <cstring>
+#include <iostream>
+#include <string>
+
+#include "commands.h"
+
+namespace {
+
+struct Command {
+  const char* name;
+  int (*run)(int, char**);
+  const char* help;
+};
+
+constexpr Command kCommands[] = {
+    {"demo", posefilter::cli::RunDemo,
+     "generate a built-in synthetic scene, estimate the pose, print the error vs ground truth"},
+    {"estimate", posefilter::cli::RunEstimate,
+     "estimate object poses from a depth PNG, a camera JSON, meshes and a prior"},
+    {"synth", posefilter::cli::RunSynth,
+     "make synthetic scenes with ground truth and a stage-1 prior"},
+    {"eval", posefilter::cli::RunEval, "compare a results JSON with a gt.json (ADD, ADD-S, recall)"},
+    {"suite", posefilter::cli::RunSuite,
+     "accuracy on N synthetic scenes (targets x occlusion levels): ADD-S table and recall"},
+};
+
+void PrintUsage(std::ostream& os) {
+  os << "usage: posefilter <command> [options]   (posefilter <command> --help for options)\n"
+        "commands:\n";
+  for (const auto& c : kCommands) os << "  " << c.name << std::string(10 - std::strlen(c.name), ' ') << c.help << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    PrintUsage(argc < 2 ? std::cerr : std::cout);
+    return argc < 2 ? 2 : 0;
+  }
+  for (const auto& c : kCommands) {
+    if (std::strcmp(argv[1], c.name) == 0) return c.run(argc - 1, argv + 1);
+  }
+  std::cerr << "posefilter: error: unknown command '" << argv[1] << "'\n";
+  PrintUsage(std::cerr);
+  return 2;
+}

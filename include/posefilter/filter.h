@@ -1,0 +1,133 @@
+// posefilter/filter.h — stage 2: the particle filter that finds an object's 6-DoF pose.
+//
+// Algorithm (SPEC §6, thesis §2.2, §7.4–7.6, App. B), per object:
+//   1. initialise N particles by importance sampling the prior's cells (normalised CDF,
+//      eq. 7.3, with a threshold tracker) and placing each in its cell's heuristic volume
+//      (x, y at the centre, z uniform, Listing 7.5), angles uniform in ±π;
+//   2. weigh each particle: render the mesh in its window and sum soft inliers,
+//      w = α·I/N_raster + β·I/N_depth + γ·ρ (eq. 7.4);
+//   3. sort online (insertion, like the macro sorting cells of §7.5.4);
+//   4. stop when the best weight ≥ confidence or after max_iterations;
+//   5. resample: keep the elite, importance-sample the rest from the sorted weights' CDF;
+//   6. diffuse with one of 13 moves, Gaussian noise with σ = (1 − w_best)·σ0 (§7.6); go to 2.
+// docs/ALGORITHM.md lists every formula and each deviation from the thesis.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "posefilter/camera.h"
+#include "posefilter/depth_image.h"
+#include "posefilter/heuristics.h"
+#include "posefilter/mesh.h"
+#include "posefilter/pose.h"
+#include "posefilter/prior.h"
+#include "posefilter/render.h"
+
+namespace posefilter {
+
+// The diffusion moves of §7.6, in the order of FilterOptions::move_probabilities.
+enum class Move : int {
+  kTranslateX, kTranslateY, kTranslateZ, kTranslateAll,
+  kRotateRoll, kRotatePitch, kRotateYaw, kRotateAll,
+  kFlipRoll, kFlipPitch, kFlipYaw,   // add π to one angle
+  kNeighbourCell,                    // move to a neighbouring cell of the same pyramid level
+  kOtherLevel,                       // move to the matching cell of another level
+  kCount
+};
+inline constexpr int kNumMoves = static_cast<int>(Move::kCount);
+
+struct FilterOptions {
+  std::string engine = "reference";  // "reference" (float, readable)
+  int num_particles = 510;           // N (thesis design: 510; GRIP: 625)
+  int max_iterations = 50;           // stop after this many weighings
+  double confidence = 0.9;           // stop when the best weight reaches this, in (0, 1]
+  // Weight of eq. 7.4: α·I/N_raster + β·I/N_depth + γ·ρ; each ≥ 0, α + β + γ = 1.
+  double alpha = 0.3;
+  double beta = 0.6;
+  double gamma = 0.1;
+  InlierParams inlier;               // soft-inlier thresholds / hard switch (final values)
+  // Coarse-to-fine search: the inlier threshold starts at anneal_start_m and falls
+  // geometrically to inlier.thr1_m over the first anneal_fraction of max_iterations
+  // (0 or ≤ thr1 = off, the thesis's fixed threshold).
+  double anneal_start_m = 0.03;
+  double anneal_fraction = 0.6;
+  bool zbuffer = true;               // exact z-buffer (false: the thesis's culling-only mode)
+  // Occlusion-aware precision: rendered pixels hidden behind nearer scene depth (beyond the
+  // inlier ramp) are left out of N_raster, so a partly occluded object is not penalised for
+  // what it cannot show. false = the thesis's N_raster (every rendered pixel).
+  bool occlusion_aware = true;
+  int max_window_px = 200;           // windows are the cell's box clipped to this, pixels
+  // Windows are at least this fraction of the object's projected diameter (at the cell's
+  // heuristic depth) wide and high, so a box smaller than the object cannot be "explained"
+  // by one flat face of it. 0 = the box as it is (thesis).
+  double min_window_diameters = 1.0;
+  double near_m = 0.05;              // triangles closer than this to the camera are skipped, m
+  int num_elite = 10;                // best particles carried unchanged into the next set
+  double resample_pool = 0.25;       // fraction of the sorted set the rest is drawn from, (0, 1]
+  int tracker_bins = 32;             // threshold-tracker entries of the CDF samplers (§7.4)
+  double sigma_t0_m = 0.02;          // diffusion translation σ at weight 0, metres
+  double sigma_r0_rad = 0.35;        // diffusion rotation σ at weight 0, radians
+  double min_sigma_fraction = 0.05;  // σ never decays below this fraction of σ0
+  // Probability of each Move (normalised internally); default spreads over all 13.
+  std::array<double, kNumMoves> move_probabilities = {0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.12,
+                                                      0.02, 0.02, 0.02, 0.06, 0.06};
+  HeuristicOptions heuristics;       // depth_extension_m is set to the object's radius if 0
+  std::uint64_t seed = 1;            // every random stream derives from this
+  int threads = 0;                   // scoring threads; 0 = all cores
+  bool IsValid(std::string* why) const;
+};
+
+// Counters of one run, the quantities the thesis reports (§7.4, §7.5.3–7.5.4).
+struct FilterStats {
+  std::int64_t init_cdf_reads = 0, init_cdf_reads_linear = 0;          // with / without tracker
+  std::int64_t resample_cdf_reads = 0, resample_cdf_reads_linear = 0;
+  std::int64_t faces_total = 0, faces_front = 0;   // summed over all weighings
+  std::int64_t fragments = 0;                      // counted fragments (N_raster) summed
+  std::int64_t weighings = 0;                      // particle scores computed
+};
+
+struct EstimateResult {
+  std::string obj;
+  Pose6 pose_base;                                              // object → base
+  Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();  // object → camera
+  double weight = 0;            // best weight, eq. 7.4
+  int cell = -1;                // prior cell of the best particle
+  int iterations = 0;           // weighings of the whole set
+  bool converged = false;       // weight reached the confidence threshold
+  double time_ms = 0;           // wall time
+  std::vector<double> best_weight_history;   // best weight after each iteration
+  std::vector<double> iteration_ms;          // wall time of each iteration
+  FilterStats stats;
+};
+
+// Called after each iteration with (iteration index from 0, best weight so far).
+using ProgressFn = std::function<void(int, double)>;
+
+// The scene a filter runs on: depth (camera z, metres, 0 = missing) and the camera.
+struct SceneInput {
+  DepthImage depth;
+  Camera camera;
+};
+
+// Checks that depth and camera agree in size, the depth holds at least one valid pixel and
+// no NaN/inf/negative value; throws Error naming `what` otherwise.
+void ValidateScene(const SceneInput& scene, const std::string& what);
+
+// Runs the filter for one object. `cls` indexes prior.classes. Throws Error on invalid
+// options, a class index out of range, a prior of the wrong image size, or when no prior
+// cell has both probability mass and valid depth.
+EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                            const FilterOptions& options, const ProgressFn& progress = nullptr);
+
+// Weighs given hypotheses (pose object → base, prior cell whose window is used) exactly as
+// the filter would with `options` (final inlier thresholds): eq. 7.4 per hypothesis.
+std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                               const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses);
+
+}  // namespace posefilter

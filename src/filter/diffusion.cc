@@ -1,0 +1,98 @@
+#include "filter/diffusion.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace posefilter::filter {
+
+DiffusionContext::DiffusionContext(const PyramidLayout& l, const std::vector<Volume>& v, const FilterOptions& o)
+    : layout(l), volumes(v), opt(o), move_cdf(kNumMoves) {
+  double total = 0, acc = 0;
+  for (double p : o.move_probabilities) total += p;
+  for (int m = 0; m < kNumMoves; ++m) move_cdf[m] = (acc += o.move_probabilities[m]) / total;
+}
+
+Move DiffusionContext::PickMove(double u) const {
+  int m = 0;
+  while (m + 1 < kNumMoves && move_cdf[m] <= u) ++m;
+  return static_cast<Move>(m);
+}
+
+int MoveCell(const DiffusionContext& ctx, int cell, Move move, Rng& rng) {
+  const PyramidLayout& L = ctx.layout;
+  int level, row, col;
+  L.CellRowCol(cell, &level, &row, &col);
+  int target = -1;
+  if (move == Move::kNeighbourCell) {
+    static constexpr int kDr[8] = {-1, -1, -1, 0, 0, 1, 1, 1};
+    static constexpr int kDc[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
+    const int k = int(rng.UniformInt(8));  // one of the 8 neighbours
+    const int r = row + kDr[k], c = col + kDc[k];
+    const PyramidLevel& lv = L.levels[level];
+    if (r >= 0 && r < lv.rows && c >= 0 && c < lv.cols) target = L.CellIndex(level, r, c);
+  } else if (move == Move::kOtherLevel) {
+    const int nl = int(L.levels.size());
+    if (nl < 2) return -1;
+    int other = int(rng.UniformInt(nl - 1));
+    if (other >= level) ++other;
+    const PyramidLevel& from = L.levels[level];
+    const PyramidLevel& to = L.levels[other];
+    // The cell of the other level that contains this cell's centre.
+    const int r = std::min(to.rows - 1, int((row + 0.5) * to.rows / from.rows));
+    const int c = std::min(to.cols - 1, int((col + 0.5) * to.cols / from.cols));
+    target = L.CellIndex(other, r, c);
+  }
+  if (target < 0 || !ctx.volumes[target].valid) return -1;
+  return target;
+}
+
+void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_weight, Rng& rng) {
+  const FilterOptions& o = ctx.opt;
+  const double decay = std::max(1.0 - best_weight, o.min_sigma_fraction);
+  const double st = decay * o.sigma_t0_m, sr = decay * o.sigma_r0_rad;
+  Pose6& q = p->pose;
+  switch (move) {
+    case Move::kTranslateX: q.x += st * rng.Normal(); break;
+    case Move::kTranslateY: q.y += st * rng.Normal(); break;
+    case Move::kTranslateZ: q.z += st * rng.Normal(); break;
+    case Move::kTranslateAll:
+      q.x += st * rng.Normal();
+      q.y += st * rng.Normal();
+      q.z += st * rng.Normal();
+      break;
+    case Move::kRotateRoll: q.roll += sr * rng.Normal(); break;
+    case Move::kRotatePitch: q.pitch += sr * rng.Normal(); break;
+    case Move::kRotateYaw: q.yaw += sr * rng.Normal(); break;
+    case Move::kRotateAll:
+      q.roll += sr * rng.Normal();
+      q.pitch += sr * rng.Normal();
+      q.yaw += sr * rng.Normal();
+      break;
+    case Move::kFlipRoll: q.roll += M_PI; break;
+    case Move::kFlipPitch: q.pitch += M_PI; break;
+    case Move::kFlipYaw: q.yaw += M_PI; break;
+    case Move::kNeighbourCell:
+    case Move::kOtherLevel: {
+      const int target = MoveCell(ctx, p->cell, move, rng);
+      if (target >= 0) {
+        const Eigen::Vector3d d = Centre(ctx.volumes[target]) - Centre(ctx.volumes[p->cell]);
+        q.x += d.x();
+        q.y += d.y();
+        q.z += d.z();
+        p->cell = target;
+      }
+      break;
+    }
+    case Move::kCount: break;
+  }
+  q.roll = WrapAngle(q.roll);
+  q.pitch = WrapAngle(q.pitch);
+  q.yaw = WrapAngle(q.yaw);
+  p->scored = false;
+}
+
+void Diffuse(const DiffusionContext& ctx, Particle* p, double best_weight, Rng& rng) {
+  ApplyMove(ctx, ctx.PickMove(rng.Uniform()), p, best_weight, rng);
+}
+
+}  // namespace posefilter::filter

@@ -1,0 +1,49 @@
+// src/filter/diffusion.h — particles and the diffusion step of §7.6 (internal).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "posefilter/filter.h"
+#include "posefilter/heuristics.h"
+#include "posefilter/pose.h"
+#include "posefilter/prior.h"
+#include "posefilter/rng.h"
+
+namespace posefilter::filter {
+
+struct Particle {
+  Pose6 pose;           // object → base
+  int cell = 0;         // absolute index into the prior's cells
+  double weight = 0;    // eq. 7.4
+  bool scored = false;  // weight is current (elite particles are carried unchanged)
+};
+
+inline Eigen::Vector3d Centre(const Volume& v) { return 0.5 * (v.min + v.max); }
+
+// What diffusion reads: the pyramid layout, the heuristic volume of every cell, the options.
+struct DiffusionContext {
+  const PyramidLayout& layout;
+  const std::vector<Volume>& volumes;
+  const FilterOptions& opt;
+  std::vector<double> move_cdf;  // cumulative, normalised FilterOptions::move_probabilities
+
+  DiffusionContext(const PyramidLayout& l, const std::vector<Volume>& v, const FilterOptions& o);
+  // The move for a uniform draw u in [0, 1).
+  Move PickMove(double u) const;
+};
+
+// The cell a kNeighbourCell / kOtherLevel move reaches from `cell`, or −1 when that cell is
+// off the grid or has no valid heuristic volume.
+int MoveCell(const DiffusionContext& ctx, int cell, Move move, Rng& rng);
+
+// Applies `move` to the particle: Gaussian noise with σ_t = d·σ_t0, σ_r = d·σ_r0 where
+// d = max(1 − best_weight, min_sigma_fraction) (linear decay of §7.6); a flip adds π; a cell
+// move carries the particle by the difference of the two volumes' centres. Angles are
+// wrapped to (−π, π]; the particle is marked unscored.
+void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_weight, Rng& rng);
+
+// PickMove(rng.Uniform()) then ApplyMove.
+void Diffuse(const DiffusionContext& ctx, Particle* p, double best_weight, Rng& rng);
+
+}  // namespace posefilter::filter
