@@ -53,7 +53,8 @@ std::vector<size_t> DiameterSubsample(const std::vector<Eigen::Vector3f>& v, siz
   }
   const size_t remaining = n_keep - keep.size();
   for (size_t k = 0; k < remaining; ++k) {
-    size_t i = static_cast<size_t>((static_cast<unsigned __int128>(k) * v.size()) / remaining);
+    // k < 4096, so k·n fits in 64 bits for any mesh that fits in memory.
+    size_t i = static_cast<size_t>((std::uint64_t(k) * v.size()) / remaining);
     // Step past indices already taken (at most 26 of them), wrapping around.
     while (taken[i]) i = (i + 1) % v.size();
     taken[i] = 1;
