@@ -12,5 +12,6 @@ int RunDemo(int argc, char** argv);      // apps/demo_cmd.cc
 int RunSynth(int argc, char** argv);     // apps/synth_cmd.cc
 int RunEval(int argc, char** argv);      // apps/eval_cmd.cc
 int RunSuite(int argc, char** argv);     // apps/suite_cmd.cc
+int RunGtDetections(int argc, char** argv);  // apps/gt_detections_cmd.cc
 
 }  // namespace posefilter::cli

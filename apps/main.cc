@@ -1,4 +1,5 @@
 // posefilter CLI: a thin dispatcher over the RunX subcommands of apps/commands.h.
+#include <algorithm>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -23,12 +24,16 @@ constexpr Command kCommands[] = {
     {"eval", posefilter::cli::RunEval, "compare a results JSON with a gt.json (ADD, ADD-S, recall)"},
     {"suite", posefilter::cli::RunSuite,
      "accuracy on N synthetic scenes (targets x occlusion levels): ADD-S table and recall"},
+    {"gt-detections", posefilter::cli::RunGtDetections,
+     "make a stage-1 detections JSON from ground-truth poses (jittered silhouette boxes)"},
 };
 
 void PrintUsage(std::ostream& os) {
   os << "usage: posefilter <command> [options]   (posefilter <command> --help for options)\n"
         "commands:\n";
-  for (const auto& c : kCommands) os << "  " << c.name << std::string(10 - std::strlen(c.name), ' ') << c.help << "\n";
+  std::size_t width = 0;
+  for (const auto& c : kCommands) width = std::max(width, std::strlen(c.name));
+  for (const auto& c : kCommands) os << "  " << c.name << std::string(width + 2 - std::strlen(c.name), ' ') << c.help << "\n";
 }
 
 }  // namespace

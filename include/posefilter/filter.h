@@ -38,6 +38,8 @@ enum class Move : int {
   kFlipRoll, kFlipPitch, kFlipYaw,   // add π to one angle
   kNeighbourCell,                    // move to a neighbouring cell of the same pyramid level
   kOtherLevel,                       // move to the matching cell of another level
+  kAlignDepth,                       // ours: shift along the viewing ray by the mean depth
+                                     // misalignment measured at the last weighing
   kCount
 };
 inline constexpr int kNumMoves = static_cast<int>(Move::kCount);
@@ -48,14 +50,14 @@ struct FilterOptions {
   int max_iterations = 50;           // stop after this many weighings
   double confidence = 0.9;           // stop when the best weight reaches this, in (0, 1]
   // Weight of eq. 7.4: α·I/N_raster + β·I/N_depth + γ·ρ; each ≥ 0, α + β + γ = 1.
-  double alpha = 0.3;
-  double beta = 0.6;
-  double gamma = 0.1;
+  double alpha = 0.2;
+  double beta = 0.5;
+  double gamma = 0.3;
   InlierParams inlier;               // soft-inlier thresholds / hard switch (final values)
   // Coarse-to-fine search: the inlier threshold starts at anneal_start_m and falls
   // geometrically to inlier.thr1_m over the first anneal_fraction of max_iterations
   // (0 or ≤ thr1 = off, the thesis's fixed threshold).
-  double anneal_start_m = 0.03;
+  double anneal_start_m = 0;
   double anneal_fraction = 0.6;
   bool zbuffer = true;               // exact z-buffer (false: the thesis's culling-only mode)
   // Occlusion-aware precision: rendered pixels hidden behind nearer scene depth (beyond the
@@ -70,13 +72,18 @@ struct FilterOptions {
   double near_m = 0.05;              // triangles closer than this to the camera are skipped, m
   int num_elite = 10;                // best particles carried unchanged into the next set
   double resample_pool = 0.25;       // fraction of the sorted set the rest is drawn from, (0, 1]
+  // At most this fraction of the resampling pool may come from one image region (squares of
+  // max_window_px/2): keeps several hypotheses (true and false detections) alive until the
+  // fine inlier threshold can tell them apart. 1 = off (the thesis's plain elitism).
+  double region_cap = 0.34;
   int tracker_bins = 32;             // threshold-tracker entries of the CDF samplers (§7.4)
-  double sigma_t0_m = 0.02;          // diffusion translation σ at weight 0, metres
-  double sigma_r0_rad = 0.35;        // diffusion rotation σ at weight 0, radians
+  double sigma_t0_m = 0.01;          // diffusion translation σ at weight 0, metres
+  double sigma_r0_rad = 0.2;         // diffusion rotation σ at weight 0, radians
   double min_sigma_fraction = 0.05;  // σ never decays below this fraction of σ0
   // Probability of each Move (normalised internally); default spreads over all 13.
-  std::array<double, kNumMoves> move_probabilities = {0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.12,
-                                                      0.02, 0.02, 0.02, 0.06, 0.06};
+  std::array<double, kNumMoves> move_probabilities = {0.09, 0.09, 0.09, 0.09, 0.09, 0.09, 0.09, 0.11,
+                                                      0.02, 0.02, 0.02, 0.05, 0.05, 0.1};
+  double align_band_m = 0.05;        // depth differences used by the align-depth move, metres
   HeuristicOptions heuristics;       // depth_extension_m is set to the object's radius if 0
   std::uint64_t seed = 1;            // every random stream derives from this
   int threads = 0;                   // scoring threads; 0 = all cores

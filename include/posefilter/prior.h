@@ -134,7 +134,7 @@ struct DetectionPriorOptions {
   // Probability floor: every (cell, class) keeps exactly this probability where no detection
   // of the class overlaps the cell — low scores stay low but non-zero, nothing is
   // hard-thresholded (SPEC §3). In [1e-6, 1) and num_classes·floor_prob < 1.
-  double floor_prob = 1e-3;
+  double floor_prob = 1e-5;
   double max_box_px = 200;  // decoded box clip, pixels (as PostProcessOptions)
   bool IsValid(std::string* why) const;
 };

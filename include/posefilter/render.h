@@ -67,6 +67,7 @@ struct ScoreKernelParams {
   // true: exact per-window z-buffer (only the nearest fragment of a pixel counts);
   // false: the thesis's z-buffer-free mode (every front-face fragment counts, §7.5.1).
   bool zbuffer = true;
+  float align_band_m = 0.05f;  // band of depth differences that enter depth_diff_sum, metres
 };
 
 struct ScoreKernelResult {
@@ -75,6 +76,10 @@ struct ScoreKernelResult {
   // Counted fragments whose scene depth lies in front of them by more than the inlier ramp
   // (χ = 0 and z_s < z_r): the object is hidden there by something else (occlusion).
   std::int64_t n_occluded = 0;
+  // Σ (z_s − z_r) and count over counted fragments with valid scene depth within
+  // ±align_band_m of the rendering: the mean depth misalignment, for the align-depth move.
+  double depth_diff_sum = 0;
+  std::int64_t depth_diff_count = 0;
   std::int64_t faces_front = 0;  // faces that passed near-plane test and culling
   std::int64_t faces_total = 0;  // faces of the model
 };

@@ -5,8 +5,10 @@
 
 namespace posefilter::filter {
 
-DiffusionContext::DiffusionContext(const PyramidLayout& l, const std::vector<Volume>& v, const FilterOptions& o)
-    : layout(l), volumes(v), opt(o), move_cdf(kNumMoves) {
+DiffusionContext::DiffusionContext(const Camera& c, const PyramidLayout& l, const std::vector<Volume>& v,
+                                   const FilterOptions& o)
+    : camera(c),
+      layout(l), volumes(v), opt(o), move_cdf(kNumMoves) {
   double total = 0, acc = 0;
   for (double p : o.move_probabilities) total += p;
   for (int m = 0; m < kNumMoves; ++m) move_cdf[m] = (acc += o.move_probabilities[m]) / total;
@@ -75,11 +77,24 @@ void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_
     case Move::kOtherLevel: {
       const int target = MoveCell(ctx, p->cell, move, rng);
       if (target >= 0) {
-        const Eigen::Vector3d d = Centre(ctx.volumes[target]) - Centre(ctx.volumes[p->cell]);
+        const Eigen::Vector3d d = ctx.volumes[target].Centre() - ctx.volumes[p->cell].Centre();
         q.x += d.x();
         q.y += d.y();
         q.z += d.z();
         p->cell = target;
+      }
+      break;
+    }
+    case Move::kAlignDepth: {
+      // Camera-frame origin c of the object; moving it by Δ·c/c_z changes its depth by Δ and
+      // keeps its projection.
+      const Eigen::Isometry3d& C = ctx.camera.base_to_camera;
+      const Eigen::Vector3d c = C * Eigen::Vector3d(q.x, q.y, q.z);
+      if (c.z() > 0) {
+        const Eigen::Vector3d shift = C.linear().transpose() * (p->depth_offset / c.z() * c);
+        q.x += shift.x();
+        q.y += shift.y();
+        q.z += shift.z();
       }
       break;
     }

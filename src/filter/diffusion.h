@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "posefilter/camera.h"
 #include "posefilter/filter.h"
 #include "posefilter/heuristics.h"
 #include "posefilter/pose.h"
@@ -17,18 +18,20 @@ struct Particle {
   int cell = 0;         // absolute index into the prior's cells
   double weight = 0;    // eq. 7.4
   bool scored = false;  // weight is current (elite particles are carried unchanged)
+  // Mean (scene − rendered) depth over the fragments within the align band at the last
+  // weighing, metres (0 when none): what kAlignDepth shifts by.
+  double depth_offset = 0;
 };
-
-inline Eigen::Vector3d Centre(const Volume& v) { return 0.5 * (v.min + v.max); }
 
 // What diffusion reads: the pyramid layout, the heuristic volume of every cell, the options.
 struct DiffusionContext {
+  const Camera& camera;
   const PyramidLayout& layout;
   const std::vector<Volume>& volumes;
   const FilterOptions& opt;
   std::vector<double> move_cdf;  // cumulative, normalised FilterOptions::move_probabilities
 
-  DiffusionContext(const PyramidLayout& l, const std::vector<Volume>& v, const FilterOptions& o);
+  DiffusionContext(const Camera& c, const PyramidLayout& l, const std::vector<Volume>& v, const FilterOptions& o);
   // The move for a uniform draw u in [0, 1).
   Move PickMove(double u) const;
 };
@@ -39,7 +42,8 @@ int MoveCell(const DiffusionContext& ctx, int cell, Move move, Rng& rng);
 
 // Applies `move` to the particle: Gaussian noise with σ_t = d·σ_t0, σ_r = d·σ_r0 where
 // d = max(1 − best_weight, min_sigma_fraction) (linear decay of §7.6); a flip adds π; a cell
-// move carries the particle by the difference of the two volumes' centres. Angles are
+// move carries the particle by the difference of the two volumes' centres; align-depth moves
+// it along the camera ray through its origin so its depth changes by depth_offset. Angles are
 // wrapped to (−π, π]; the particle is marked unscored.
 void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_weight, Rng& rng);
 

@@ -16,7 +16,6 @@
 namespace posefilter {
 namespace {
 
-using filter::Centre;
 using filter::Particle;
 
 using Clock = std::chrono::steady_clock;
@@ -73,6 +72,8 @@ struct Context {
   std::vector<PixelRect> windows;    // window per cell
   std::vector<long> n_depth;         // valid depth pixels per window
   InlierParams inlier;               // this iteration's inlier thresholds (annealed)
+  std::vector<int> region;           // image region (niche) of each cell's window centre
+  int region_count = 0;
 };
 
 // Listing 7.5: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
@@ -80,7 +81,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   const Volume& vol = ctx.volumes[cell];
   Particle p;
   p.cell = cell;
-  const Eigen::Vector3d c = Centre(vol);
+  const Eigen::Vector3d c = vol.Centre();
   p.pose.x = c.x();
   p.pose.y = c.y();
   p.pose.z = rng.Uniform(vol.min.z(), vol.max.z());
@@ -112,6 +113,7 @@ double Weigh(const Context& ctx, const Particle& p, RenderWorkspace* ws, ScoreKe
   k.depth_height = ctx.scene.depth.height;
   k.inlier = ctx.inlier;
   k.zbuffer = ctx.opt.zbuffer;
+  k.align_band_m = float(ctx.opt.align_band_m);
   *out = ScoreReference(k, ws);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
@@ -136,6 +138,7 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats)
       if (ps[i].scored) continue;
       ScoreKernelResult r;
       ps[i].weight = Weigh(ctx, ps[i], &ws, &r);
+      ps[i].depth_offset = r.depth_diff_count > 0 ? r.depth_diff_sum / double(r.depth_diff_count) : 0.0;
       ps[i].scored = true;
       faces_total += r.faces_total;
       faces_front += r.faces_front;
@@ -172,6 +175,8 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (!(near_m > 0 && std::isfinite(near_m))) return fail("near_m must be > 0");
   if (num_elite < 0 || num_elite >= num_particles) return fail("num_elite must be in [0, num_particles)");
   if (!(resample_pool > 0 && resample_pool <= 1)) return fail("resample_pool must be in (0, 1]");
+  if (!(region_cap > 0 && region_cap <= 1)) return fail("region_cap must be in (0, 1]");
+  if (!(align_band_m > 0 && std::isfinite(align_band_m))) return fail("align_band_m must be > 0");
   if (tracker_bins < 1 || tracker_bins > 4096) return fail("tracker_bins must be in [1, 4096]");
   if (!(sigma_t0_m >= 0 && std::isfinite(sigma_t0_m))) return fail("sigma_t0_m must be >= 0");
   if (!(sigma_r0_rad >= 0 && std::isfinite(sigma_r0_rad))) return fail("sigma_r0_rad must be >= 0");
@@ -220,7 +225,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, {}, options.inlier};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, {}, options.inlier, {}, 0};
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
@@ -231,10 +236,19 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   ctx.n_depth.resize(cells);
   for (int c = 0; c < cells; ++c) {
     // The object's diameter in pixels at the depth of the cell's volume centre.
-    const double z_cam = ctx.volumes[c].valid ? (scene.camera.base_to_camera * Centre(ctx.volumes[c])).z() : 1.0;
+    const double z_cam = ctx.volumes[c].valid ? (scene.camera.base_to_camera * ctx.volumes[c].Centre()).z() : 1.0;
     const double min_side = options.min_window_diameters * diameter * scene.camera.fx / std::max(z_cam, options.near_m);
     ctx.windows[c] = CellWindow(prior.boxes[c], min_side, options.max_window_px, scene.camera.width, scene.camera.height);
     ctx.n_depth[c] = counter.Count(ctx.windows[c]);
+  }
+  // Niches for resampling: a grid of max_window_px/2-sized squares over the image.
+  const int side = std::max(8, options.max_window_px / 2);
+  const int cols = (scene.camera.width + side - 1) / side, rows = (scene.camera.height + side - 1) / side;
+  ctx.region_count = cols * rows;
+  ctx.region.resize(cells);
+  for (int c = 0; c < cells; ++c) {
+    const PixelRect& w = ctx.windows[c];
+    ctx.region[c] = ((w.v0 + w.height / 2) / side) * cols + (w.u0 + w.width / 2) / side;
   }
   return ctx;
 }
@@ -270,7 +284,7 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   EstimateResult res;
   res.obj = mesh.name;
   Rng rng(options.seed);
-  const filter::DiffusionContext diffusion(prior.layout, ctx.volumes, options);
+  const filter::DiffusionContext diffusion(scene.camera, prior.layout, ctx.volumes, options);
 
   // 1. Initialisation: importance sampling of the prior's cells (§7.4).
   const int N = options.num_particles;
@@ -316,16 +330,30 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
       if (progress) progress(it, best.weight);
       break;
     }
-    // 5. Resample: the elite is kept; the rest is drawn from the CDF of the best `pool`.
-    const int elite = options.num_elite;
-    const int pool = std::max(std::max(elite, 1), int(std::lround(options.resample_pool * N)));
-    std::vector<double> pool_w(pool);
-    for (int j = 0; j < pool; ++j) pool_w[j] = ranked[j].weight;
+    // 5. Resample: the pool is the best particles in rank order, at most region_cap·pool of
+    // them from one image region (niching: a false detection that fits coarsely early on
+    // cannot take the whole set); the elite is the head of the pool, the rest is drawn from
+    // the pool's CDF (threshold tracker) and diffused.
+    const int pool_size = std::max(std::max(options.num_elite, 1), int(std::lround(options.resample_pool * N)));
+    const int cap = std::max(1, int(std::ceil(options.region_cap * pool_size)));
+    std::vector<int> pool;  // indices into `ranked`
+    pool.reserve(pool_size);
+    std::vector<int> per_region(ctx.region_count, 0);
+    for (int j = 0; j < N && int(pool.size()) < pool_size; ++j) {
+      int& n = per_region[ctx.region[current[ranked[j].index].cell]];
+      if (n < cap) {
+        ++n;
+        pool.push_back(j);
+      }
+    }
+    std::vector<double> pool_w(pool.size());
+    for (std::size_t j = 0; j < pool.size(); ++j) pool_w[j] = ranked[pool[j]].weight;
     if (pool_w[0] <= 0) std::fill(pool_w.begin(), pool_w.end(), 1.0);  // nothing matched yet
     filter::CdfSampler resampler(pool_w, options.tracker_bins);
-    for (int j = 0; j < elite; ++j) next[j] = current[ranked[j].index];
+    const int elite = std::min<int>(options.num_elite, int(pool.size()));
+    for (int j = 0; j < elite; ++j) next[j] = current[ranked[pool[j]].index];
     for (int j = elite; j < N; ++j) {
-      next[j] = current[ranked[resampler.Sample(1.0 - rng.Uniform())].index];
+      next[j] = current[ranked[pool[resampler.Sample(1.0 - rng.Uniform())]].index];
       // 6. Diffuse.
       filter::Diffuse(diffusion, &next[j], best.weight, rng);
     }

@@ -8,11 +8,16 @@ namespace posefilter {
 namespace {
 
 // One rendered fragment at depth z against the scene depth zs (0 = missing: never an inlier).
-inline void Compare(float z, float zs, const InlierParams& p, ScoreKernelResult* r) {
+inline void Compare(float z, float zs, const ScoreKernelParams& k, ScoreKernelResult* r) {
   if (zs <= 0) return;
-  const float chi = SoftInlier(std::fabs(z - zs), p);
+  const float d = zs - z;
+  const float chi = SoftInlier(std::fabs(d), k.inlier);
   r->inlier_sum += chi;
-  if (chi == 0.f && zs < z) ++r->n_occluded;
+  if (chi == 0.f && d < 0) ++r->n_occluded;
+  if (std::fabs(d) <= k.align_band_m) {
+    r->depth_diff_sum += d;
+    ++r->depth_diff_count;
+  }
 }
 
 }  // namespace
@@ -40,14 +45,14 @@ ScoreKernelResult ScoreReference(const ScoreKernelParams& k, RenderWorkspace* ws
         const float z = zb[std::size_t(v) * w.width + u];
         if (z == kEmpty) continue;
         ++r.n_raster;
-        Compare(z, scene_depth(w.u0 + u, w.v0 + v), k.inlier, &r);
+        Compare(z, scene_depth(w.u0 + u, w.v0 + v), k, &r);
       }
     }
   } else {
     // Thesis mode (§7.5.1): no z-buffer, every front-face fragment is compared directly.
     r.faces_front = render::RasterizeMesh(k, ws->cam_vertices.data(), w, [&](int u, int v, float z) {
       ++r.n_raster;
-      Compare(z, scene_depth(u, v), k.inlier, &r);
+      Compare(z, scene_depth(u, v), k, &r);
     });
   }
   return r;

@@ -9,6 +9,7 @@ namespace posefilter::filter {
 namespace {
 
 struct Fixture {
+  Camera camera;
   PyramidLayout layout = PyramidLayout::Thesis(640, 480, 1);
   std::vector<Volume> volumes;
   FilterOptions opt;
@@ -53,7 +54,7 @@ TEST(DiffusionTest, TranslationAndRotationSpreadsDecayLinearlyWithTheBestWeight)
   f.opt.sigma_t0_m = 0.02;
   f.opt.sigma_r0_rad = 0.3;
   f.opt.min_sigma_fraction = 0.05;
-  DiffusionContext ctx(f.layout, f.volumes, f.opt);
+  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
   EXPECT_NEAR(Spread(ctx, Move::kTranslateX, 0.0, &Pose6::x), 0.02, 0.0006);
   EXPECT_NEAR(Spread(ctx, Move::kTranslateZ, 0.5, &Pose6::z), 0.01, 0.0003);
   EXPECT_NEAR(Spread(ctx, Move::kTranslateAll, 0.75, &Pose6::y), 0.005, 0.00015);
@@ -72,7 +73,7 @@ TEST(DiffusionTest, TranslationAndRotationSpreadsDecayLinearlyWithTheBestWeight)
 
 TEST(DiffusionTest, FlipsAddPiAndWrap) {
   Fixture f;
-  DiffusionContext ctx(f.layout, f.volumes, f.opt);
+  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
   Rng rng(1);
   Particle p = Start();
   ApplyMove(ctx, Move::kFlipYaw, &p, 0.0, rng);
@@ -84,7 +85,7 @@ TEST(DiffusionTest, FlipsAddPiAndWrap) {
 
 TEST(DiffusionTest, CellMovesReachNeighboursAndOtherLevelsAndCarryTheParticle) {
   Fixture f;
-  DiffusionContext ctx(f.layout, f.volumes, f.opt);
+  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
   Rng rng(4);
   const int start = f.layout.CellIndex(1, 10, 20);
   int moved = 0;
@@ -98,7 +99,7 @@ TEST(DiffusionTest, CellMovesReachNeighboursAndOtherLevelsAndCarryTheParticle) {
     EXPECT_LE(std::abs(row - 10), 1);
     EXPECT_LE(std::abs(col - 20), 1);
     EXPECT_NE(p.cell, start);
-    const Eigen::Vector3d shift = Centre(f.volumes[p.cell]) - Centre(f.volumes[start]);
+    const Eigen::Vector3d shift = f.volumes[p.cell].Centre() - f.volumes[start].Centre();
     EXPECT_NEAR(p.pose.x - Start().pose.x, shift.x(), 1e-12);
     ++moved;
   }
@@ -134,7 +135,7 @@ TEST(DiffusionTest, PickMoveFollowsTheProbabilities) {
   f.opt.move_probabilities.fill(0.0);
   f.opt.move_probabilities[int(Move::kRotateYaw)] = 3;
   f.opt.move_probabilities[int(Move::kFlipPitch)] = 1;
-  DiffusionContext ctx(f.layout, f.volumes, f.opt);
+  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
   Rng rng(2);
   int yaw = 0, flip = 0;
   for (int i = 0; i < 40000; ++i) {
@@ -143,6 +144,30 @@ TEST(DiffusionTest, PickMoveFollowsTheProbabilities) {
     (m == Move::kRotateYaw ? yaw : flip)++;
   }
   EXPECT_NEAR(yaw / 40000.0, 0.75, 0.01);
+}
+
+}  // namespace
+}  // namespace posefilter::filter
+
+namespace posefilter::filter {
+namespace {
+
+TEST(DiffusionTest, AlignDepthShiftsAlongTheViewingRayByTheMeasuredOffset) {
+  Fixture f;
+  // A base frame rotated and shifted against the camera.
+  f.camera.base_to_camera.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  f.camera.base_to_camera.translation() = Eigen::Vector3d(0.1, -0.05, 0.3);
+  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
+  Rng rng(1);
+  Particle p = Start();
+  p.depth_offset = 0.025;
+  const Eigen::Vector3d before = f.camera.base_to_camera * Eigen::Vector3d(p.pose.x, p.pose.y, p.pose.z);
+  ApplyMove(ctx, Move::kAlignDepth, &p, 0.0, rng);
+  const Eigen::Vector3d after = f.camera.base_to_camera * Eigen::Vector3d(p.pose.x, p.pose.y, p.pose.z);
+  EXPECT_NEAR(after.z() - before.z(), 0.025, 1e-12);                       // depth moved by the offset
+  EXPECT_NEAR(after.x() / after.z(), before.x() / before.z(), 1e-12);      // same pixel
+  EXPECT_NEAR(after.y() / after.z(), before.y() / before.z(), 1e-12);
+  EXPECT_EQ(p.pose.roll, Start().pose.roll);
 }
 
 }  // namespace

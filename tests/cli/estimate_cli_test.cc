@@ -1,0 +1,483 @@
+// End-to-end tests of the built `posefilter` binary (POSEFILTER_CLI_PATH): `estimate` on a
+// synthetic scene (made with `posefilter synth`) with every prior form, its input errors (each
+// a non-zero exit and a one-line message naming the file or option), `gt-detections`, `demo`,
+// and the dispatcher (unknown command, no arguments).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "posefilter/depth_image.h"
+#include "posefilter/prior.h"
+#include "posefilter/scene_io.h"
+
+namespace posefilter {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string ReadText(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void WriteText(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out << text;
+  ASSERT_TRUE(out.good()) << p;
+}
+
+std::string ShellQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// Lines of `s` without the trailing empty one.
+std::vector<std::string> Lines(const std::string& s) {
+  std::vector<std::string> lines;
+  std::istringstream in(s);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+// The scene every test uses: `posefilter synth --target box --seed 3`, made once.
+class CliTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = new fs::path(fs::temp_directory_path() / ("posefilter_cli_test_" + std::to_string(::getpid())));
+    fs::remove_all(*root_);
+    fs::create_directories(*root_);
+    const RunResult r = Run({"synth", "--out", (*root_ / "synth").string(), "--target", "box", "--seed", "3"});
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*root_);
+    delete root_;
+    root_ = nullptr;
+  }
+  void SetUp() override {
+    ASSERT_TRUE(fs::exists(Scene("depth.png"))) << "synth did not write the scene";
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = *root_ / info->name();
+    fs::create_directories(dir_);
+  }
+
+  // Runs the binary with `args`; stdout and stderr captured through files.
+  static RunResult Run(const std::vector<std::string>& args) {
+    static int n = 0;
+    const fs::path base = *root_ / ("run_" + std::to_string(n++));
+    std::string cmd = ShellQuote(POSEFILTER_CLI_PATH);
+    for (const auto& a : args) cmd += " " + ShellQuote(a);
+    cmd += " >" + ShellQuote(base.string() + ".out") + " 2>" + ShellQuote(base.string() + ".err");
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = ReadText(base.string() + ".out");
+    r.err = ReadText(base.string() + ".err");
+    return r;
+  }
+
+  static std::string Scene(const std::string& file) { return (*root_ / "synth" / "scene_000" / file).string(); }
+  std::string Path(const std::string& file) const { return (dir_ / file).string(); }
+
+  // `estimate` argv on `depth` and `camera`, --quiet, then `extra` (CLI11 rejects an option
+  // given twice, so each test passes every other option once, in `extra`).
+  static std::vector<std::string> EstimateArgs(const std::string& depth, const std::string& camera,
+                                               const std::vector<std::string>& extra) {
+    std::vector<std::string> a = {"estimate", "--depth", depth, "--camera", camera, "--quiet"};
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  }
+  static std::vector<std::string> Small() { return {"--particles", "64", "--iterations", "5"}; }
+
+  // An input error: exit 1 and exactly one stderr line "posefilter <cmd>: error: …<needle>…".
+  static void ExpectInputError(const RunResult& r, const std::string& cmd, const std::string& needle) {
+    EXPECT_EQ(r.code, 1) << r.err;
+    const auto lines = Lines(r.err);
+    ASSERT_EQ(lines.size(), 1u) << r.err;
+    EXPECT_EQ(lines[0].rfind("posefilter " + cmd + ": error: ", 0), 0u) << lines[0];
+    EXPECT_NE(lines[0].find(needle), std::string::npos) << "'" << needle << "' not in: " << lines[0];
+  }
+  // A usage error (CLI11): exit 2, the first stderr line names the option.
+  static void ExpectUsageError(const RunResult& r, const std::string& needle) {
+    EXPECT_EQ(r.code, 2) << r.err;
+    const auto lines = Lines(r.err);
+    ASSERT_FALSE(lines.empty());
+    EXPECT_NE(lines[0].find(needle), std::string::npos) << "'" << needle << "' not in: " << lines[0];
+  }
+
+  // Reads a results JSON written by estimate and checks it holds one finite "box" pose.
+  static ObjectResult ExpectOneBoxResult(const std::string& path, int max_iterations) {
+    const std::vector<ObjectResult> res = ReadResultsJson(path);
+    EXPECT_EQ(res.size(), 1u) << path;
+    if (res.size() != 1) return {};
+    const ObjectResult& o = res[0];
+    EXPECT_EQ(o.obj, "box");
+    EXPECT_TRUE(o.T_cam_obj.matrix().allFinite());
+    EXPECT_NEAR(o.T_cam_obj.linear().determinant(), 1.0, 1e-6);
+    EXPECT_GT(o.T_cam_obj.translation().z(), 0.1);  // in front of the camera
+    EXPECT_GE(o.weight, 0.0);
+    EXPECT_LE(o.weight, 1.0);
+    EXPECT_GE(o.iterations, 1);
+    EXPECT_LE(o.iterations, max_iterations);
+    return o;
+  }
+
+  static fs::path* root_;
+  fs::path dir_;
+};
+
+fs::path* CliTest::root_ = nullptr;
+
+// ---------------------------------------------------------------------------------------------
+// estimate: success paths.
+
+TEST_F(CliTest, EstimateWithEveryPriorFormWritesResultsAndOverlay) {
+  const CameraFile cam = ReadCameraJson(Scene("camera.json"));
+  const std::vector<std::vector<std::string>> priors = {
+      {"--prior", Scene("detections.json")},
+      {"--prior", Scene("prior.pyr"), "--classes", Scene("classes.txt")},
+      {"--prior", "none"}};
+  for (std::size_t i = 0; i < priors.size(); ++i) {
+    SCOPED_TRACE(priors[i][1]);
+    const std::string out = Path("results" + std::to_string(i) + ".json");
+    const std::string overlay = Path("overlay" + std::to_string(i) + ".png");
+    std::vector<std::string> extra = {"--mesh", Scene("box.ply"), "--out", out, "--overlay", overlay};
+    extra.insert(extra.end(), priors[i].begin(), priors[i].end());
+    for (const auto& s : Small()) extra.push_back(s);
+    const RunResult r = Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << "--quiet but stderr: " << r.err;
+    EXPECT_NE(r.out.find("box"), std::string::npos) << r.out;  // the summary table
+    ExpectOneBoxResult(out, 5);
+    const RgbImage img = LoadRgbPng(overlay);
+    EXPECT_EQ(img.width, cam.camera.width);
+    EXPECT_EQ(img.height, cam.camera.height);
+  }
+}
+
+TEST_F(CliTest, EstimateIsDeterministicPerSeed) {
+  auto run = [&](const std::string& name, const std::string& seed) {
+    std::vector<std::string> extra = {"--mesh", Scene("box.ply"), "--prior", Scene("detections.json"), "--seed", seed,
+                                      "--out", Path(name)};
+    for (const auto& s : Small()) extra.push_back(s);
+    const RunResult r = Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra));
+    EXPECT_EQ(r.code, 0) << r.err;
+    return ExpectOneBoxResult(Path(name), 5);
+  };
+  const ObjectResult a = run("a.json", "11"), b = run("b.json", "11"), c = run("c.json", "12");
+  EXPECT_EQ(a.T_cam_obj.matrix(), b.T_cam_obj.matrix());
+  EXPECT_EQ(a.weight, b.weight);
+  EXPECT_EQ(a.iterations, b.iterations);
+  // Byte-identical files once the wall time is taken out.
+  const std::regex time_ms("\"time_ms\"\\s*:\\s*[-+0-9.eE]+");
+  const std::string ta = std::regex_replace(ReadText(Path("a.json")), time_ms, "");
+  const std::string tb = std::regex_replace(ReadText(Path("b.json")), time_ms, "");
+  EXPECT_EQ(ta, tb);
+  EXPECT_NE(ta, ReadText(Path("a.json"))) << "results JSON has no time_ms to ignore";
+  // And the seed matters (otherwise the check above proves nothing).
+  EXPECT_NE(a.T_cam_obj.matrix(), c.T_cam_obj.matrix());
+}
+
+// ---------------------------------------------------------------------------------------------
+// estimate: input errors (exit 1, one line naming the file or option).
+
+TEST_F(CliTest, MissingDepthPng) {
+  const std::string depth = Path("no_such_depth.png");
+  ExpectInputError(Run(EstimateArgs(depth, Scene("camera.json"), {"--mesh", Scene("box.ply")})), "estimate", depth);
+}
+
+TEST_F(CliTest, CorruptDepthPngRandomBytes) {
+  const std::string depth = Path("random.png");
+  std::string bytes;
+  std::uint32_t x = 12345;
+  for (int i = 0; i < 4096; ++i) {  // xorshift32: deterministic garbage
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    bytes += char(x & 0xff);
+  }
+  WriteText(depth, bytes);
+  ExpectInputError(Run(EstimateArgs(depth, Scene("camera.json"), {"--mesh", Scene("box.ply")})), "estimate", depth);
+}
+
+TEST_F(CliTest, CorruptDepthPngTruncated) {
+  const std::string depth = Path("truncated.png");
+  const std::string full = ReadText(Scene("depth.png"));
+  ASSERT_GT(full.size(), 4000u);
+  WriteText(depth, full.substr(0, full.size() / 3));
+  ExpectInputError(Run(EstimateArgs(depth, Scene("camera.json"), {"--mesh", Scene("box.ply")})), "estimate", depth);
+}
+
+TEST_F(CliTest, MissingMesh) {
+  const std::string mesh = Path("no_such_mesh.ply");
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), {"--mesh", mesh})), "estimate", mesh);
+}
+
+TEST_F(CliTest, CorruptMesh) {
+  const std::string mesh = Path("garbage.ply");
+  WriteText(mesh, "this is not a mesh\n\x01\x02\x03 garbage garbage\n");
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), {"--mesh", mesh})), "estimate", mesh);
+}
+
+TEST_F(CliTest, DepthSizeDiffersFromCamera) {
+  nlohmann::json j = nlohmann::json::parse(ReadText(Scene("camera.json")));
+  ASSERT_EQ(j["width"].get<int>(), 640);
+  j["width"] = 320;
+  const std::string cam = Path("camera320.json");
+  WriteText(cam, j.dump());
+  const RunResult r = Run(EstimateArgs(Scene("depth.png"), cam, {"--mesh", Scene("box.ply")}));
+  ExpectInputError(r, "estimate", Scene("depth.png"));
+  EXPECT_NE(r.err.find("320"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, AllZeroDepthPng) {
+  const std::string depth = Path("zeros.png");
+  SaveDepthPng(DepthImage(640, 480, 0.f), depth, 0.0001);
+  ExpectInputError(Run(EstimateArgs(depth, Scene("camera.json"), {"--mesh", Scene("box.ply")})), "estimate", depth);
+}
+
+TEST_F(CliTest, NanAndNullInCameraJson) {
+  const std::string text = ReadText(Scene("camera.json"));
+  const std::regex fx("\"fx\"\\s*:\\s*[-+0-9.eE]+");
+  ASSERT_TRUE(std::regex_search(text, fx)) << text;
+  const std::string nan_cam = Path("camera_nan.json"), null_cam = Path("camera_null.json");
+  WriteText(nan_cam, std::regex_replace(text, fx, "\"fx\": NaN"));  // not JSON at all
+  WriteText(null_cam, std::regex_replace(text, fx, "\"fx\": null"));
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), nan_cam, {"--mesh", Scene("box.ply")})), "estimate", nan_cam);
+  const RunResult r = Run(EstimateArgs(Scene("depth.png"), null_cam, {"--mesh", Scene("box.ply")}));
+  ExpectInputError(r, "estimate", null_cam);
+  EXPECT_NE(r.err.find("fx"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, EmptyDetectionsPrior) {
+  const std::string prior = Path("empty.json");
+  WriteText(prior, "[]");
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), {"--mesh", Scene("box.ply"), "--prior", prior})),
+                   "estimate", prior);
+}
+
+TEST_F(CliTest, RawPyramidOfWrongSize) {
+  const std::string prior = Path("short.pyr");
+  const std::string full = ReadText(Scene("prior.pyr"));
+  WriteText(prior, full.substr(0, full.size() - 4));  // one float short
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"),
+                                    {"--mesh", Scene("box.ply"), "--prior", prior, "--classes", Scene("classes.txt")})),
+                   "estimate", prior);
+}
+
+TEST_F(CliTest, MeshNameNotAmongThePriorsClasses) {
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"),
+                                    {"--mesh", "frobnitz=" + Scene("box.ply"), "--prior", Scene("prior.pyr"),
+                                     "--classes", Scene("classes.txt")})),
+                   "estimate", "frobnitz");
+}
+
+TEST_F(CliTest, OverlayOnRgbOfWrongSize) {
+  const std::string rgb = Path("small_rgb.png");
+  SaveRgbPng(RgbImage(32, 24), rgb);
+  std::vector<std::string> extra = {"--mesh", Scene("box.ply"), "--overlay", Path("o.png"), "--rgb", rgb};
+  for (const auto& s : Small()) extra.push_back(s);
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra)), "estimate", rgb);
+  EXPECT_FALSE(fs::exists(Path("o.png")));
+}
+
+TEST_F(CliTest, NonsenseOptionValues) {
+  struct Case {
+    std::vector<std::string> opt;
+    std::string needle;
+  };
+  // Values CLI11 parses but the filter rejects: exit 1, message names the option.
+  for (const Case& c : std::vector<Case>{{{"--particles", "-5"}, "particles"},
+                                         {{"--alpha", "2"}, "alpha"},
+                                         {{"--confidence", "0"}, "confidence"},
+                                         {{"--iterations", "0"}, "iterations"},
+                                         {{"--depth-scale", "-1"}, "--depth-scale"},
+                                         {{"--unit-scale", "0"}, "--unit-scale"}}) {
+    SCOPED_TRACE(c.opt[0] + " " + c.opt[1]);
+    std::vector<std::string> extra = {"--mesh", Scene("box.ply")};
+    extra.insert(extra.end(), c.opt.begin(), c.opt.end());
+    ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra)), "estimate", c.needle);
+  }
+  // Values or options CLI11 rejects: exit 2, first line names the option.
+  for (const Case& c : std::vector<Case>{{{"--engine", "gpu"}, "--engine"},
+                                         {{"--iterations", "abc"}, "--iterations"},
+                                         {{"--frobnicate"}, "--frobnicate"}}) {
+    SCOPED_TRACE(c.opt[0]);
+    std::vector<std::string> extra = {"--mesh", Scene("box.ply")};
+    extra.insert(extra.end(), c.opt.begin(), c.opt.end());
+    ExpectUsageError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra)), c.needle);
+  }
+  // A required option missing.
+  ExpectUsageError(Run({"estimate", "--camera", Scene("camera.json"), "--mesh", Scene("box.ply")}), "--depth");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The dispatcher.
+
+TEST_F(CliTest, UnknownSubcommand) {
+  const RunResult r = Run({"frobnicate"});
+  EXPECT_EQ(r.code, 2);
+  const auto lines = Lines(r.err);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_NE(lines[0].find("unknown command 'frobnicate'"), std::string::npos) << lines[0];
+}
+
+TEST_F(CliTest, NoArgumentsPrintsUsage) {
+  const RunResult r = Run({});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err.rfind("usage: posefilter", 0), 0u) << r.err;
+  for (const char* cmd : {"estimate", "demo", "synth", "eval", "suite", "gt-detections"})
+    EXPECT_NE(r.err.find(std::string("\n  ") + cmd + " "), std::string::npos) << cmd << " not listed:\n" << r.err;
+  // --help: the same list on stdout, exit 0.
+  const RunResult h = Run({"--help"});
+  EXPECT_EQ(h.code, 0);
+  EXPECT_NE(h.out.find("gt-detections"), std::string::npos) << h.out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// gt-detections.
+
+TEST_F(CliTest, GtDetectionsBoxMatchesTheSynthGtBox) {
+  const nlohmann::json synth = nlohmann::json::parse(ReadText(Scene("synth.json")));
+  const auto& g = synth.at("gt_bbox");
+  const Box gt_box = DetectionBox({"box", 1, g[0].get<double>(), g[1].get<double>(), g[2].get<double>(), g[3].get<double>()});
+  ASSERT_GT(gt_box.w, 10);
+
+  // Jittered (defaults: σ 8 px, score 0.9).
+  const std::string out = Path("dets.json");
+  const RunResult r = Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--mesh",
+                           Scene("box.ply"), "--seed", "5", "--out", out});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<Detection> dets = ReadDetectionsJson(out);
+  ASSERT_EQ(dets.size(), 1u);
+  EXPECT_EQ(dets[0].cls, "box");
+  EXPECT_DOUBLE_EQ(dets[0].score, 0.9);
+  const double iou = BoxIoU(DetectionBox(dets[0]), gt_box);
+  EXPECT_GT(iou, 0.5);
+  EXPECT_LT(iou, 1.0);  // it was jittered
+
+  // No jitter: exactly the full silhouette's box.
+  const std::string exact = Path("exact.json");
+  ASSERT_EQ(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--mesh",
+                 Scene("box.ply"), "--jitter", "0", "--score", "0.7", "--out", exact})
+                .code,
+            0);
+  const std::vector<Detection> e = ReadDetectionsJson(exact);
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_NEAR(e[0].x, g[0].get<double>(), 1e-9);
+  EXPECT_NEAR(e[0].y, g[1].get<double>(), 1e-9);
+  EXPECT_NEAR(e[0].w, g[2].get<double>(), 1e-9);
+  EXPECT_NEAR(e[0].h, g[3].get<double>(), 1e-9);
+  EXPECT_DOUBLE_EQ(e[0].score, 0.7);
+
+  // Same seed, same file; --models-dir finds DIR/<obj>.ply.
+  const std::string again = Path("again.json");
+  ASSERT_EQ(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--models-dir",
+                 fs::path(Scene("box.ply")).parent_path().string(), "--seed", "5", "--out", again, "--quiet"})
+                .code,
+            0);
+  EXPECT_EQ(ReadText(out), ReadText(again));
+
+  // And `estimate` takes it as its prior.
+  std::vector<std::string> extra = {"--mesh", Scene("box.ply"), "--prior", out, "--out", Path("res.json")};
+  for (const auto& s : Small()) extra.push_back(s);
+  const RunResult est = Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra));
+  ASSERT_EQ(est.code, 0) << est.err;
+  ExpectOneBoxResult(Path("res.json"), 5);
+}
+
+TEST_F(CliTest, GtDetectionsSkipsObjectsOutOfView) {
+  // The synth gt object, plus a second instance behind the camera.
+  nlohmann::json gt = nlohmann::json::parse(ReadText(Scene("gt.json")));
+  nlohmann::json behind = gt["objects"][0];
+  behind["t"] = {0.0, 0.0, -1.0};
+  gt["objects"].push_back(behind);
+  const std::string gt2 = Path("gt2.json");
+  WriteText(gt2, gt.dump());
+  const std::string out = Path("dets.json");
+  const RunResult r = Run({"gt-detections", "--gt", gt2, "--camera", Scene("camera.json"), "--mesh", Scene("box.ply"),
+                           "--out", out});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("objects[1]"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadDetectionsJson(out).size(), 1u);
+
+  // Nothing in view at all: an error, no file.
+  gt["objects"].erase(0);
+  const std::string gt3 = Path("gt3.json");
+  WriteText(gt3, gt.dump());
+  const std::string none = Path("none.json");
+  const RunResult n = Run({"gt-detections", "--gt", gt3, "--camera", Scene("camera.json"), "--mesh", Scene("box.ply"),
+                           "--out", none, "--quiet"});
+  EXPECT_EQ(n.code, 1);
+  EXPECT_NE(n.err.find("error: " + gt3), std::string::npos) << n.err;
+  EXPECT_FALSE(fs::exists(none));
+}
+
+TEST_F(CliTest, GtDetectionsInputErrors) {
+  const std::string out = Path("dets.json");
+  const std::string gt = Path("no_such_gt.json");
+  ExpectInputError(Run({"gt-detections", "--gt", gt, "--camera", Scene("camera.json"), "--mesh", Scene("box.ply"),
+                        "--out", out}),
+                   "gt-detections", gt);
+  const std::string mesh = Path("no_such_mesh.ply");
+  ExpectInputError(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--mesh",
+                        "box=" + mesh, "--out", out}),
+                   "gt-detections", mesh);
+  // No mesh for the gt object at all: names the object.
+  ExpectInputError(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--out", out}),
+                   "gt-detections", "'box'");
+  // --models-dir without the object's file: names DIR/box.ply.
+  ExpectInputError(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--models-dir",
+                        dir_.string(), "--out", out}),
+                   "gt-detections", Path("box.ply"));
+  const std::string cam = Path("no_such_camera.json");
+  ExpectInputError(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", cam, "--mesh", Scene("box.ply"), "--out",
+                        out}),
+                   "gt-detections", cam);
+  ExpectInputError(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--mesh",
+                        Scene("box.ply"), "--score", "1.5", "--out", out}),
+                   "gt-detections", "--score");
+  ExpectInputError(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--mesh",
+                        Scene("box.ply"), "--jitter", "-1", "--out", out}),
+                   "gt-detections", "--jitter");
+  ExpectUsageError(Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--mesh",
+                        Scene("box.ply")}),
+                   "--out");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// ---------------------------------------------------------------------------------------------
+// demo.
+
+TEST_F(CliTest, DemoWritesAnOverlay) {
+  const std::string out = Path("demo");
+  const RunResult r = Run({"demo", "--iterations", "3", "--particles", "32", "--out", out, "--quiet"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("ADD-S"), std::string::npos) << r.out;
+  const RgbImage img = LoadRgbPng(out + "/overlay.png");
+  EXPECT_EQ(img.width, 640);
+  EXPECT_EQ(img.height, 480);
+}
+
+}  // namespace
+}  // namespace posefilter
