@@ -2,37 +2,99 @@
 
 #include <unistd.h>
 
+#include <cctype>
+#include <cstddef>
 #include <cstdio>
+#include <string>
+#include <string_view>
 
 #include "posefilter/error.h"
 
 namespace posefilter::cli {
 
+namespace {
+
+// The value options of AddFilterOptions and the FilterOptions fields they set, each field spelt
+// as FilterOptions::IsValid names it in its messages (inlier.thr1_m is "inlier threshold").
+struct FieldOption {
+  std::string_view field;
+  std::string_view option;
+};
+constexpr FieldOption kFieldOptions[] = {
+    {"engine", "--engine"},         {"num_particles", "--particles"},     {"max_iterations", "--iterations"},
+    {"confidence", "--confidence"}, {"alpha", "--alpha"},                 {"beta", "--beta"},
+    {"gamma", "--gamma"},           {"inlier threshold", "--inlier-thr"}, {"max_window_px", "--window"},
+    {"num_elite", "--elite"},       {"resample_pool", "--pool"},          {"sigma_t0_m", "--sigma-t"},
+    {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"}};
+
+// The option that sets `field`; evaluated while compiling, so an unknown field does not compile.
+consteval const char* OptionOf(std::string_view field) {
+  for (const FieldOption& f : kFieldOptions)
+    if (f.field == field) return f.option.data();
+  throw "no CLI option sets this FilterOptions field";
+}
+
+bool IsNameChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; }
+
+// `why` of FilterOptions::IsValid with every field that has an option replaced by the option
+// ("num_elite must be in [0, num_particles)" → "--elite must be in [0, --particles)"). A field
+// counts where it starts a phrase: a whole word at the message start or after punctuation (so
+// the "inlier threshold" of "hard inlier threshold", which has no option, stays).
+std::string NameOptions(const std::string& why) {
+  std::string out;
+  for (std::size_t i = 0; i < why.size();) {
+    const std::size_t prev = i == 0 ? std::string::npos : why.find_last_not_of(' ', i - 1);
+    const FieldOption* match = nullptr;
+    if (prev == std::string::npos || !IsNameChar(why[prev])) {
+      for (const FieldOption& f : kFieldOptions) {
+        const std::size_t end = i + f.field.size();
+        if (why.compare(i, f.field.size(), f.field) == 0 && (end == why.size() || !IsNameChar(why[end]))) {
+          match = &f;
+          break;
+        }
+      }
+    }
+    if (match != nullptr) {
+      out += match->option;
+      i += match->field.size();
+    } else {
+      out += why[i++];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 void AddFilterOptions(CLI::App& app, FilterOptions* o) {
-  app.add_option("--engine", o->engine, "scoring engine")->capture_default_str()->check(CLI::IsMember({"reference"}));
-  app.add_option("--particles", o->num_particles, "number of particles N")->capture_default_str();
-  app.add_option("--iterations", o->max_iterations, "maximum iterations")->capture_default_str();
-  app.add_option("--confidence", o->confidence, "stop when the best weight reaches this")->capture_default_str();
-  app.add_option("--alpha", o->alpha, "weight of I/N_raster (eq. 7.4)")->capture_default_str();
-  app.add_option("--beta", o->beta, "weight of I/N_depth (eq. 7.4)")->capture_default_str();
-  app.add_option("--gamma", o->gamma, "weight of the stage-1 probability (eq. 7.4)")->capture_default_str();
-  app.add_option("--inlier-thr", o->inlier.thr1_m, "soft inlier: chi = 1 up to this, 0 from twice it (m)")->capture_default_str();
+  // A value option whose --help shows its default.
+  auto add = [&app](const char* name, auto& value, const char* help) {
+    return app.add_option(name, value, help)->capture_default_str();
+  };
+  add(OptionOf("engine"), o->engine, "scoring engine")->check(CLI::IsMember({"reference"}));
+  add(OptionOf("num_particles"), o->num_particles, "number of particles N");
+  add(OptionOf("max_iterations"), o->max_iterations, "maximum iterations");
+  add(OptionOf("confidence"), o->confidence, "stop when the best weight reaches this");
+  add(OptionOf("alpha"), o->alpha, "weight of I/N_raster (eq. 7.4)");
+  add(OptionOf("beta"), o->beta, "weight of I/N_depth (eq. 7.4)");
+  add(OptionOf("gamma"), o->gamma, "weight of the stage-1 probability (eq. 7.4)");
+  add(OptionOf("inlier threshold"), o->inlier.thr1_m, "soft inlier: chi = 1 up to this, 0 from twice it (m)");
   app.add_flag("--hard-inlier", o->inlier.hard, "hard inlier (chi = 1 iff d <= 5 mm) instead of the soft ramp");
   app.add_flag("!--no-zbuffer", o->zbuffer, "thesis mode: back-face culling only, no z-buffer");
   app.add_flag("!--no-occlusion-aware", o->occlusion_aware,
                "count occluded rendered pixels in N_raster, as the thesis does");
-  app.add_option("--window", o->max_window_px, "maximum window side (pixels)")->capture_default_str();
-  app.add_option("--elite", o->num_elite, "best particles kept unchanged each iteration")->capture_default_str();
-  app.add_option("--pool", o->resample_pool, "fraction of the sorted set resampled from")->capture_default_str();
-  app.add_option("--sigma-t", o->sigma_t0_m, "initial diffusion translation sigma (m)")->capture_default_str();
-  app.add_option("--sigma-r", o->sigma_r0_rad, "initial diffusion rotation sigma (rad)")->capture_default_str();
-  app.add_option("--seed", o->seed, "random seed (same seed, same poses)")->capture_default_str();
-  app.add_option("--threads", o->threads, "scoring threads (0 = all cores)")->capture_default_str();
+  add(OptionOf("max_window_px"), o->max_window_px, "maximum window side (pixels)");
+  add(OptionOf("num_elite"), o->num_elite, "best particles kept unchanged each iteration");
+  add(OptionOf("resample_pool"), o->resample_pool, "fraction of the sorted set resampled from");
+  add(OptionOf("sigma_t0_m"), o->sigma_t0_m, "initial diffusion translation sigma (m)");
+  add(OptionOf("sigma_r0_rad"), o->sigma_r0_rad, "initial diffusion rotation sigma (rad)");
+  add(OptionOf("seed"), o->seed, "random seed (same seed, same poses)");
+  add(OptionOf("threads"), o->threads, "scoring threads (0 = all cores)");
 }
 
 void CheckFilterOptions(const FilterOptions& opt) {
   std::string why;
-  if (!opt.IsValid(&why)) throw Error("invalid filter option: " + why);
+  if (!opt.IsValid(&why)) throw Error("invalid filter option: " + NameOptions(why));
 }
 
 ProgressFn StderrProgress(const std::string& obj, int max_iterations, bool quiet) {

@@ -45,5 +45,8 @@ void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth
 // Reads an 8-bit RGB/RGBA/gray PNG as RGB. Throws Error naming the file on failure.
 RgbImage LoadRgbPng(const std::string& path);
 void SaveRgbPng(const RgbImage& image, const std::string& path);
+// Writes `pixels` (row-major, width×height bytes) as an 8-bit single-channel PNG, e.g. a label
+// image. Throws Error naming the file if the size does not match or the file cannot be written.
+void SaveGray8Png(const std::vector<std::uint8_t>& pixels, int width, int height, const std::string& path);
 
 }  // namespace posefilter

@@ -40,6 +40,7 @@ enum class Move : int {
   kOtherLevel,                       // move to the matching cell of another level
   kAlignDepth,                       // ours: shift along the viewing ray by the mean depth
                                      // misalignment measured at the last weighing
+  kQuarterTurn,                      // ours: turn ±π/2 about one of the object's own axes
   kCount
 };
 inline constexpr int kNumMoves = static_cast<int>(Move::kCount);
@@ -53,12 +54,18 @@ struct FilterOptions {
   double alpha = 0.2;
   double beta = 0.5;
   double gamma = 0.3;
+  // Silhouette edge penalty (ours, z-buffer mode only): the weight loses
+  // delta·(edge samples where the scene surface continues across the rendered outline) /
+  // (edge samples). A pose whose outline lies inside a continuous surface — a face laid on
+  // the table, a silhouette shrunk into the visible part of the object — pays for it.
+  double delta = 0.3;
+  double edge_band_m = 0.01;         // "no depth step across the outline" band, metres
   InlierParams inlier;               // soft-inlier thresholds / hard switch (final values)
   // Coarse-to-fine search: the inlier threshold starts at anneal_start_m and falls
   // geometrically to inlier.thr1_m over the first anneal_fraction of max_iterations
   // (0 or ≤ thr1 = off, the thesis's fixed threshold).
-  double anneal_start_m = 0;
-  double anneal_fraction = 0.6;
+  double anneal_start_m = 0.02;
+  double anneal_fraction = 0.5;
   bool zbuffer = true;               // exact z-buffer (false: the thesis's culling-only mode)
   // Occlusion-aware precision: rendered pixels hidden behind nearer scene depth (beyond the
   // inlier ramp) are left out of N_raster, so a partly occluded object is not penalised for
@@ -70,19 +77,23 @@ struct FilterOptions {
   // by one flat face of it. 0 = the box as it is (thesis).
   double min_window_diameters = 1.0;
   double near_m = 0.05;              // triangles closer than this to the camera are skipped, m
+  int init_oversample = 1;           // ours: draw this many × N initial particles, keep the best N
   int num_elite = 10;                // best particles carried unchanged into the next set
   double resample_pool = 0.25;       // fraction of the sorted set the rest is drawn from, (0, 1]
   // At most this fraction of the resampling pool may come from one image region (squares of
   // max_window_px/2): keeps several hypotheses (true and false detections) alive until the
   // fine inlier threshold can tell them apart. 1 = off (the thesis's plain elitism).
   double region_cap = 0.34;
+  // Niches are (image region, coarse orientation: 24 bins): several orientations survive
+  // until the fine threshold can rank them. false = niches by image region only.
+  bool niche_by_rotation = true;
   int tracker_bins = 32;             // threshold-tracker entries of the CDF samplers (§7.4)
   double sigma_t0_m = 0.01;          // diffusion translation σ at weight 0, metres
   double sigma_r0_rad = 0.2;         // diffusion rotation σ at weight 0, radians
   double min_sigma_fraction = 0.05;  // σ never decays below this fraction of σ0
   // Probability of each Move (normalised internally); default spreads over all 13.
-  std::array<double, kNumMoves> move_probabilities = {0.09, 0.09, 0.09, 0.09, 0.09, 0.09, 0.09, 0.11,
-                                                      0.02, 0.02, 0.02, 0.05, 0.05, 0.1};
+  std::array<double, kNumMoves> move_probabilities = {0.09, 0.09, 0.09, 0.09, 0.08, 0.08, 0.08, 0.1,
+                                                      0.02, 0.02, 0.02, 0.05, 0.05, 0.1, 0.04};
   double align_band_m = 0.05;        // depth differences used by the align-depth move, metres
   HeuristicOptions heuristics;       // depth_extension_m is set to the object's radius if 0
   std::uint64_t seed = 1;            // every random stream derives from this

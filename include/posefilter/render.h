@@ -68,6 +68,7 @@ struct ScoreKernelParams {
   // false: the thesis's z-buffer-free mode (every front-face fragment counts, §7.5.1).
   bool zbuffer = true;
   float align_band_m = 0.05f;  // band of depth differences that enter depth_diff_sum, metres
+  float edge_band_m = 0.01f;   // silhouette edge test: "no depth step" band, metres
 };
 
 struct ScoreKernelResult {
@@ -80,6 +81,11 @@ struct ScoreKernelResult {
   // ±align_band_m of the rendering: the mean depth misalignment, for the align-depth move.
   double depth_diff_sum = 0;
   std::int64_t depth_diff_count = 0;
+  // z-buffer mode only: silhouette edge samples (a covered pixel and an uncovered
+  // 4-neighbour inside the window with valid scene depth), and those where the scene surface
+  // continues across the outline (|z_s(neighbour) − z_r| ≤ edge_band_m).
+  std::int64_t n_edge = 0;
+  std::int64_t n_edge_continued = 0;
   std::int64_t faces_front = 0;  // faces that passed near-plane test and culling
   std::int64_t faces_total = 0;  // faces of the model
 };

@@ -42,6 +42,25 @@ void PngErrorFn(png_structp png, png_const_charp msg) {
 
 void PngWarningFn(png_structp, png_const_charp) {}  // warnings (e.g. sRGB profile) are ignored
 
+// Second step of setting up a read or write: `png` is what png_create_{read,write}_struct (with
+// PngErrorFn/PngWarningFn and `msg`) returned; creates its info struct into `*info`. Returns
+// false with `msg` set when either is missing.
+bool PngCreateInfo(png_structp png, png_infop* info, PngMessage* msg) {
+  if (png != nullptr) *info = png_create_info_struct(png);
+  if (png == nullptr || *info == nullptr) {
+    std::snprintf(msg->text, sizeof(msg->text), "libpng initialisation failed");
+    return false;
+  }
+  return true;
+}
+
+// Row pointers into `pixels`, `height` rows of `rowbytes` bytes each.
+std::vector<png_bytep> RowPointers(std::vector<std::uint8_t>& pixels, size_t height, size_t rowbytes) {
+  std::vector<png_bytep> rows(height);
+  for (size_t r = 0; r < height; ++r) rows[r] = pixels.data() + r * rowbytes;
+  return rows;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Reading.
 
@@ -93,15 +112,7 @@ bool PngReadHeader(PngReadState* s, const char* path, ReadMode mode) {
     return false;
   }
   s->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s->msg, PngErrorFn, PngWarningFn);
-  if (s->png == nullptr) {
-    std::snprintf(s->msg.text, sizeof(s->msg.text), "libpng initialisation failed");
-    return false;
-  }
-  s->info = png_create_info_struct(s->png);
-  if (s->info == nullptr) {
-    std::snprintf(s->msg.text, sizeof(s->msg.text), "libpng initialisation failed");
-    return false;
-  }
+  if (!PngCreateInfo(s->png, &s->info, &s->msg)) return false;
   if (setjmp(png_jmpbuf(s->png))) return false;
   png_init_io(s->png, s->fp);
   png_set_sig_bytes(s->png, 8);
@@ -149,8 +160,7 @@ std::vector<std::uint8_t> ReadPngPixels(const std::string& path, const char* wha
   const unsigned long long total = static_cast<unsigned long long>(s->rowbytes) * s->height;
   if (total > (1ull << 32)) throw Error(path + ": " + what + " PNG is too large");
   std::vector<std::uint8_t> pixels(static_cast<size_t>(total));
-  std::vector<png_bytep> rows(s->height);
-  for (png_uint_32 r = 0; r < s->height; ++r) rows[r] = pixels.data() + size_t(r) * s->rowbytes;
+  std::vector<png_bytep> rows = RowPointers(pixels, s->height, s->rowbytes);
   if (!PngReadRows(s, rows.data())) {
     throw Error(path + ": corrupt or truncated " + what + " PNG: " + s->msg.text);
   }
@@ -190,15 +200,7 @@ bool PngWriteAll(PngWriteState* s, const char* path, png_uint_32 w, png_uint_32 
     return false;
   }
   s->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s->msg, PngErrorFn, PngWarningFn);
-  if (s->png == nullptr) {
-    std::snprintf(s->msg.text, sizeof(s->msg.text), "libpng initialisation failed");
-    return false;
-  }
-  s->info = png_create_info_struct(s->png);
-  if (s->info == nullptr) {
-    std::snprintf(s->msg.text, sizeof(s->msg.text), "libpng initialisation failed");
-    return false;
-  }
+  if (!PngCreateInfo(s->png, &s->info, &s->msg)) return false;
   if (setjmp(png_jmpbuf(s->png))) return false;
   png_init_io(s->png, s->fp);
   png_set_IHDR(s->png, s->info, w, h, bit_depth, color_type, PNG_INTERLACE_NONE,
@@ -209,10 +211,18 @@ bool PngWriteAll(PngWriteState* s, const char* path, png_uint_32 w, png_uint_32 
   return true;
 }
 
+// Throws unless a w×h image holds exactly w·h·`per_pixel` of its `unit`s (`size` of them).
+void CheckWritableSize(const std::string& path, const char* what, int w, int h, size_t size,
+                       size_t per_pixel, const char* unit) {
+  if (w <= 0 || h <= 0 || size != size_t(w) * size_t(h) * per_pixel) {
+    throw Error(path + ": cannot write " + what + " PNG: image is empty or its size (" + std::to_string(w) + "x" +
+                std::to_string(h) + ") does not match its data (" + std::to_string(size) + " " + unit + ")");
+  }
+}
+
 void WritePng(const std::string& path, const char* what, int w, int h, int bit_depth,
               int color_type, std::vector<std::uint8_t>& pixels, size_t rowbytes) {
-  std::vector<png_bytep> rows(static_cast<size_t>(h));
-  for (int r = 0; r < h; ++r) rows[r] = pixels.data() + size_t(r) * rowbytes;
+  std::vector<png_bytep> rows = RowPointers(pixels, static_cast<size_t>(h), rowbytes);
   PngWriter writer;
   bool ok = PngWriteAll(&writer.s, path.c_str(), static_cast<png_uint_32>(w),
                         static_cast<png_uint_32>(h), bit_depth, color_type, rows.data());
@@ -282,8 +292,7 @@ DepthImage LoadDepthPng(const std::string& path, double depth_scale) {
   }
   if (rowbytes != size_t(w) * bytes_per_px) throw Error(path + ": unexpected depth PNG row size");
   std::vector<std::uint8_t> pixels(rowbytes * hh);
-  std::vector<png_bytep> rows(hh);
-  for (int r = 0; r < hh; ++r) rows[r] = pixels.data() + size_t(r) * rowbytes;
+  std::vector<png_bytep> rows = RowPointers(pixels, size_t(hh), rowbytes);
   if (!PngReadRows(&reader.s, rows.data())) {
     throw Error(path + ": corrupt or truncated depth PNG: " + reader.s.msg.text);
   }
@@ -306,12 +315,7 @@ void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth
     throw Error(path + ": depth_scale must be finite and > 0 (got " + std::to_string(depth_scale) +
                 ")");
   }
-  if (depth.width <= 0 || depth.height <= 0 ||
-      depth.data.size() != size_t(depth.width) * size_t(depth.height)) {
-    throw Error(path + ": cannot write depth PNG: image is empty or its size (" +
-                std::to_string(depth.width) + "x" + std::to_string(depth.height) +
-                ") does not match its data (" + std::to_string(depth.data.size()) + " values)");
-  }
+  CheckWritableSize(path, "depth", depth.width, depth.height, depth.data.size(), 1, "values");
   const size_t n = depth.data.size();
   std::vector<std::uint8_t> pixels(2 * n);
   for (size_t i = 0; i < n; ++i) {
@@ -347,15 +351,16 @@ RgbImage LoadRgbPng(const std::string& path) {
 }
 
 void SaveRgbPng(const RgbImage& image, const std::string& path) {
-  if (image.width <= 0 || image.height <= 0 ||
-      image.data.size() != size_t(image.width) * size_t(image.height) * 3) {
-    throw Error(path + ": cannot write RGB PNG: image is empty or its size (" +
-                std::to_string(image.width) + "x" + std::to_string(image.height) +
-                ") does not match its data (" + std::to_string(image.data.size()) + " bytes)");
-  }
+  CheckWritableSize(path, "RGB", image.width, image.height, image.data.size(), 3, "bytes");
   std::vector<std::uint8_t> pixels = image.data;  // libpng takes non-const row pointers
   WritePng(path, "RGB", image.width, image.height, 8, PNG_COLOR_TYPE_RGB, pixels,
            size_t(image.width) * 3);
+}
+
+void SaveGray8Png(const std::vector<std::uint8_t>& pixels, int width, int height, const std::string& path) {
+  CheckWritableSize(path, "gray", width, height, pixels.size(), 1, "bytes");
+  std::vector<std::uint8_t> rows = pixels;  // libpng takes non-const row pointers
+  WritePng(path, "gray", width, height, 8, PNG_COLOR_TYPE_GRAY, rows, size_t(width));
 }
 
 }  // namespace posefilter

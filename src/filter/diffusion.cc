@@ -98,6 +98,18 @@ void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_
       }
       break;
     }
+    case Move::kQuarterTurn: {
+      // R' = R · R_axis(±π/2) about the object's x, y or z axis.
+      const int axis = int(rng.UniformInt(3));
+      const double angle = rng.UniformInt(2) ? M_PI / 2 : -M_PI / 2;
+      Eigen::Isometry3d T = PoseToTransform(q);
+      T.linear() = T.linear() * Eigen::AngleAxisd(angle, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
+      const Pose6 turned = TransformToPose(T);
+      q.roll = turned.roll;
+      q.pitch = turned.pitch;
+      q.yaw = turned.yaw;
+      break;
+    }
     case Move::kCount: break;
   }
   q.roll = WrapAngle(q.roll);

@@ -61,6 +61,24 @@ PixelRect CellWindow(const Box& box, double min_side, int max_px, int image_w, i
   return r;
 }
 
+// Coarse orientation class of a pose for niching: which signed axis of the base frame the
+// object's z axis points along most (6) × which of the 4 remaining signed axes its x axis
+// points along most — the 24 rotations of a cube, so a quarter or half turn changes the bin.
+constexpr int kRotationBins = 24;
+int RotationBin(const Pose6& pose) {
+  const Eigen::Matrix3d R = PoseToTransform(pose).linear();
+  auto signed_axis = [](const Eigen::Vector3d& v, int exclude) {
+    int best = exclude == 0 ? 1 : 0;
+    for (int a = 0; a < 3; ++a)
+      if (a != exclude && std::fabs(v[a]) > std::fabs(v[best])) best = a;
+    return std::pair<int, int>{best, v[best] < 0 ? 1 : 0};
+  };
+  const auto [za, zs] = signed_axis(R.col(2), -1);
+  const auto [xa, xs] = signed_axis(R.col(0), za);
+  const int x_slot = (xa > za ? xa - 1 : xa);  // 0 or 1 among the two axes left
+  return (za * 2 + zs) * 4 + x_slot * 2 + xs;
+}
+
 // Everything one run needs that does not change between iterations.
 struct Context {
   const SceneInput& scene;
@@ -114,6 +132,7 @@ double Weigh(const Context& ctx, const Particle& p, RenderWorkspace* ws, ScoreKe
   k.inlier = ctx.inlier;
   k.zbuffer = ctx.opt.zbuffer;
   k.align_band_m = float(ctx.opt.align_band_m);
+  k.edge_band_m = float(ctx.opt.edge_band_m);
   *out = ScoreReference(k, ws);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
@@ -122,7 +141,8 @@ double Weigh(const Context& ctx, const Particle& p, RenderWorkspace* ws, ScoreKe
   const long nd = ctx.n_depth[p.cell];
   const double r_depth = nd > 0 ? std::min(1.0, I / double(nd)) : 0.0;
   const double rho = ctx.prior.Prob(p.cell, ctx.cls);
-  return ctx.opt.alpha * r_raster + ctx.opt.beta * r_depth + ctx.opt.gamma * rho;
+  const double r_edge = out->n_edge > 0 ? double(out->n_edge_continued) / double(out->n_edge) : 0.0;
+  return std::max(0.0, ctx.opt.alpha * r_raster + ctx.opt.beta * r_depth + ctx.opt.gamma * rho - ctx.opt.delta * r_edge);
 }
 
 // Weighs every particle not yet scored (threads over particles; each owns a workspace).
@@ -176,7 +196,10 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (num_elite < 0 || num_elite >= num_particles) return fail("num_elite must be in [0, num_particles)");
   if (!(resample_pool > 0 && resample_pool <= 1)) return fail("resample_pool must be in (0, 1]");
   if (!(region_cap > 0 && region_cap <= 1)) return fail("region_cap must be in (0, 1]");
+  if (!(delta >= 0 && delta <= 1)) return fail("delta must be in [0, 1]");
+  if (!(edge_band_m > 0 && std::isfinite(edge_band_m))) return fail("edge_band_m must be > 0");
   if (!(align_band_m > 0 && std::isfinite(align_band_m))) return fail("align_band_m must be > 0");
+  if (init_oversample < 1 || init_oversample > 64) return fail("init_oversample must be in [1, 64]");
   if (tracker_bins < 1 || tracker_bins > 4096) return fail("tracker_bins must be in [1, 4096]");
   if (!(sigma_t0_m >= 0 && std::isfinite(sigma_t0_m))) return fail("sigma_t0_m must be >= 0");
   if (!(sigma_r0_rad >= 0 && std::isfinite(sigma_r0_rad))) return fail("sigma_r0_rad must be >= 0");
@@ -291,9 +314,21 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   std::vector<Particle> current(N), next(N);  // the two ping-pong sample memories
   {
     filter::CdfSampler init(cell_mass, options.tracker_bins);  // throws if no mass
-    for (int i = 0; i < N; ++i) current[i] = NewParticle(ctx, init.Sample(1.0 - rng.Uniform()), rng);
+    // Oversampled start (ours): draw init_oversample·N particles, weigh them all and keep
+    // the best N as the first set — more starting rotations for the same set size.
+    const int M = N * options.init_oversample;
+    std::vector<Particle> drawn(M);
+    for (int i = 0; i < M; ++i) drawn[i] = NewParticle(ctx, init.Sample(1.0 - rng.Uniform()), rng);
     res.stats.init_cdf_reads = init.reads();
     res.stats.init_cdf_reads_linear = init.reads_linear();
+    if (options.init_oversample > 1) {
+      WeighAll(ctx, drawn, &res.stats);
+      filter::OnlineSorter sorter(M);
+      for (int i = 0; i < M; ++i) sorter.Insert(drawn[i].weight, i);
+      for (int i = 0; i < N; ++i) current[i] = drawn[sorter.sorted()[i].index];
+    } else {
+      current = drawn;
+    }
   }
 
   Particle best;
@@ -338,9 +373,12 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
     const int cap = std::max(1, int(std::ceil(options.region_cap * pool_size)));
     std::vector<int> pool;  // indices into `ranked`
     pool.reserve(pool_size);
-    std::vector<int> per_region(ctx.region_count, 0);
+    const int bins = options.niche_by_rotation ? kRotationBins : 1;
+    std::vector<int> per_niche(std::size_t(ctx.region_count) * bins, 0);
     for (int j = 0; j < N && int(pool.size()) < pool_size; ++j) {
-      int& n = per_region[ctx.region[current[ranked[j].index].cell]];
+      const Particle& p = current[ranked[j].index];
+      const int bin = options.niche_by_rotation ? RotationBin(p.pose) : 0;
+      int& n = per_niche[std::size_t(ctx.region[p.cell]) * bins + bin];
       if (n < cap) {
         ++n;
         pool.push_back(j);

@@ -46,6 +46,20 @@ ScoreKernelResult ScoreReference(const ScoreKernelParams& k, RenderWorkspace* ws
         if (z == kEmpty) continue;
         ++r.n_raster;
         Compare(z, scene_depth(w.u0 + u, w.v0 + v), k, &r);
+        // Silhouette edge test: an uncovered 4-neighbour (inside the window) with valid scene
+        // depth is an edge sample; it is "continued" when the scene surface there lies
+        // within edge_band_m of this boundary pixel's rendered depth — no depth step where
+        // the object's outline claims one.
+        static constexpr int kDu[4] = {-1, 1, 0, 0}, kDv[4] = {0, 0, -1, 1};
+        for (int n = 0; n < 4; ++n) {
+          const int un = u + kDu[n], vn = v + kDv[n];
+          if (un < 0 || vn < 0 || un >= w.width || vn >= w.height) continue;
+          if (zb[std::size_t(vn) * w.width + un] != kEmpty) continue;
+          const float zs = scene_depth(w.u0 + un, w.v0 + vn);
+          if (zs <= 0) continue;
+          ++r.n_edge;
+          if (std::fabs(zs - z) <= k.edge_band_m) ++r.n_edge_continued;
+        }
       }
     }
   } else {

@@ -21,20 +21,18 @@
 //     false positives elsewhere; both as a list and as a raw pyramid (prior.h).
 // Independent Rng streams (Split) drive geometry, occluder, clutter, sensor and prior, so e.g.
 // changing the noise does not move the objects.
-#include <png.h>
-
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <csetjmp>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
+#include "posefilter/depth_image.h"
 #include "posefilter/error.h"
+#include "posefilter/projection.h"
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
 #include "posefilter/synth.h"
@@ -235,21 +233,6 @@ void DropHoles(DepthImage* depth, double fraction, Rng& rng) {
 // ---------------------------------------------------------------------------------------------
 // Stage-1 prior.
 
-// Box of the pixels with `label` in pixel coordinates (pixel i spans [i−0.5, i+0.5]).
-Box LabelBox(const std::vector<int>& labels, int width, int height, int label) {
-  int u0 = width, v0 = height, u1 = -1, v1 = -1;
-  for (int v = 0; v < height; ++v)
-    for (int u = 0; u < width; ++u)
-      if (labels[std::size_t(v) * width + u] == label) {
-        u0 = std::min(u0, u);
-        v0 = std::min(v0, v);
-        u1 = std::max(u1, u);
-        v1 = std::max(v1, v);
-      }
-  if (u1 < 0) return {};
-  return {0.5 * (u0 + u1), 0.5 * (v0 + v1), double(u1 - u0 + 1), double(v1 - v0 + 1)};
-}
-
 Detection ToDetection(const std::string& cls, double score, const Box& b) {
   return {cls, score, b.cx - b.w / 2, b.cy - b.h / 2, b.w, b.h};
 }
@@ -296,46 +279,11 @@ std::vector<Detection> MakeDetections(const SynthOptions& opt, const Box& gt_box
 // ---------------------------------------------------------------------------------------------
 // Output helpers.
 
-struct PngMsg {
-  char text[256] = "";
-};
-void PngErr(png_structp png, png_const_charp msg) {
-  auto* m = static_cast<PngMsg*>(png_get_error_ptr(png));
-  if (m) std::snprintf(m->text, sizeof(m->text), "%s", msg ? msg : "libpng error");
-  png_longjmp(png, 1);
-}
-void PngWarn(png_structp, png_const_charp) {}
-
-// Writes an 8-bit grayscale PNG. The setjmp frame holds only trivially destructible locals.
-bool WriteGray8Raw(FILE* fp, png_uint_32 w, png_uint_32 h, png_bytep* rows, PngMsg* msg) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, msg, PngErr, PngWarn);
-  if (!png) return false;
-  png_infop info = png_create_info_struct(png);
-  if (!info || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, info ? &info : nullptr);
-    return false;
-  }
-  png_init_io(png, fp);
-  png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  png_write_image(png, rows);
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return true;
-}
-
+// The label image as 8-bit gray (labels clamped to [0, 255]).
 void SaveLabelPng(const std::vector<int>& labels, int w, int h, const std::string& path) {
   std::vector<std::uint8_t> pix(std::size_t(w) * h);
   for (std::size_t i = 0; i < pix.size(); ++i) pix[i] = std::uint8_t(std::clamp(labels[i], 0, 255));
-  std::vector<png_bytep> rows(static_cast<std::size_t>(h));
-  for (int r = 0; r < h; ++r) rows[r] = pix.data() + std::size_t(r) * w;
-  FILE* fp = std::fopen(path.c_str(), "wb");
-  if (!fp) throw Error(path + ": cannot open for writing");
-  PngMsg msg;
-  const bool ok = WriteGray8Raw(fp, png_uint_32(w), png_uint_32(h), rows.data(), &msg);
-  const bool closed = std::fclose(fp) == 0;
-  if (!ok || !closed) throw Error(path + ": PNG write failed" + (msg.text[0] ? std::string(": ") + msg.text : ""));
+  SaveGray8Png(pix, w, h, path);
 }
 
 // Depth shaded for humans: brighter = nearer; target green, occluder red, clutter blue tint;
@@ -449,7 +397,7 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
   if (n_alone < std::size_t(kMinTargetPixels))
     throw Error("synth: the target covers only " + std::to_string(n_alone) +
                 " pixels (camera or target size unsuitable)");
-  s.gt_box = LabelBox(alone_labels, W, H, kLabelTarget);
+  s.gt_box = ProjectedBox(s.target, target.T, cam);  // the box of exactly alone_labels' target pixels
 
   std::vector<Placed> placed;  // besides the target
   DepthImage comp_depth = alone_depth;  // target + occluder + accepted clutter (no table)

@@ -3,15 +3,10 @@
 // a non-zero exit and a one-line message naming the file or option), `gt-detections`, `demo`,
 // and the dispatcher (unknown command, no arguments).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,50 +15,24 @@
 #include "posefilter/depth_image.h"
 #include "posefilter/prior.h"
 #include "posefilter/scene_io.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string ReadText(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-void WriteText(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << text;
-  ASSERT_TRUE(out.good()) << p;
-}
-
-std::string ShellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-// Lines of `s` without the trailing empty one.
-std::vector<std::string> Lines(const std::string& s) {
-  std::vector<std::string> lines;
-  std::istringstream in(s);
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  return lines;
-}
+using testing_util::FreshTempPath;
+using testing_util::Lines;
+using testing_util::ReadFile;
+using testing_util::RunResult;
+using testing_util::WriteFile;
 
 // The scene every test uses: `posefilter synth --target box --seed 3`, made once.
 class CliTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    root_ = new fs::path(fs::temp_directory_path() / ("posefilter_cli_test_" + std::to_string(::getpid())));
-    fs::remove_all(*root_);
+    root_ = new fs::path(FreshTempPath("cli_test"));
     fs::create_directories(*root_);
     const RunResult r = Run({"synth", "--out", (*root_ / "synth").string(), "--target", "box", "--seed", "3"});
     ASSERT_EQ(r.code, 0) << r.err;
@@ -83,16 +52,7 @@ class CliTest : public ::testing::Test {
   // Runs the binary with `args`; stdout and stderr captured through files.
   static RunResult Run(const std::vector<std::string>& args) {
     static int n = 0;
-    const fs::path base = *root_ / ("run_" + std::to_string(n++));
-    std::string cmd = ShellQuote(POSEFILTER_CLI_PATH);
-    for (const auto& a : args) cmd += " " + ShellQuote(a);
-    cmd += " >" + ShellQuote(base.string() + ".out") + " 2>" + ShellQuote(base.string() + ".err");
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = ReadText(base.string() + ".out");
-    r.err = ReadText(base.string() + ".err");
-    return r;
+    return testing_util::RunCli(args, *root_ / ("run_" + std::to_string(n++)));
   }
 
   static std::string Scene(const std::string& file) { return (*root_ / "synth" / "scene_000" / file).string(); }
@@ -189,10 +149,10 @@ TEST_F(CliTest, EstimateIsDeterministicPerSeed) {
   EXPECT_EQ(a.iterations, b.iterations);
   // Byte-identical files once the wall time is taken out.
   const std::regex time_ms("\"time_ms\"\\s*:\\s*[-+0-9.eE]+");
-  const std::string ta = std::regex_replace(ReadText(Path("a.json")), time_ms, "");
-  const std::string tb = std::regex_replace(ReadText(Path("b.json")), time_ms, "");
+  const std::string ta = std::regex_replace(ReadFile(Path("a.json")), time_ms, "");
+  const std::string tb = std::regex_replace(ReadFile(Path("b.json")), time_ms, "");
   EXPECT_EQ(ta, tb);
-  EXPECT_NE(ta, ReadText(Path("a.json"))) << "results JSON has no time_ms to ignore";
+  EXPECT_NE(ta, ReadFile(Path("a.json"))) << "results JSON has no time_ms to ignore";
   // And the seed matters (otherwise the check above proves nothing).
   EXPECT_NE(a.T_cam_obj.matrix(), c.T_cam_obj.matrix());
 }
@@ -215,15 +175,15 @@ TEST_F(CliTest, CorruptDepthPngRandomBytes) {
     x ^= x << 5;
     bytes += char(x & 0xff);
   }
-  WriteText(depth, bytes);
+  WriteFile(depth, bytes);
   ExpectInputError(Run(EstimateArgs(depth, Scene("camera.json"), {"--mesh", Scene("box.ply")})), "estimate", depth);
 }
 
 TEST_F(CliTest, CorruptDepthPngTruncated) {
   const std::string depth = Path("truncated.png");
-  const std::string full = ReadText(Scene("depth.png"));
+  const std::string full = ReadFile(Scene("depth.png"));
   ASSERT_GT(full.size(), 4000u);
-  WriteText(depth, full.substr(0, full.size() / 3));
+  WriteFile(depth, full.substr(0, full.size() / 3));
   ExpectInputError(Run(EstimateArgs(depth, Scene("camera.json"), {"--mesh", Scene("box.ply")})), "estimate", depth);
 }
 
@@ -234,16 +194,16 @@ TEST_F(CliTest, MissingMesh) {
 
 TEST_F(CliTest, CorruptMesh) {
   const std::string mesh = Path("garbage.ply");
-  WriteText(mesh, "this is not a mesh\n\x01\x02\x03 garbage garbage\n");
+  WriteFile(mesh, "this is not a mesh\n\x01\x02\x03 garbage garbage\n");
   ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), {"--mesh", mesh})), "estimate", mesh);
 }
 
 TEST_F(CliTest, DepthSizeDiffersFromCamera) {
-  nlohmann::json j = nlohmann::json::parse(ReadText(Scene("camera.json")));
+  nlohmann::json j = nlohmann::json::parse(ReadFile(Scene("camera.json")));
   ASSERT_EQ(j["width"].get<int>(), 640);
   j["width"] = 320;
   const std::string cam = Path("camera320.json");
-  WriteText(cam, j.dump());
+  WriteFile(cam, j.dump());
   const RunResult r = Run(EstimateArgs(Scene("depth.png"), cam, {"--mesh", Scene("box.ply")}));
   ExpectInputError(r, "estimate", Scene("depth.png"));
   EXPECT_NE(r.err.find("320"), std::string::npos) << r.err;
@@ -256,12 +216,12 @@ TEST_F(CliTest, AllZeroDepthPng) {
 }
 
 TEST_F(CliTest, NanAndNullInCameraJson) {
-  const std::string text = ReadText(Scene("camera.json"));
+  const std::string text = ReadFile(Scene("camera.json"));
   const std::regex fx("\"fx\"\\s*:\\s*[-+0-9.eE]+");
   ASSERT_TRUE(std::regex_search(text, fx)) << text;
   const std::string nan_cam = Path("camera_nan.json"), null_cam = Path("camera_null.json");
-  WriteText(nan_cam, std::regex_replace(text, fx, "\"fx\": NaN"));  // not JSON at all
-  WriteText(null_cam, std::regex_replace(text, fx, "\"fx\": null"));
+  WriteFile(nan_cam, std::regex_replace(text, fx, "\"fx\": NaN"));  // not JSON at all
+  WriteFile(null_cam, std::regex_replace(text, fx, "\"fx\": null"));
   ExpectInputError(Run(EstimateArgs(Scene("depth.png"), nan_cam, {"--mesh", Scene("box.ply")})), "estimate", nan_cam);
   const RunResult r = Run(EstimateArgs(Scene("depth.png"), null_cam, {"--mesh", Scene("box.ply")}));
   ExpectInputError(r, "estimate", null_cam);
@@ -270,15 +230,15 @@ TEST_F(CliTest, NanAndNullInCameraJson) {
 
 TEST_F(CliTest, EmptyDetectionsPrior) {
   const std::string prior = Path("empty.json");
-  WriteText(prior, "[]");
+  WriteFile(prior, "[]");
   ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), {"--mesh", Scene("box.ply"), "--prior", prior})),
                    "estimate", prior);
 }
 
 TEST_F(CliTest, RawPyramidOfWrongSize) {
   const std::string prior = Path("short.pyr");
-  const std::string full = ReadText(Scene("prior.pyr"));
-  WriteText(prior, full.substr(0, full.size() - 4));  // one float short
+  const std::string full = ReadFile(Scene("prior.pyr"));
+  WriteFile(prior, full.substr(0, full.size() - 4));  // one float short
   ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"),
                                     {"--mesh", Scene("box.ply"), "--prior", prior, "--classes", Scene("classes.txt")})),
                    "estimate", prior);
@@ -305,11 +265,19 @@ TEST_F(CliTest, NonsenseOptionValues) {
     std::vector<std::string> opt;
     std::string needle;
   };
-  // Values CLI11 parses but the filter rejects: exit 1, message names the option.
-  for (const Case& c : std::vector<Case>{{{"--particles", "-5"}, "particles"},
-                                         {{"--alpha", "2"}, "alpha"},
-                                         {{"--confidence", "0"}, "confidence"},
-                                         {{"--iterations", "0"}, "iterations"},
+  // Values CLI11 parses but the filter rejects: exit 1, the message names the option (where
+  // FilterOptions::IsValid names the field: num_particles → --particles, …).
+  for (const Case& c : std::vector<Case>{{{"--particles", "-5"}, "--particles must be in [2, 1000000]"},
+                                         {{"--alpha", "2"}, "--alpha, --beta, --gamma must each be in [0, 1]"},
+                                         {{"--confidence", "0"}, "--confidence must"},
+                                         {{"--iterations", "0"}, "--iterations must"},
+                                         {{"--inlier-thr", "0"}, "--inlier-thr must"},
+                                         {{"--elite", "5000"}, "--elite must be in [0, --particles)"},
+                                         {{"--pool", "0"}, "--pool must"},
+                                         {{"--window", "4"}, "--window must"},
+                                         {{"--sigma-t", "-1"}, "--sigma-t must"},
+                                         {{"--sigma-r", "-1"}, "--sigma-r must"},
+                                         {{"--threads", "-1"}, "--threads must"},
                                          {{"--depth-scale", "-1"}, "--depth-scale"},
                                          {{"--unit-scale", "0"}, "--unit-scale"}}) {
     SCOPED_TRACE(c.opt[0] + " " + c.opt[1]);
@@ -357,7 +325,7 @@ TEST_F(CliTest, NoArgumentsPrintsUsage) {
 // gt-detections.
 
 TEST_F(CliTest, GtDetectionsBoxMatchesTheSynthGtBox) {
-  const nlohmann::json synth = nlohmann::json::parse(ReadText(Scene("synth.json")));
+  const nlohmann::json synth = nlohmann::json::parse(ReadFile(Scene("synth.json")));
   const auto& g = synth.at("gt_bbox");
   const Box gt_box = DetectionBox({"box", 1, g[0].get<double>(), g[1].get<double>(), g[2].get<double>(), g[3].get<double>()});
   ASSERT_GT(gt_box.w, 10);
@@ -395,7 +363,7 @@ TEST_F(CliTest, GtDetectionsBoxMatchesTheSynthGtBox) {
                  fs::path(Scene("box.ply")).parent_path().string(), "--seed", "5", "--out", again, "--quiet"})
                 .code,
             0);
-  EXPECT_EQ(ReadText(out), ReadText(again));
+  EXPECT_EQ(ReadFile(out), ReadFile(again));
 
   // And `estimate` takes it as its prior.
   std::vector<std::string> extra = {"--mesh", Scene("box.ply"), "--prior", out, "--out", Path("res.json")};
@@ -407,12 +375,12 @@ TEST_F(CliTest, GtDetectionsBoxMatchesTheSynthGtBox) {
 
 TEST_F(CliTest, GtDetectionsSkipsObjectsOutOfView) {
   // The synth gt object, plus a second instance behind the camera.
-  nlohmann::json gt = nlohmann::json::parse(ReadText(Scene("gt.json")));
+  nlohmann::json gt = nlohmann::json::parse(ReadFile(Scene("gt.json")));
   nlohmann::json behind = gt["objects"][0];
   behind["t"] = {0.0, 0.0, -1.0};
   gt["objects"].push_back(behind);
   const std::string gt2 = Path("gt2.json");
-  WriteText(gt2, gt.dump());
+  WriteFile(gt2, gt.dump());
   const std::string out = Path("dets.json");
   const RunResult r = Run({"gt-detections", "--gt", gt2, "--camera", Scene("camera.json"), "--mesh", Scene("box.ply"),
                            "--out", out});
@@ -424,7 +392,7 @@ TEST_F(CliTest, GtDetectionsSkipsObjectsOutOfView) {
   // Nothing in view at all: an error, no file.
   gt["objects"].erase(0);
   const std::string gt3 = Path("gt3.json");
-  WriteText(gt3, gt.dump());
+  WriteFile(gt3, gt.dump());
   const std::string none = Path("none.json");
   const RunResult n = Run({"gt-detections", "--gt", gt3, "--camera", Scene("camera.json"), "--mesh", Scene("box.ply"),
                            "--out", none, "--quiet"});

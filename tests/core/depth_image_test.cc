@@ -6,18 +6,17 @@
 #include "posefilter/depth_image.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "posefilter/error.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
@@ -91,47 +90,14 @@ std::string Be16(unsigned v) { return {char(v >> 8), char(v & 0xff)}; }
 
 // ---- Fixture ---------------------------------------------------------------------------------
 
-class PngFileTest : public ::testing::Test {
+using testing_util::ExpectError;
+using testing_util::ReadFile;
+
+// A fresh directory per test.
+class PngFileTest : public testing_util::ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    // Unique per test and process (parallel ctest runs); '/' of parameterized names → '_'.
-    std::string leaf = std::string("posefilter_png_") + info->test_suite_name() + "_" + info->name() + "_" +
-                       std::to_string(::getpid());
-    std::replace(leaf.begin(), leaf.end(), '/', '_');
-    dir_ = fs::path(::testing::TempDir()) / leaf;
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string Write(const std::string& name, const std::string& bytes) const {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << bytes;
-    return p.string();
-  }
-  std::string Read(const std::string& path) const {
-    std::ifstream is(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
-  }
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
-
-  fs::path dir_;
+  PngFileTest() : ScratchDirTest("png") {}
 };
-
-template <typename Fn>
-void ExpectError(Fn fn, std::initializer_list<std::string> parts) {
-  try {
-    fn();
-    ADD_FAILURE() << "no posefilter::Error thrown";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    for (const auto& part : parts) {
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    }
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
-  }
-}
 
 const float kNaNf = std::numeric_limits<float>::quiet_NaN();
 
@@ -238,7 +204,7 @@ TEST_F(PngFileTest, DepthTruncatedPng) {
   DepthImage d(64, 48);
   for (size_t i = 0; i < d.data.size(); ++i) d.data[i] = 0.5f + 0.001f * float(i % 977);
   SaveDepthPng(d, Path("full.png"), 0.0001);
-  const std::string bytes = Read(Path("full.png"));
+  const std::string bytes = ReadFile(Path("full.png"));
   ASSERT_GT(bytes.size(), 100u);
   // Cut inside the image data, and cut inside the header.
   const std::string half = Write("half.png", bytes.substr(0, bytes.size() / 2));
@@ -316,7 +282,7 @@ TEST_F(PngFileTest, RgbBadInputs) {
   RgbImage img(16, 16);
   for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = std::uint8_t(i * 7);
   SaveRgbPng(img, Path("full.png"));
-  const std::string bytes = Read(Path("full.png"));
+  const std::string bytes = ReadFile(Path("full.png"));
   const std::string cut = Write("cut.png", bytes.substr(0, bytes.size() * 2 / 3));
   ExpectError([&] { LoadRgbPng(cut); }, {cut});
 
@@ -326,10 +292,51 @@ TEST_F(PngFileTest, RgbBadInputs) {
   ExpectError([&] { SaveRgbPng(RgbImage(), Path("e.png")); }, {Path("e.png")});
 }
 
+// ---- 8-bit gray ------------------------------------------------------------------------------
+
+TEST_F(PngFileTest, Gray8RoundTripIsExact) {
+  const int w = 17, h = 5;  // odd width: no row padding to hide behind
+  std::vector<std::uint8_t> px(size_t(w) * h);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = std::uint8_t((i * 37 + 11) % 256);
+  px[0] = 0;
+  px[1] = 255;
+  const std::string path = Path("g8.png");
+  SaveGray8Png(px, w, h, path);
+  // The header says 8-bit gray: IHDR data starts at byte 16 (width, height, bit depth, colour type).
+  const std::string bytes = ReadFile(path);
+  ASSERT_GT(bytes.size(), 26u);
+  EXPECT_EQ(bytes.substr(12, 4), "IHDR");
+  EXPECT_EQ(std::uint8_t(bytes[24]), 8);  // bit depth
+  EXPECT_EQ(std::uint8_t(bytes[25]), 0);  // colour type gray
+  // Read back as 8-bit depth with scale 1 (value = sample) and as RGB (r = g = b = sample).
+  const DepthImage d = LoadDepthPng(path, 1.0);
+  ASSERT_EQ(d.width, w);
+  ASSERT_EQ(d.height, h);
+  const RgbImage rgb = LoadRgbPng(path);
+  ASSERT_EQ(rgb.data.size(), px.size() * 3);
+  for (size_t i = 0; i < px.size(); ++i) {
+    EXPECT_EQ(d.data[i], float(px[i])) << "pixel " << i;
+    EXPECT_EQ(rgb.data[3 * i], px[i]) << "pixel " << i;
+    EXPECT_EQ(rgb.data[3 * i + 2], px[i]) << "pixel " << i;
+  }
+}
+
+TEST_F(PngFileTest, Gray8SaveRejectsBadImages) {
+  ExpectError([&] { SaveGray8Png({}, 0, 0, Path("e.png")); }, {Path("e.png"), "empty"});
+  ExpectError([&] { SaveGray8Png(std::vector<std::uint8_t>(11), 3, 4, Path("w.png")); },
+              {Path("w.png"), "3x4", "11"});
+  ExpectError([&] { SaveGray8Png(std::vector<std::uint8_t>(4), -2, -2, Path("n.png")); }, {Path("n.png")});
+  const std::string no_dir = Path("no/such/dir/g.png");
+  ExpectError([&] { SaveGray8Png(std::vector<std::uint8_t>(4), 2, 2, no_dir); }, {no_dir, "cannot open"});
+  EXPECT_FALSE(fs::exists(Path("e.png")));
+  EXPECT_FALSE(fs::exists(Path("w.png")));
+  EXPECT_FALSE(fs::exists(Path("n.png")));
+}
+
 // ---- Real YCB-Video frames (optional) --------------------------------------------------------
 
 fs::path YcbvScene() {
-  return fs::path(POSEFILTER_SHARED_DIR) / "data" / "ycbv" / "scenes" / "ycbv_0000_000001";
+  return testing_util::YcbvDataDir() / "scenes" / "ycbv_0000_000001";
 }
 
 TEST(DepthYcbvTest, RealDepthHasPlausibleMedian) {

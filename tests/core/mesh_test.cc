@@ -2,7 +2,6 @@
 #include "posefilter/mesh.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Geometry>
 
@@ -19,51 +18,22 @@
 #include <string>
 
 #include "posefilter/error.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory under GoogleTest's temp dir, one per test.
-class MeshFileTest : public ::testing::Test {
+using testing_util::ExpectError;
+using testing_util::ExpectInvalid;
+using testing_util::ReadFile;
+
+// A fresh directory per test.
+class MeshFileTest : public testing_util::ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    // Unique per test and process (parallel ctest runs); '/' of parameterized names → '_'.
-    std::string leaf = std::string("posefilter_mesh_") + info->test_suite_name() + "_" + info->name() + "_" +
-                       std::to_string(::getpid());
-    std::replace(leaf.begin(), leaf.end(), '/', '_');
-    dir_ = fs::path(::testing::TempDir()) / leaf;
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p.string();
-  }
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
-
-  fs::path dir_;
+  MeshFileTest() : ScratchDirTest("mesh") {}
 };
-
-// Expects `fn` to throw posefilter::Error whose message contains every one of `parts`.
-template <typename Fn>
-void ExpectError(Fn fn, std::initializer_list<std::string> parts) {
-  try {
-    fn();
-    ADD_FAILURE() << "no posefilter::Error thrown";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    for (const auto& part : parts) {
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    }
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
-  }
-}
 
 // Axis-aligned box [0,a]×[0,b]×[0,c] with 12 outward (CCW) triangles.
 Mesh Box(float a, float b, float c) {
@@ -93,25 +63,19 @@ TEST(MeshTest, BoxIsValidWithOutwardNormals) {
 }
 
 TEST(MeshTest, IsValidNamesTheViolation) {
-  std::string why;
-  Mesh empty;
-  EXPECT_FALSE(empty.IsValid(&why));
-  EXPECT_NE(why.find("no vertices"), std::string::npos) << why;
+  ExpectInvalid(Mesh(), "no vertices");
 
   Mesh no_faces = Box(1, 1, 1);
   no_faces.faces.clear();
-  EXPECT_FALSE(no_faces.IsValid(&why));
-  EXPECT_NE(why.find("no faces"), std::string::npos) << why;
+  ExpectInvalid(no_faces, "no faces");
 
   Mesh bad_index = Box(1, 1, 1);
   bad_index.faces[3][1] = 8;  // one past the last vertex
-  EXPECT_FALSE(bad_index.IsValid(&why));
-  EXPECT_NE(why.find("face 3"), std::string::npos) << why;
+  ExpectInvalid(bad_index, "face 3");
 
   Mesh nan_vertex = Box(1, 1, 1);
   nan_vertex.vertices[5].y() = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_FALSE(nan_vertex.IsValid(&why));
-  EXPECT_NE(why.find("vertex 5"), std::string::npos) << why;
+  ExpectInvalid(nan_vertex, "vertex 5");
 
   Mesh inf_vertex = Box(1, 1, 1);
   inf_vertex.vertices[0].x() = std::numeric_limits<float>::infinity();
@@ -170,8 +134,7 @@ TEST_F(MeshFileTest, PlyRoundTripIsExact) {
   SaveMeshPly(m, path);
 
   // The header promises binary little-endian floats and uchar/int face lists.
-  std::ifstream is(path, std::ios::binary);
-  const std::string head((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
+  const std::string head = ReadFile(path);
   ASSERT_NE(head.find("end_header\n"), std::string::npos);
   EXPECT_EQ(head.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
   EXPECT_NE(head.find("element vertex 8\n"), std::string::npos);
@@ -238,8 +201,7 @@ TEST_F(MeshFileTest, BigEndianPlyAndPlyMagicWithOtherExtension) {
 
 TEST_F(MeshFileTest, EveryTruncationOfABinaryPlyIsAnError) {
   SaveMeshPly(Box(0.1f, 0.2f, 0.3f), Path("full.ply"));
-  std::ifstream is(Path("full.ply"), std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
+  const std::string bytes = ReadFile(Path("full.ply"));
   for (size_t n = 0; n < bytes.size(); ++n) {
     const std::string path = Write("cut.ply", bytes.substr(0, n));
     EXPECT_THROW(LoadMesh(path), Error) << "truncated to " << n << " of " << bytes.size();
@@ -358,7 +320,7 @@ TEST_F(MeshFileTest, MissingFileNamesTheFile) {
 }
 
 TEST_F(MeshFileTest, DirectoryIsRejected) {
-  ExpectError([&] { LoadMesh(dir_.string()); }, {dir_.string()});
+  ExpectError([&] { LoadMesh(dir().string()); }, {dir().string()});
 }
 
 TEST_F(MeshFileTest, GarbagePlyIsRejected) {
@@ -368,8 +330,7 @@ TEST_F(MeshFileTest, GarbagePlyIsRejected) {
 
 TEST_F(MeshFileTest, TruncatedBinaryPlyIsRejected) {
   SaveMeshPly(Box(1, 1, 1), Path("full.ply"));
-  std::ifstream is(Path("full.ply"), std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
+  const std::string bytes = ReadFile(Path("full.ply"));
   const std::string path = Write("cut.ply", bytes.substr(0, bytes.size() - 40));
   ExpectError([&] { LoadMesh(path); }, {path});
 }
@@ -410,7 +371,7 @@ TEST_F(MeshFileTest, SaveRejectsInvalidMeshAndBadPath) {
 
 // ---- YCB-Video meshes from /work/shared (optional) -------------------------------------------
 
-fs::path YcbvModels() { return fs::path(POSEFILTER_SHARED_DIR) / "data" / "ycbv" / "models"; }
+fs::path YcbvModels() { return testing_util::YcbvDataDir() / "models"; }
 
 TEST(MeshYcbvTest, MugMatchesModelsInfo) {
   const fs::path dir = YcbvModels();

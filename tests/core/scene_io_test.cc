@@ -2,19 +2,17 @@
 #include "posefilter/scene_io.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <string>
 
 #include "posefilter/error.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
@@ -22,43 +20,14 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-class JsonFileTest : public ::testing::Test {
+using testing_util::ExpectError;
+using testing_util::ReadFile;
+
+// A fresh directory per test.
+class JsonFileTest : public testing_util::ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    // Unique per test and process (parallel ctest runs); '/' of parameterized names → '_'.
-    std::string leaf = std::string("posefilter_json_") + info->test_suite_name() + "_" + info->name() + "_" +
-                       std::to_string(::getpid());
-    std::replace(leaf.begin(), leaf.end(), '/', '_');
-    dir_ = fs::path(::testing::TempDir()) / leaf;
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p.string();
-  }
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
-
-  fs::path dir_;
+  JsonFileTest() : ScratchDirTest("json") {}
 };
-
-template <typename Fn>
-void ExpectError(Fn fn, std::initializer_list<std::string> parts) {
-  try {
-    fn();
-    ADD_FAILURE() << "no posefilter::Error thrown";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    for (const auto& part : parts) {
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    }
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
-  }
-}
 
 Eigen::Isometry3d SomeTransform(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -138,22 +107,26 @@ struct BadJson {
 
 void PrintTo(const BadJson& b, std::ostream* os) { *os << b.label; }
 
-class CameraJsonErrorTest : public JsonFileTest, public ::testing::WithParamInterface<BadJson> {};
+// A good file broken one way (the parameter) must be rejected naming the file and the key.
+class JsonErrorTest : public JsonFileTest, public ::testing::WithParamInterface<BadJson> {
+ protected:
+  // Applies the parameter's mutation to `good`, writes it to `name` and expects `read(path)` to
+  // throw an Error naming the path and every expected part.
+  template <typename Read>
+  void ExpectRejected(json good, const std::string& name, Read read) const {
+    GetParam().mutate(good);
+    const std::string path = Write(name, good.dump());
+    SCOPED_TRACE("file: " + good.dump());
+    std::vector<std::string> parts = GetParam().expected;
+    parts.push_back(path);
+    ExpectError([&] { read(path); }, parts);
+  }
+};
+
+class CameraJsonErrorTest : public JsonErrorTest {};
 
 TEST_P(CameraJsonErrorTest, RejectedNamingFileAndKey) {
-  json j = GoodCamera();
-  GetParam().mutate(j);
-  const std::string path = Write("camera.json", j.dump());
-  try {
-    ReadCameraJson(path);
-    ADD_FAILURE() << "no Error for " << j.dump();
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(path), std::string::npos) << msg;
-    for (const auto& part : GetParam().expected) {
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    }
-  }
+  ExpectRejected(GoodCamera(), "camera.json", [](const std::string& path) { ReadCameraJson(path); });
 }
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -213,7 +186,7 @@ TEST_F(JsonFileTest, CameraFileLevelErrors) {
   ExpectError([&] { ReadCameraJson(arr); }, {arr, "object"});
   const std::string empty = Write("empty.json", "");
   ExpectError([&] { ReadCameraJson(empty); }, {empty, "malformed JSON"});
-  ExpectError([&] { ReadCameraJson(dir_.string()); }, {dir_.string()});
+  ExpectError([&] { ReadCameraJson(dir().string()); }, {dir().string()});
 }
 
 TEST_F(JsonFileTest, CameraWriterRejectsInvalidCameras) {
@@ -269,22 +242,10 @@ TEST_F(JsonFileTest, GtSlightlyNonOrthonormalRIsProjectedOntoRotation) {
   EXPECT_NEAR(r(0, 0), 1.0, 1e-3);
 }
 
-class GtJsonErrorTest : public JsonFileTest, public ::testing::WithParamInterface<BadJson> {};
+class GtJsonErrorTest : public JsonErrorTest {};
 
 TEST_P(GtJsonErrorTest, RejectedNamingFileAndKey) {
-  json j = GoodGt();
-  GetParam().mutate(j);
-  const std::string path = Write("gt.json", j.dump());
-  try {
-    ReadGtJson(path);
-    ADD_FAILURE() << "no Error for " << j.dump();
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(path), std::string::npos) << msg;
-    for (const auto& part : GetParam().expected) {
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    }
-  }
+  ExpectRejected(GoodGt(), "gt.json", [](const std::string& path) { ReadGtJson(path); });
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -359,8 +320,7 @@ TEST_F(JsonFileTest, ResultsRoundTrip) {
   WriteResultsJson(rs, path);
 
   // The documented key layout is there.
-  std::ifstream is(path);
-  const json j = json::parse(is);
+  const json j = json::parse(ReadFile(path));
   ASSERT_TRUE(j["objects"].is_array());
   for (const char* key : {"obj", "x", "y", "z", "roll", "pitch", "yaw", "R", "t", "weight",
                           "iterations", "time_ms"}) {
@@ -387,23 +347,11 @@ TEST_F(JsonFileTest, ResultsRoundTrip) {
   EXPECT_TRUE(ReadResultsJson(Write("none.json", R"({"objects": []})")).empty());
 }
 
-class ResultsJsonErrorTest : public JsonFileTest, public ::testing::WithParamInterface<BadJson> {};
+class ResultsJsonErrorTest : public JsonErrorTest {};
 
 TEST_P(ResultsJsonErrorTest, RejectedNamingFileAndKey) {
-  json j = GoodResults();
-  ASSERT_NO_THROW(ReadResultsJson(Write("ok.json", j.dump())));
-  GetParam().mutate(j);
-  const std::string path = Write("results.json", j.dump());
-  try {
-    ReadResultsJson(path);
-    ADD_FAILURE() << "no Error for " << j.dump();
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(path), std::string::npos) << msg;
-    for (const auto& part : GetParam().expected) {
-      EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-    }
-  }
+  ASSERT_NO_THROW(ReadResultsJson(Write("ok.json", GoodResults().dump())));
+  ExpectRejected(GoodResults(), "results.json", [](const std::string& path) { ReadResultsJson(path); });
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -440,15 +388,14 @@ TEST_F(JsonFileTest, ResultsWriterRejectsNonFinite) {
 
 // ---- Real YCB-Video files (optional) ---------------------------------------------------------
 
-fs::path YcbvScenes() { return fs::path(POSEFILTER_SHARED_DIR) / "data" / "ycbv" / "scenes"; }
+fs::path YcbvScenes() { return testing_util::YcbvDataDir() / "scenes"; }
 
 TEST(SceneIoYcbvTest, ReadsRealCameraJson) {
   const fs::path file = YcbvScenes() / "ycbv_0000_000001" / "camera.json";
   if (!fs::exists(file)) GTEST_SKIP() << file << " not found";
   const CameraFile cf = ReadCameraJson(file.string());
   // Compare with the file's own values, parsed independently.
-  std::ifstream is(file);
-  const json j = json::parse(is);
+  const json j = json::parse(ReadFile(file));
   EXPECT_EQ(cf.camera.fx, j["fx"].get<double>());
   EXPECT_EQ(cf.camera.fy, j["fy"].get<double>());
   EXPECT_EQ(cf.camera.cx, j["cx"].get<double>());
@@ -467,8 +414,7 @@ TEST(SceneIoYcbvTest, ReadsEveryRealGtJson) {
     if (!fs::exists(file)) continue;
     ++files;
     const auto gt = ReadGtJson(file.string());
-    std::ifstream is(file);
-    const json j = json::parse(is);
+    const json j = json::parse(ReadFile(file));
     ASSERT_EQ(gt.size(), j["objects"].size()) << file;
     for (size_t i = 0; i < gt.size(); ++i) {
       const json& o = j["objects"][i];

@@ -1,12 +1,8 @@
 // Tests of `posefilter eval` (apps/eval_cmd.cc): runs the built CLI (POSEFILTER_CLI_PATH) on
 // files written here — a hand-written gt.json, an OBJ cube, results from WriteResultsJson.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -15,11 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "posefilter/scene_io.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
-
-namespace fs = std::filesystem;
 
 // A cube of side 0.1 m centred at the origin (diameter 0.1·√3 m = 173.2 mm), CCW from outside.
 constexpr const char* kCubeObj = R"(# unit test cube, metres
@@ -45,25 +40,14 @@ f 4 1 5
 f 4 5 8
 )";
 
-struct RunResult {
-  int code = -1;
-  std::string out, err;
-};
+using testing_util::ReadFile;
+using testing_util::RunResult;
 
-std::string ReadText(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-class EvalCmdTest : public ::testing::Test {
+class EvalCmdTest : public testing_util::ScratchDirTest {
  protected:
+  EvalCmdTest() : ScratchDirTest("eval_cmd") {}
+
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("posefilter_eval_cmd_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     cube_ = Write("cube.obj", kCubeObj);
 
     // Ground truth, written by hand in the dataset's format: box_a upright, box_b turned 30° about z.
@@ -79,16 +63,6 @@ class EvalCmdTest : public ::testing::Test {
     gt_b_.linear() = Eigen::AngleAxisd(std::numbers::pi / 6, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     gt_b_.translation() = Eigen::Vector3d(0.1, 0, 0.7);
   }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
-  }
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
 
   // Results via the library writer, so the test follows the results.json format.
   std::string WriteResults(const std::vector<std::pair<std::string, Eigen::Isometry3d>>& poses,
@@ -114,21 +88,11 @@ class EvalCmdTest : public ::testing::Test {
                          {"box_b", Eigen::Translation3d(0.05, 0, 0) * gt_b_}});
   }
 
-  RunResult Run(const std::string& args) const {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string("'") + POSEFILTER_CLI_PATH + "' eval " + args + " >'" + out.string() +
-                            "' 2>'" + err.string() + "'";
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = ReadText(out);
-    r.err = ReadText(err);
-    return r;
-  }
+  // `posefilter eval <args>` (`args` shell-quoted by the caller).
+  RunResult Run(const std::string& args) const { return testing_util::RunCliShell("eval " + args, dir() / "run"); }
 
   std::string Meshes() const { return "--mesh box_a='" + cube_ + "' --mesh box_b='" + cube_ + "'"; }
 
-  fs::path dir_;
   std::string cube_, gt_;
   Eigen::Isometry3d gt_a_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d gt_b_ = Eigen::Isometry3d::Identity();
@@ -144,7 +108,7 @@ TEST_F(EvalCmdTest, OneGoodOneBadGivesRecallHalf) {
   EXPECT_NE(r.out.find("ADD recall"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0.500 (1/2)"), std::string::npos) << r.out;
 
-  const auto j = nlohmann::json::parse(ReadText(json_path));
+  const auto j = nlohmann::json::parse(ReadFile(json_path));
   EXPECT_DOUBLE_EQ(j.at("recall_add").get<double>(), 0.5);
   EXPECT_DOUBLE_EQ(j.at("recall_adds").get<double>(), 0.5);
   EXPECT_DOUBLE_EQ(j.at("threshold").get<double>(), 0.1);
@@ -170,7 +134,7 @@ TEST_F(EvalCmdTest, OneGoodOneBadGivesRecallHalf) {
   const RunResult loose = Run("--results '" + results + "' --gt '" + gt_ + "' " + Meshes() +
                               " --threshold 0.4 --json '" + json_path + "'");
   ASSERT_EQ(loose.code, 0) << loose.err;
-  const auto jl = nlohmann::json::parse(ReadText(json_path));
+  const auto jl = nlohmann::json::parse(ReadFile(json_path));
   EXPECT_DOUBLE_EQ(jl.at("recall_add").get<double>(), 1.0);
   EXPECT_DOUBLE_EQ(jl.at("recall_adds").get<double>(), 1.0);
 }
@@ -182,7 +146,7 @@ TEST_F(EvalCmdTest, MissingResultCountsAsFailure) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("missing"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("stray"), std::string::npos) << r.out;  // listed as unmatched
-  const auto j = nlohmann::json::parse(ReadText(json_path));
+  const auto j = nlohmann::json::parse(ReadFile(json_path));
   EXPECT_DOUBLE_EQ(j.at("recall_add").get<double>(), 0.5);
   EXPECT_EQ(j.at("n_missing").get<int>(), 1);
   EXPECT_EQ(j["objects"][0].at("status"), "missing");
@@ -203,7 +167,7 @@ TEST_F(EvalCmdTest, PointsFileOverridesMeshVertices) {
   const std::string base = "--results '" + results + "' --gt '" + gt_ + "' " + Meshes() + " --json '" + json_path + "'";
 
   ASSERT_EQ(Run(base).code, 0);
-  auto j = nlohmann::json::parse(ReadText(json_path));
+  auto j = nlohmann::json::parse(ReadFile(json_path));
   EXPECT_NEAR(j["objects"][0].at("add_mm").get<double>(), 100.0, 1e-4);
   EXPECT_NEAR(j["objects"][0].at("adds_mm").get<double>(), 0.0, 1e-4);
   EXPECT_NEAR(j["objects"][0].at("rot_deg").get<double>(), 90.0, 1e-6);
@@ -216,7 +180,7 @@ TEST_F(EvalCmdTest, PointsFileOverridesMeshVertices) {
   const std::string xyz = Write("origin.xyz", "0 0 0\n");
   const RunResult r = Run(base + " --points box_a='" + xyz + "'");
   ASSERT_EQ(r.code, 0) << r.err;
-  j = nlohmann::json::parse(ReadText(json_path));
+  j = nlohmann::json::parse(ReadFile(json_path));
   EXPECT_NEAR(j["objects"][0].at("add_mm").get<double>(), 0.0, 1e-9);
   EXPECT_TRUE(j["objects"][0].at("add_ok").get<bool>());
   EXPECT_EQ(j["objects"][0].at("points"), xyz);

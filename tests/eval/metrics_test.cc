@@ -3,12 +3,10 @@
 #include "posefilter/metrics.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -16,6 +14,7 @@
 
 #include "posefilter/error.h"
 #include "posefilter/rng.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
@@ -58,42 +57,8 @@ double BruteForceAddS(const std::vector<Eigen::Vector3f>& pts, const Eigen::Isom
   return sum / pts.size();
 }
 
-// A unique scratch directory per test, removed at the end.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("posefilter_metrics_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string Write(const std::string& name, const std::string& text) const {
-    const fs::path p = path_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p.string();
-  }
-  std::string Path(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
-
-// Expects `fn` to throw posefilter::Error whose message contains every string in `parts`.
-template <typename Fn>
-void ExpectErrorMentions(Fn fn, const std::vector<std::string>& parts) {
-  try {
-    fn();
-    ADD_FAILURE() << "expected posefilter::Error";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    for (const auto& part : parts) EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nmissing: " << part;
-  }
-}
+using testing_util::ExpectError;
+using testing_util::ScratchDir;
 
 TEST(AddError, ZeroForIdenticalPoses) {
   Rng rng(1);
@@ -275,17 +240,17 @@ TEST(ComputePoseErrors, RejectsBadArguments) {
   const auto pts = RandomPoints(rng, 10, 0.05);
   const Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  ExpectErrorMentions([&] { ComputePoseErrors(pts, 0.0, T, T); }, {"diameter"});
-  ExpectErrorMentions([&] { ComputePoseErrors(pts, -1.0, T, T); }, {"diameter"});
-  ExpectErrorMentions([&] { ComputePoseErrors(pts, nan, T, T); }, {"diameter"});
-  ExpectErrorMentions([&] { ComputePoseErrors(pts, 0.1, T, T, 0.0); }, {"threshold"});
-  ExpectErrorMentions([&] { ComputePoseErrors(pts, 0.1, T, T, -0.1); }, {"threshold"});
-  ExpectErrorMentions([&] { ComputePoseErrors(pts, 0.1, T, T, nan); }, {"threshold"});
+  ExpectError([&] { ComputePoseErrors(pts, 0.0, T, T); }, {"diameter"});
+  ExpectError([&] { ComputePoseErrors(pts, -1.0, T, T); }, {"diameter"});
+  ExpectError([&] { ComputePoseErrors(pts, nan, T, T); }, {"diameter"});
+  ExpectError([&] { ComputePoseErrors(pts, 0.1, T, T, 0.0); }, {"threshold"});
+  ExpectError([&] { ComputePoseErrors(pts, 0.1, T, T, -0.1); }, {"threshold"});
+  ExpectError([&] { ComputePoseErrors(pts, 0.1, T, T, nan); }, {"threshold"});
   Eigen::Isometry3d bad = T;
   bad.translation().x() = nan;
-  ExpectErrorMentions([&] { ComputePoseErrors(pts, 0.1, bad, T); }, {"estimated"});
-  ExpectErrorMentions([&] { ComputePoseErrors(pts, 0.1, T, bad); }, {"ground-truth"});
-  ExpectErrorMentions([&] { ComputePoseErrors({}, 0.1, T, T); }, {"empty"});
+  ExpectError([&] { ComputePoseErrors(pts, 0.1, bad, T); }, {"estimated"});
+  ExpectError([&] { ComputePoseErrors(pts, 0.1, T, bad); }, {"ground-truth"});
+  ExpectError([&] { ComputePoseErrors({}, 0.1, T, T); }, {"empty"});
 }
 
 TEST(SamplePoints, EvenStrideOverVertices) {
@@ -326,16 +291,16 @@ TEST(SamplePoints, EvenStrideOverVertices) {
 TEST(SamplePoints, RejectsEmptyMeshAndBadCap) {
   Mesh empty;
   empty.name = "hollow_thing";
-  ExpectErrorMentions([&] { SamplePoints(empty); }, {"hollow_thing"});
+  ExpectError([&] { SamplePoints(empty); }, {"hollow_thing"});
   Mesh one;
   one.name = "one";
   one.vertices.emplace_back(0.f, 0.f, 0.f);
-  ExpectErrorMentions([&] { SamplePoints(one, 0); }, {"max_points"});
-  ExpectErrorMentions([&] { SamplePoints(one, -5); }, {"max_points"});
+  ExpectError([&] { SamplePoints(one, 0); }, {"max_points"});
+  ExpectError([&] { SamplePoints(one, -5); }, {"max_points"});
 }
 
 TEST(ReadXyzPoints, ReadsValidFile) {
-  TempDir dir;
+  const ScratchDir dir("metrics");
   const std::string path =
       dir.Write("ok.xyz", "0.1 0.2 0.3\n\n  -1e-3\t2.5e-2 -0.000001\r\n4 5 6");  // blank, CRLF, no final \n
   const auto pts = ReadXyzPoints(path);
@@ -349,7 +314,7 @@ TEST(ReadXyzPoints, ReadsValidFile) {
 }
 
 TEST(ReadXyzPoints, BadInputNamesFileAndLine) {
-  TempDir dir;
+  const ScratchDir dir("metrics");
   struct Case {
     const char* name;
     const char* text;
@@ -367,18 +332,18 @@ TEST(ReadXyzPoints, BadInputNamesFileAndLine) {
   };
   for (const auto& c : cases) {
     const std::string path = dir.Write(c.name, c.text);
-    ExpectErrorMentions([&] { ReadXyzPoints(path); }, {path + c.where});
+    ExpectError([&] { ReadXyzPoints(path); }, {path + c.where});
   }
   const std::string empty = dir.Write("empty.xyz", "");
-  ExpectErrorMentions([&] { ReadXyzPoints(empty); }, {empty, "no points"});
+  ExpectError([&] { ReadXyzPoints(empty); }, {empty, "no points"});
   const std::string blank = dir.Write("blank.xyz", "\n  \n\t\n");
-  ExpectErrorMentions([&] { ReadXyzPoints(blank); }, {blank, "no points"});
+  ExpectError([&] { ReadXyzPoints(blank); }, {blank, "no points"});
   const std::string missing = dir.Path("does_not_exist.xyz");
-  ExpectErrorMentions([&] { ReadXyzPoints(missing); }, {missing});
+  ExpectError([&] { ReadXyzPoints(missing); }, {missing});
 }
 
 TEST(ReadXyzPoints, OfficialYcbvPointSets) {
-  const fs::path dir = fs::path(POSEFILTER_SHARED_DIR) / "data/ycbv/models/points";
+  const fs::path dir = testing_util::YcbvDataDir() / "models" / "points";
   if (!fs::exists(dir)) GTEST_SKIP() << dir << " not present";
   const auto pts = ReadXyzPoints((dir / "002_master_chef_can.xyz").string());
   EXPECT_EQ(pts.size(), 2620u);  // the dataset's official count (data/ycbv/README.md)

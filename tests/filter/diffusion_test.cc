@@ -172,3 +172,25 @@ TEST(DiffusionTest, AlignDepthShiftsAlongTheViewingRayByTheMeasuredOffset) {
 
 }  // namespace
 }  // namespace posefilter::filter
+
+namespace posefilter::filter {
+namespace {
+
+TEST(DiffusionTest, QuarterTurnRotatesNinetyDegreesAboutAnObjectAxis) {
+  Fixture f;
+  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
+  Rng rng(8);
+  for (int i = 0; i < 30; ++i) {
+    Particle p = Start();
+    ApplyMove(ctx, Move::kQuarterTurn, &p, 0.0, rng);
+    const Eigen::Matrix3d R0 = PoseToTransform(Start().pose).linear();
+    const Eigen::Matrix3d R1 = PoseToTransform(p.pose).linear();
+    const Eigen::AngleAxisd rel(R0.transpose() * R1);  // rotation in the object frame
+    EXPECT_NEAR(rel.angle(), M_PI / 2, 1e-9);
+    EXPECT_NEAR(rel.axis().cwiseAbs().maxCoeff(), 1.0, 1e-9);  // about x, y or z
+    EXPECT_EQ(p.pose.x, Start().pose.x);
+  }
+}
+
+}  // namespace
+}  // namespace posefilter::filter

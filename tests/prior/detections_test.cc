@@ -3,46 +3,26 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
+#include <string>
+#include <vector>
 
 #include "posefilter/error.h"
 #include "posefilter/prior.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
 
-namespace fs = std::filesystem;
-
-std::string TempPath(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "posefilter_prior_test";
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
-
-std::string WriteText(const std::string& name, const std::string& text) {
-  const std::string path = TempPath(name);
-  std::ofstream(path) << text;
-  return path;
-}
-
-template <class F>
-void ExpectError(F f, std::initializer_list<std::string> parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no Error thrown";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg << " lacks " << p;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << "multi-line message: " << msg;
-  }
-}
+using testing_util::ExpectError;
+using testing_util::ExpectInvalid;
+using testing_util::ScratchDir;
 
 TEST(DetectionsJson, RoundTrip) {
   const std::vector<Detection> dets = {{"004_sugar_box", 0.87, 250.5, 120.25, 80, 140},
                                        {"025_mug", 0.0, 0, 0, 1, 2},
                                        {"061_foam_brick", 1.0, 600, 400, 60, 79.5}};
-  const std::string path = TempPath("dets.json");
+  const ScratchDir dir("prior");
+  const std::string path = dir.Path("dets.json");
   WriteDetectionsJson(dets, path);
   const auto back = ReadDetectionsJson(path);
   ASSERT_EQ(back.size(), dets.size());
@@ -57,12 +37,13 @@ TEST(DetectionsJson, RoundTrip) {
 }
 
 TEST(DetectionsJson, AcceptsBareListAndObjectForm) {
+  const ScratchDir dir("prior");
   const auto a = ReadDetectionsJson(
-      WriteText("list.json", R"([{"class": "025_mug", "score": 0.5, "bbox": [1, 2, 3, 4]}])"));
+      dir.Write("list.json", R"([{"class": "025_mug", "score": 0.5, "bbox": [1, 2, 3, 4]}])"));
   ASSERT_EQ(a.size(), 1u);
   EXPECT_EQ(a[0].cls, "025_mug");
   EXPECT_DOUBLE_EQ(a[0].h, 4);
-  const auto b = ReadDetectionsJson(WriteText(
+  const auto b = ReadDetectionsJson(dir.Write(
       "obj.json",
       R"({"detections": [{"class": "x", "score": 1, "bbox": [1, 2, 3, 4], "extra": 7}]})"));
   ASSERT_EQ(b.size(), 1u);
@@ -70,6 +51,7 @@ TEST(DetectionsJson, AcceptsBareListAndObjectForm) {
 }
 
 TEST(DetectionsJson, BadEntriesNameFileEntryAndKey) {
+  const ScratchDir dir("prior");
   struct Case {
     const char* name;
     const char* text;
@@ -104,20 +86,14 @@ TEST(DetectionsJson, BadEntriesNameFileEntryAndKey) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    const std::string path = WriteText(c.name, c.text);
-    try {
-      ReadDetectionsJson(path);
-      ADD_FAILURE() << "no Error thrown";
-    } catch (const Error& e) {
-      const std::string msg = e.what();
-      EXPECT_NE(msg.find(path), std::string::npos) << msg;
-      for (const auto& p : c.parts) EXPECT_NE(msg.find(p), std::string::npos) << msg << " lacks " << p;
-    }
+    const std::string path = dir.Write(c.name, c.text);
+    std::vector<std::string> parts = c.parts;
+    parts.push_back(path);
+    ExpectError([&] { ReadDetectionsJson(path); }, parts);
   }
   // An empty list is accepted on request.
-  EXPECT_TRUE(ReadDetectionsJson(TempPath("empty_list.json"), /*allow_empty=*/true).empty());
-  const std::string missing = TempPath("no_such_detections.json");
-  fs::remove(missing);
+  EXPECT_TRUE(ReadDetectionsJson(dir.Path("empty_list.json"), /*allow_empty=*/true).empty());
+  const std::string missing = dir.Path("no_such_detections.json");
   ExpectError([&] { ReadDetectionsJson(missing); }, {missing});
 }
 
@@ -172,7 +148,7 @@ TEST(DetectionPrior, PeaksOnTheDetectionWithFloorElsewhere) {
   // Far corner: non-zero.
   EXPECT_GT(p.Prob(0, cls), 0.f);
   // The detection carries most of the class mass (≈ 0.9·box area/stride² summed over the
-  // levels = 221 against 6300 · 0.001 for the floor).
+  // levels = 221 against 6300 · floor_prob for the floor).
   double near = 0;
   for (int c = 0; c < l.CellCount(); ++c)
     if (BoxIoU(l.AnchorBox(c), dbox) > 0) near += p.Prob(c, cls);
@@ -238,11 +214,13 @@ TEST(DetectionPrior, OverlappingClassesKeepSumAtMostOneAndTheFloor) {
 TEST(DetectionPrior, EmptyListGivesUniformPrior) {
   const PyramidLayout l = PyramidLayout::Thesis();
   const Prior p = PriorFromDetections({}, l, YcbVideoClassNames());
-  for (float v : p.prob) ASSERT_NEAR(v, 1e-3, 1e-8);
+  const double floor = DetectionPriorOptions{}.floor_prob;
+  for (float v : p.prob) ASSERT_NEAR(v, floor, floor * 1e-4);
   for (int c = 0; c < l.CellCount(); c += 111) EXPECT_NEAR(p.boxes[c].cx, l.AnchorBox(c).cx, 1e-6);
 }
 
 TEST(DetectionPrior, RejectsBadInput) {
+  const ScratchDir dir("prior");
   const PyramidLayout l = PyramidLayout::Thesis();
   const auto classes = YcbVideoClassNames();
   ExpectError([&] { DetectionsToRawPyramid({{"999_unicorn", 0.5, 1, 1, 10, 10}}, l, classes); },
@@ -258,18 +236,16 @@ TEST(DetectionPrior, RejectsBadInput) {
   ExpectError([&] { DetectionsToRawPyramid({}, l, {"a", "b"}); }, {"num_classes"});
   DetectionPriorOptions opt;
   opt.floor_prob = 0;
-  std::string why;
-  EXPECT_FALSE(opt.IsValid(&why));
-  EXPECT_NE(why.find("floor_prob"), std::string::npos);
+  ExpectInvalid(opt, "floor_prob");
   ExpectError([&] { DetectionsToRawPyramid({}, l, classes, opt); }, {"floor_prob"});
   opt.floor_prob = 0.1;  // 21 × 0.1 > 1
-  EXPECT_TRUE(opt.IsValid(&why));
+  std::string why;
+  EXPECT_TRUE(opt.IsValid(&why)) << why;
   ExpectError([&] { DetectionsToRawPyramid({}, l, classes, opt); }, {"floor_prob", "num_classes"});
   opt = {};
   opt.max_box_px = -5;
-  EXPECT_FALSE(opt.IsValid(&why));
-  EXPECT_NE(why.find("max_box_px"), std::string::npos);
-  ExpectError([&] { WriteDetectionsJson({{"a", 0.5, 0, 0, 0, 1}}, TempPath("bad_out.json")); },
+  ExpectInvalid(opt, "max_box_px");
+  ExpectError([&] { WriteDetectionsJson({{"a", 0.5, 0, 0, 0, 1}}, dir.Path("bad_out.json")); },
               {"detection 0", "bbox"});
 }
 
@@ -278,7 +254,8 @@ TEST(DetectionPrior, RawFileCarriesTheSamePrior) {
   const PyramidLayout l = PyramidLayout::Thesis();
   const auto classes = YcbVideoClassNames();
   const std::vector<Detection> dets = {{"006_mustard_bottle", 0.6, 400, 50, 70, 180}};
-  const std::string path = TempPath("from_dets.pyr");
+  const ScratchDir dir("prior");
+  const std::string path = dir.Path("from_dets.pyr");
   WriteRawPyramid(DetectionsToRawPyramid(dets, l, classes), l, path);
   const Prior a = PostProcessPyramid(ReadRawPyramid(path, l), l, classes);
   const Prior b = PriorFromDetections(dets, l, classes);

@@ -7,20 +7,13 @@
 #include "posefilter/error.h"
 #include "posefilter/heuristics.h"
 #include "posefilter/prior.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
 
-template <class F>
-void ExpectError(F f, std::initializer_list<std::string> parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no Error thrown";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg << " lacks " << p;
-  }
-}
+using testing_util::ExpectError;
+using testing_util::ExpectInvalid;
 
 TEST(Heuristics, FrontoParallelPlaneAtOneMetre) {
   const Camera cam;  // thesis camera, identity base_to_camera
@@ -221,25 +214,20 @@ TEST(Heuristics, RejectsBadInput) {
   EXPECT_TRUE(opt.IsValid(&why));
   opt.percentile_lo = 0.9;
   opt.percentile_hi = 0.1;
-  EXPECT_FALSE(opt.IsValid(&why));
-  EXPECT_NE(why.find("percentile"), std::string::npos);
+  ExpectInvalid(opt, "percentile");
   ExpectError([&] { ComputeHeuristics(depth, cam, {}, opt); }, {"percentile"});
   opt = {};
   opt.depth_extension_m = -0.1;
-  EXPECT_FALSE(opt.IsValid(&why));
-  EXPECT_NE(why.find("depth_extension_m"), std::string::npos);
+  ExpectInvalid(opt, "depth_extension_m");
   opt = {};
   opt.max_samples = 0;
-  EXPECT_FALSE(opt.IsValid(&why));
-  EXPECT_NE(why.find("max_samples"), std::string::npos);
+  ExpectInvalid(opt, "max_samples");
   opt = {};
   opt.max_depth_m = 0;
-  EXPECT_FALSE(opt.IsValid(&why));
-  EXPECT_NE(why.find("max_depth_m"), std::string::npos);
+  ExpectInvalid(opt, "max_depth_m");
   opt = {};
   opt.min_valid_pixels = 0;
-  EXPECT_FALSE(opt.IsValid(&why));
-  EXPECT_NE(why.find("min_valid_pixels"), std::string::npos);
+  ExpectInvalid(opt, "min_valid_pixels");
 }
 
 }  // namespace

@@ -3,35 +3,22 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
+#include <cstdint>
 #include <limits>
 
 #include "posefilter/error.h"
 #include "posefilter/prior.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string TempPath(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "posefilter_prior_test";
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
-
-// Expects `f` to throw Error whose message contains every string of `parts`.
-template <class F>
-void ExpectError(F f, std::initializer_list<std::string> parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no Error thrown";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg << " lacks " << p;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << "multi-line message: " << msg;
-  }
-}
+using testing_util::ExpectError;
+using testing_util::ExpectInvalid;
+using testing_util::ReadFile;
+using testing_util::ScratchDir;
 
 PyramidLayout SmallLayout(int num_classes = 3) {
   PyramidLayout l;
@@ -116,16 +103,13 @@ TEST(PyramidLayout, IsValidNamesTheProblem) {
   std::string why;
   PyramidLayout l = PyramidLayout::Thesis();
   l.levels.clear();
-  EXPECT_FALSE(l.IsValid(&why));
-  EXPECT_NE(why.find("levels"), std::string::npos);
+  ExpectInvalid(l, "levels");
   l = PyramidLayout::Thesis();
   l.levels[1].rows = 0;
-  EXPECT_FALSE(l.IsValid(&why));
-  EXPECT_NE(why.find("level 1"), std::string::npos);
+  ExpectInvalid(l, "level 1");
   l = PyramidLayout::Thesis();
   l.levels[2].anchor_w = std::nan("");
-  EXPECT_FALSE(l.IsValid(&why));
-  EXPECT_NE(why.find("anchor"), std::string::npos);
+  ExpectInvalid(l, "anchor");
   l = PyramidLayout::Thesis();
   l.num_classes = 0;
   EXPECT_FALSE(l.IsValid(&why));
@@ -284,9 +268,7 @@ TEST(PostProcess, RejectsBadInput) {
   ExpectError([&] { PostProcessPyramid(nan_raw, l, classes); }, {"cell 2", "ty"});
   PostProcessOptions bad;
   bad.max_box_px = 0;
-  std::string why;
-  EXPECT_FALSE(bad.IsValid(&why));
-  EXPECT_NE(why.find("max_box_px"), std::string::npos);
+  ExpectInvalid(bad, "max_box_px");
   ExpectError([&] { PostProcessPyramid(raw, l, classes, bad); }, {"max_box_px"});
   PyramidLayout broken = l;
   broken.levels.clear();
@@ -315,7 +297,7 @@ TEST(YcbVideo, ClassNamesMatchTheModelsFolder) {
   EXPECT_EQ(names.front(), "002_master_chef_can");
   EXPECT_EQ(names.back(), "061_foam_brick");
   for (size_t i = 1; i < names.size(); ++i) EXPECT_LT(names[i - 1], names[i]);  // official order
-  const fs::path models = fs::path(POSEFILTER_SHARED_DIR) / "data/ycbv/models";
+  const fs::path models = testing_util::YcbvDataDir() / "models";
   if (!fs::exists(models)) GTEST_SKIP() << "no shared data at " << models;
   for (const auto& n : names) EXPECT_TRUE(fs::exists(models / (n + ".ply"))) << n;
 }
@@ -325,16 +307,16 @@ TEST(RawFile, RoundTripIsBitExactAndLittleEndian) {
   std::vector<float> raw(size_t(l.CellCount()) * 8);
   for (size_t i = 0; i < raw.size(); ++i) raw[i] = float(std::sin(0.37 * i) * 7.5);
   raw[0] = 1.0f;
-  const std::string path = TempPath("roundtrip.pyr");
+  const ScratchDir dir("prior");
+  const std::string path = dir.Path("roundtrip.pyr");
   WriteRawPyramid(raw, l, path);
   EXPECT_EQ(fs::file_size(path), raw.size() * 4);
   // 1.0f little-endian = 00 00 80 3f.
-  std::ifstream in(path, std::ios::binary);
-  unsigned char b[4];
-  in.read(reinterpret_cast<char*>(b), 4);
-  EXPECT_EQ(b[0], 0x00);
-  EXPECT_EQ(b[2], 0x80);
-  EXPECT_EQ(b[3], 0x3f);
+  const std::string bytes = ReadFile(path);
+  ASSERT_GE(bytes.size(), 4u);
+  EXPECT_EQ(std::uint8_t(bytes[0]), 0x00);
+  EXPECT_EQ(std::uint8_t(bytes[2]), 0x80);
+  EXPECT_EQ(std::uint8_t(bytes[3]), 0x3f);
   const std::vector<float> back = ReadRawPyramid(path, l);
   ASSERT_EQ(back.size(), raw.size());
   for (size_t i = 0; i < raw.size(); ++i) ASSERT_EQ(back[i], raw[i]);
@@ -343,30 +325,25 @@ TEST(RawFile, RoundTripIsBitExactAndLittleEndian) {
 TEST(RawFile, BadFilesThrowNamingTheFileAndExpectedSize) {
   const PyramidLayout l = PyramidLayout::Thesis();
   const std::string expected_bytes = std::to_string(6300 * 26 * 4);  // 655200
-  const std::string missing = TempPath("does_not_exist.pyr");
-  fs::remove(missing);
+  const ScratchDir dir("prior");
+  const std::string missing = dir.Path("does_not_exist.pyr");
   ExpectError([&] { ReadRawPyramid(missing, l); }, {missing, expected_bytes});
 
-  const std::string wrong = TempPath("wrong_size.pyr");
-  {
-    std::ofstream o(wrong, std::ios::binary);
-    std::vector<float> v(6300 * 26 - 3, 0.f);
-    o.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * 4));
-  }
+  // The floats' bytes as a file (host order: little-endian, as the format).
+  auto write_floats = [&](const std::string& name, const std::vector<float>& values) {
+    return dir.Write(name, std::string(reinterpret_cast<const char*>(values.data()), values.size() * 4));
+  };
+  const std::string wrong = write_floats("wrong_size.pyr", std::vector<float>(6300 * 26 - 3, 0.f));
   ExpectError([&] { ReadRawPyramid(wrong, l); }, {wrong, expected_bytes});
 
-  const std::string nan = TempPath("nan.pyr");
   std::vector<float> v(6300 * 26, 0.f);
   v[26 * 100 + 3] = std::numeric_limits<float>::quiet_NaN();
-  {
-    std::ofstream o(nan, std::ios::binary);
-    o.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * 4));
-  }
+  const std::string nan = write_floats("nan.pyr", v);
   ExpectError([&] { ReadRawPyramid(nan, l); }, {nan, "cell 100", "NaN"});
 
   ExpectError([&] { ReadRawPyramid(fs::temp_directory_path().string(), l); },
               {fs::temp_directory_path().string()});
-  ExpectError([&] { WriteRawPyramid(std::vector<float>(5), l, TempPath("x.pyr")); },
+  ExpectError([&] { WriteRawPyramid(std::vector<float>(5), l, dir.Path("x.pyr")); },
               {"expected"});
   ExpectError([&] { WriteRawPyramid(v, l, "/nonexistent_dir_pf/x.pyr"); },
               {"/nonexistent_dir_pf/x.pyr"});

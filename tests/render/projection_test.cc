@@ -8,37 +8,17 @@
 #include "posefilter/error.h"
 #include "posefilter/projection.h"
 #include "posefilter/synth.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
 
-// A square of side s (metres) in the object's z = 0 plane, facing a camera on −z (CCW seen
-// from −z), two triangles.
-Mesh FrontSquare(float s) {
-  Mesh m;
-  m.name = "square";
-  const float h = s / 2;
-  m.vertices = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
-  m.faces = {{0, 3, 2}, {0, 2, 1}};
-  return m;
-}
+using testing_util::At;
+using testing_util::ExpectError;
+using testing_util::FrontSquare;
 
-Camera TestCamera() {
-  Camera c;
-  c.width = 640;
-  c.height = 480;
-  c.fx = 500;
-  c.fy = 400;
-  c.cx = 320;
-  c.cy = 240;
-  return c;
-}
-
-Eigen::Isometry3d At(double x, double y, double z) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = Eigen::Vector3d(x, y, z);
-  return T;
-}
+// 640×480, fx ≠ fy so that a mix-up of the axes shows.
+Camera TestCamera() { return testing_util::PinholeCamera(500, 400, 320, 240); }
 
 // Analytic box of the square: its edges project to u = cx + fx·(x ± s/2)/z (same for v);
 // the covered pixel centres are the integers strictly inside (edges chosen off-integer),
@@ -110,12 +90,7 @@ TEST(ProjectedBox, InvalidInputsThrow) {
   EXPECT_THROW(ProjectedBox(FrontSquare(0.1f), At(0, 0, 1), bad), Error);
   Mesh broken = FrontSquare(0.1f);
   broken.faces.push_back({0, 1, 7});
-  try {
-    ProjectedBox(broken, At(0, 0, 1), TestCamera());
-    FAIL() << "no throw for a face index out of range";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("square"), std::string::npos) << e.what();
-  }
+  ExpectError([&] { ProjectedBox(broken, At(0, 0, 1), TestCamera()); }, {"square"});  // face index out of range
 }
 
 // The synthetic world's gt box is the target's full silhouette: ProjectedBox must agree.

@@ -6,21 +6,14 @@
 
 #include "posefilter/render.h"
 #include "render/raster.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
 
-// A square of side s (metres) in the object's z = 0 plane, normal −z (towards a camera that
-// looks along +z when the object sits in front of it), two triangles.
-Mesh Square(float s) {
-  Mesh m;
-  m.name = "square";
-  const float h = s / 2;
-  m.vertices = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
-  // CCW seen from −z (from the camera): normal (v1−v0)×(v2−v0) must point to −z.
-  m.faces = {{0, 3, 2}, {0, 2, 1}};
-  return m;
-}
+using testing_util::At;
+using testing_util::FrontSquare;
+using testing_util::PinholeCamera;
 
 ScoreKernelParams Params(const Mesh& m, double z, const DepthImage& depth, PixelRect window) {
   ScoreKernelParams k;
@@ -40,7 +33,7 @@ ScoreKernelParams Params(const Mesh& m, double z, const DepthImage& depth, Pixel
 }
 
 TEST(RenderTest, FrontoParallelSquareHasExpectedAreaAndDepth) {
-  const Mesh sq = Square(0.1f);  // 10 cm at 1 m, f = 500 → 50 px wide
+  const Mesh sq = FrontSquare(0.1f);  // 10 cm at 1 m, f = 500 → 50 px wide
   DepthImage scene(640, 480, 1.0f);
   for (bool zbuffer : {true, false}) {
     ScoreKernelParams k = Params(sq, 1.0, scene, PixelRect{0, 0, 640, 480});
@@ -54,13 +47,7 @@ TEST(RenderTest, FrontoParallelSquareHasExpectedAreaAndDepth) {
     EXPECT_NEAR(r.inlier_sum, 2500.0, 1e-6);  // depth equals the scene everywhere
   }
   DepthImage z(640, 480, 0.f);
-  Camera cam;
-  cam.fx = cam.fy = 500;
-  cam.cx = 320;
-  cam.cy = 240;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation().z() = 1.0;
-  RenderDepth(sq, T, cam, &z);
+  RenderDepth(sq, At(0, 0, 1), PinholeCamera(500, 500), &z);
   EXPECT_EQ(z.CountValid(), 2500u);
   EXPECT_FLOAT_EQ(z.at(320, 240), 1.0f);
   EXPECT_FLOAT_EQ(z.at(295, 215), 1.0f);
@@ -70,11 +57,8 @@ TEST(RenderTest, FrontoParallelSquareHasExpectedAreaAndDepth) {
 
 TEST(RenderTest, TiltedPlaneDepthIsPerspectiveCorrect) {
   // A plane tilted about the y axis: exact depth at each pixel is the ray–plane intersection.
-  Mesh sq = Square(0.2f);
-  Camera cam;
-  cam.fx = cam.fy = 500;
-  cam.cx = 320;
-  cam.cy = 240;
+  Mesh sq = FrontSquare(0.2f);
+  const Camera cam = PinholeCamera(500, 500);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitY()).toRotationMatrix();
   T.translation() = Eigen::Vector3d(0, 0, 0.8);
@@ -95,7 +79,7 @@ TEST(RenderTest, TiltedPlaneDepthIsPerspectiveCorrect) {
 }
 
 TEST(RenderTest, BackFacesAreCulled) {
-  Mesh sq = Square(0.1f);
+  Mesh sq = FrontSquare(0.1f);
   for (auto& f : sq.faces) std::swap(f[1], f[2]);  // now facing away from the camera
   DepthImage scene(640, 480, 1.0f);
   RenderWorkspace ws;
@@ -130,8 +114,8 @@ TEST(RenderTest, SharedEdgesCoverEachPixelOnce) {
 
 TEST(RenderTest, WindowClipsAndZBufferKeepsNearestSurface) {
   // Two parallel squares, the nearer one at 0.9 m, the farther at 1.0 m (scene depth 1.0).
-  Mesh two = Square(0.1f);
-  Mesh back = Square(0.1f);
+  Mesh two = FrontSquare(0.1f);
+  Mesh back = FrontSquare(0.1f);
   for (auto& v : back.vertices) v.z() += 0.1f;
   for (auto f : back.faces) two.faces.push_back({f[0] + 4, f[1] + 4, f[2] + 4});
   two.vertices.insert(two.vertices.end(), back.vertices.begin(), back.vertices.end());
@@ -163,7 +147,7 @@ TEST(RenderTest, SoftInlierValuesAtThresholds) {
 }
 
 TEST(RenderTest, NearPlaneSkipsTriangles) {
-  const Mesh sq = Square(0.1f);
+  const Mesh sq = FrontSquare(0.1f);
   DepthImage scene(640, 480, 1.0f);
   RenderWorkspace ws;
   ScoreKernelParams k = Params(sq, 0.04, scene, PixelRect{0, 0, 640, 480});

@@ -6,17 +6,19 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "posefilter/error.h"
 #include "posefilter/render.h"
 #include "posefilter/scene_io.h"
 #include "posefilter/synth.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
 
 namespace fs = std::filesystem;
+
+using testing_util::ExpectError;
 
 SynthOptions Clean() {
   SynthOptions o;
@@ -51,12 +53,7 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-std::string TempDir(const std::string& tag) {
-  const fs::path p = fs::temp_directory_path() /
-                     ("posefilter_synth_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p.string();
-}
+std::string TempDir(const std::string& tag) { return testing_util::FreshTempPath("synth_" + tag).string(); }
 
 TEST(SynthScene, DeterministicPerSeedAndDifferentAcrossSeeds) {
   SynthOptions o;
@@ -338,12 +335,7 @@ TEST(SynthScene, OccluderWithoutRoomIsAnError) {
   SynthOptions o = Clean();
   o.min_distance_m = o.max_distance_m = 0.2;
   o.occlusion = 0.5;
-  try {
-    MakeSynthScene(o, 1);
-    FAIL() << "no throw";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("min_distance_m"), std::string::npos) << e.what();
-  }
+  ExpectError([&] { MakeSynthScene(o, 1); }, {"min_distance_m"});
   o.occlusion = 0;  // without an occluder the close target is fine
   EXPECT_NEAR(MakeSynthScene(o, 1).distance_m, 0.2, 1e-12);
 }
@@ -398,17 +390,10 @@ TEST(SynthScene, WriteSynthSceneRoundTrips) {
 }
 
 TEST(SynthScene, WriteSynthSceneReportsUnwritableDir) {
-  const std::string base = TempDir("unwritable");
-  fs::create_directories(base);
-  std::ofstream(base + "/file") << "x";
+  const testing_util::ScratchDir dir("synth");
+  const std::string below_a_file = dir.Write("file", "x") + "/scene";
   const SynthScene s = MakeSynthScene(Clean(), 1);
-  try {
-    WriteSynthScene(s, base + "/file/scene");
-    FAIL() << "no throw";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(base + "/file/scene"), std::string::npos) << e.what();
-  }
-  fs::remove_all(base);
+  ExpectError([&] { WriteSynthScene(s, below_a_file); }, {below_a_file});
 }
 
 }  // namespace

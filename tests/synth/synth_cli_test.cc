@@ -4,13 +4,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 #include "commands.h"
 #include "posefilter/scene_io.h"
 #include "posefilter/synth.h"
+#include "test_util.h"
 
 namespace posefilter {
 namespace {
@@ -25,11 +24,7 @@ int RunSynthCli(std::vector<std::string> args) {
   return cli::RunSynth(int(args.size()), argv.data());
 }
 
-std::string TempDir(const std::string& tag) {
-  const fs::path p = fs::temp_directory_path() / ("posefilter_synthcli_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p.string();
-}
+std::string TempDir(const std::string& tag) { return testing_util::FreshTempPath("synthcli_" + tag).string(); }
 
 TEST(SynthCli, WritesScenes) {
   const std::string out = TempDir("ok");
