@@ -46,7 +46,7 @@ int RunDemo(int argc, char** argv) {
     const SceneInput input{scene.depth, scene.camera};
     const int cls = prior.ClassIndex(scene.target.name);
     const EstimateResult r =
-        EstimatePose(input, scene.target, prior, cls, opt, StderrProgress(scene.target.name, opt.max_iterations, quiet));
+        EstimatePose(input, scene.target, prior, cls, opt, StderrProgress(scene.target.name, opt.max_iterations * opt.restarts, quiet));
     if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
 
     const double diameter = scene.target.Diameter();

@@ -111,7 +111,7 @@ int RunEstimate(int argc, char** argv) {
       const int cls = prior.ClassIndex(mesh.name);
       if (cls < 0) throw Error("object '" + mesh.name + "' is not a class of the prior (see --classes)");
       if (!(prior.ClassMass(cls) > 0)) throw Error("the prior holds no probability for '" + mesh.name + "'");
-      const EstimateResult r = EstimatePose(scene, mesh, prior, cls, opt, StderrProgress(mesh.name, opt.max_iterations, quiet));
+      const EstimateResult r = EstimatePose(scene, mesh, prior, cls, opt, StderrProgress(mesh.name, opt.max_iterations * opt.restarts, quiet));
       if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
       ObjectResult o;
       o.obj = mesh.name;

@@ -25,7 +25,8 @@ constexpr FieldOption kFieldOptions[] = {
     {"confidence", "--confidence"}, {"alpha", "--alpha"},                 {"beta", "--beta"},
     {"gamma", "--gamma"},           {"inlier threshold", "--inlier-thr"}, {"max_window_px", "--window"},
     {"num_elite", "--elite"},       {"resample_pool", "--pool"},          {"sigma_t0_m", "--sigma-t"},
-    {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"}};
+    {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"},
+    {"delta", "--delta"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"}};
 
 // The option that sets `field`; evaluated while compiling, so an unknown field does not compile.
 consteval const char* OptionOf(std::string_view field) {
@@ -88,6 +89,9 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("resample_pool"), o->resample_pool, "fraction of the sorted set resampled from");
   add(OptionOf("sigma_t0_m"), o->sigma_t0_m, "initial diffusion translation sigma (m)");
   add(OptionOf("sigma_r0_rad"), o->sigma_r0_rad, "initial diffusion rotation sigma (rad)");
+  add(OptionOf("delta"), o->delta, "silhouette edge penalty weight (0 = off)");
+  add(OptionOf("anneal_start_m"), o->anneal_start_m, "coarse-to-fine: initial inlier threshold (m, 0 = off)");
+  add(OptionOf("restarts"), o->restarts, "independent runs, the best weight wins");
   add(OptionOf("seed"), o->seed, "random seed (same seed, same poses)");
   add(OptionOf("threads"), o->threads, "scoring threads (0 = all cores)");
 }

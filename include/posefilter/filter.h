@@ -41,6 +41,7 @@ enum class Move : int {
   kAlignDepth,                       // ours: shift along the viewing ray by the mean depth
                                      // misalignment measured at the last weighing
   kQuarterTurn,                      // ours: turn ±π/2 about one of the object's own axes
+  kIcpStep,                          // ours: one point-to-plane ICP step (from the last weighing)
   kCount
 };
 inline constexpr int kNumMoves = static_cast<int>(Move::kCount);
@@ -93,9 +94,10 @@ struct FilterOptions {
   double min_sigma_fraction = 0.05;  // σ never decays below this fraction of σ0
   // Probability of each Move (normalised internally); default spreads over all 13.
   std::array<double, kNumMoves> move_probabilities = {0.09, 0.09, 0.09, 0.09, 0.08, 0.08, 0.08, 0.1,
-                                                      0.02, 0.02, 0.02, 0.05, 0.05, 0.1, 0.04};
+                                                      0.02, 0.02, 0.02, 0.05, 0.05, 0.1, 0.04, 0.0};
   double align_band_m = 0.05;        // depth differences used by the align-depth move, metres
   HeuristicOptions heuristics;       // depth_extension_m is set to the object's radius if 0
+  int restarts = 1;                  // ours: independent runs, the best weight wins (time × restarts)
   std::uint64_t seed = 1;            // every random stream derives from this
   int threads = 0;                   // scoring threads; 0 = all cores
   bool IsValid(std::string* why) const;
@@ -116,7 +118,7 @@ struct EstimateResult {
   Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();  // object → camera
   double weight = 0;            // best weight, eq. 7.4
   int cell = -1;                // prior cell of the best particle
-  int iterations = 0;           // weighings of the whole set
+  int iterations = 0;           // weighings of the whole set (summed over restarts)
   bool converged = false;       // weight reached the confidence threshold
   double time_ms = 0;           // wall time
   std::vector<double> best_weight_history;   // best weight after each iteration

@@ -68,6 +68,9 @@ struct ScoreKernelParams {
   // false: the thesis's z-buffer-free mode (every front-face fragment counts, §7.5.1).
   bool zbuffer = true;
   float align_band_m = 0.05f;  // band of depth differences that enter depth_diff_sum, metres
+  // Optional unit scene normals (camera frame, 3 floats per depth pixel, zeros = none):
+  // when set, the kernel also accumulates the ICP normal equations.
+  const float* scene_normals = nullptr;
   float edge_band_m = 0.01f;   // silhouette edge test: "no depth step" band, metres
 };
 
@@ -81,6 +84,11 @@ struct ScoreKernelResult {
   // ±align_band_m of the rendering: the mean depth misalignment, for the align-depth move.
   double depth_diff_sum = 0;
   std::int64_t depth_diff_count = 0;
+  // With scene_normals: the point-to-plane ICP normal equations over the same fragments
+  // (upper triangle of the 6×6 A row by row, and b; unknowns ω (rad), τ (m), camera frame).
+  double icp_A[21] = {};
+  double icp_b[6] = {};
+  std::int64_t icp_count = 0;
   // z-buffer mode only: silhouette edge samples (a covered pixel and an uncovered
   // 4-neighbour inside the window with valid scene depth), and those where the scene surface
   // continues across the outline (|z_s(neighbour) − z_r| ≤ edge_band_m).
@@ -95,6 +103,11 @@ struct RenderWorkspace {
   std::vector<float> zbuffer;          // window-sized, metres, +inf = empty
   std::vector<float> cam_vertices;     // num_vertices × 3, camera frame
 };
+
+// Unit normals of the scene surface (camera frame, facing the camera), 3 floats per depth
+// pixel, from central differences of the back-projected depth; zero on the image border,
+// where a 4-neighbour is missing, or across a depth step of more than 2 cm.
+std::vector<float> ComputeSceneNormals(const DepthImage& depth, const Camera& camera);
 
 // The reference score kernel: readable float/int64 C++, the executable spec.
 ScoreKernelResult ScoreReference(const ScoreKernelParams& params, RenderWorkspace* ws);

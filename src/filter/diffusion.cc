@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
 namespace posefilter::filter {
 
 DiffusionContext::DiffusionContext(const Camera& c, const PyramidLayout& l, const std::vector<Volume>& v,
@@ -46,6 +49,28 @@ int MoveCell(const DiffusionContext& ctx, int cell, Move move, Rng& rng) {
   }
   if (target < 0 || !ctx.volumes[target].valid) return -1;
   return target;
+}
+
+bool SolveIcpStep(const ScoreKernelResult& r, std::array<double, 6>* step) {
+  if (r.icp_count < 30) return false;
+  Eigen::Matrix<double, 6, 6> A;
+  int e = 0;
+  for (int i = 0; i < 6; ++i)
+    for (int j = i; j < 6; ++j) A(i, j) = A(j, i) = r.icp_A[e++];
+  Eigen::Matrix<double, 6, 1> b;
+  for (int i = 0; i < 6; ++i) b(i) = r.icp_b[i];
+  // Levenberg damping relative to the diagonal keeps unobservable directions still.
+  A.diagonal() *= 1.0 + 1e-3;
+  A.diagonal().array() += 1e-9 * A.diagonal().maxCoeff();
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(A);
+  if (ldlt.info() != Eigen::Success) return false;
+  Eigen::Matrix<double, 6, 1> x = ldlt.solve(b);
+  if (!x.allFinite()) return false;
+  const double w = x.head<3>().norm(), t = x.tail<3>().norm();
+  if (w > 0.3) x.head<3>() *= 0.3 / w;
+  if (t > 0.05) x.tail<3>() *= 0.05 / t;
+  for (int i = 0; i < 6; ++i) (*step)[i] = x(i);
+  return true;
 }
 
 void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_weight, Rng& rng) {
@@ -96,6 +121,18 @@ void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_
         q.y += shift.y();
         q.z += shift.z();
       }
+      break;
+    }
+    case Move::kIcpStep: {
+      if (!p->icp_valid) break;
+      // T_cam' = [Rot(ω) | τ] · T_cam, then back to the base frame.
+      const Eigen::Isometry3d& C = ctx.camera.base_to_camera;
+      const Eigen::Vector3d omega(p->icp_step[0], p->icp_step[1], p->icp_step[2]);
+      Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
+      if (omega.norm() > 0) D.linear() = Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix();
+      D.translation() = Eigen::Vector3d(p->icp_step[3], p->icp_step[4], p->icp_step[5]);
+      const Eigen::Isometry3d T = C.inverse() * D * C * PoseToTransform(q);
+      q = TransformToPose(T);
       break;
     }
     case Move::kQuarterTurn: {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "posefilter/camera.h"
@@ -9,6 +10,7 @@
 #include "posefilter/heuristics.h"
 #include "posefilter/pose.h"
 #include "posefilter/prior.h"
+#include "posefilter/render.h"
 #include "posefilter/rng.h"
 
 namespace posefilter::filter {
@@ -21,7 +23,14 @@ struct Particle {
   // Mean (scene − rendered) depth over the fragments within the align band at the last
   // weighing, metres (0 when none): what kAlignDepth shifts by.
   double depth_offset = 0;
+  // The point-to-plane ICP step solved at the last weighing: (ω rad, τ m), camera frame.
+  std::array<double, 6> icp_step{};
+  bool icp_valid = false;
 };
+
+// Solves the (damped) 6×6 ICP normal equations of a kernel result; false when too few
+// fragments or a degenerate system. Steps are clamped to 0.3 rad and 5 cm.
+bool SolveIcpStep(const ScoreKernelResult& r, std::array<double, 6>* step);
 
 // What diffusion reads: the pyramid layout, the heuristic volume of every cell, the options.
 struct DiffusionContext {

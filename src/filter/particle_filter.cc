@@ -90,6 +90,7 @@ struct Context {
   std::vector<PixelRect> windows;    // window per cell
   std::vector<long> n_depth;         // valid depth pixels per window
   InlierParams inlier;               // this iteration's inlier thresholds (annealed)
+  std::vector<float> normals;        // scene normals, 3 per pixel, camera frame (0 = none)
   std::vector<int> region;           // image region (niche) of each cell's window centre
   int region_count = 0;
 };
@@ -133,6 +134,7 @@ double Weigh(const Context& ctx, const Particle& p, RenderWorkspace* ws, ScoreKe
   k.zbuffer = ctx.opt.zbuffer;
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
+  k.scene_normals = ctx.normals.data();
   *out = ScoreReference(k, ws);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
@@ -159,6 +161,7 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats)
       ScoreKernelResult r;
       ps[i].weight = Weigh(ctx, ps[i], &ws, &r);
       ps[i].depth_offset = r.depth_diff_count > 0 ? r.depth_diff_sum / double(r.depth_diff_count) : 0.0;
+      ps[i].icp_valid = filter::SolveIcpStep(r, &ps[i].icp_step);
       ps[i].scored = true;
       faces_total += r.faces_total;
       faces_front += r.faces_front;
@@ -200,6 +203,7 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (!(edge_band_m > 0 && std::isfinite(edge_band_m))) return fail("edge_band_m must be > 0");
   if (!(align_band_m > 0 && std::isfinite(align_band_m))) return fail("align_band_m must be > 0");
   if (init_oversample < 1 || init_oversample > 64) return fail("init_oversample must be in [1, 64]");
+  if (restarts < 1 || restarts > 100) return fail("restarts must be in [1, 100]");
   if (tracker_bins < 1 || tracker_bins > 4096) return fail("tracker_bins must be in [1, 4096]");
   if (!(sigma_t0_m >= 0 && std::isfinite(sigma_t0_m))) return fail("sigma_t0_m must be >= 0");
   if (!(sigma_r0_rad >= 0 && std::isfinite(sigma_r0_rad))) return fail("sigma_r0_rad must be >= 0");
@@ -248,7 +252,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, {}, options.inlier, {}, 0};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera), {}, 0};
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
@@ -295,19 +299,15 @@ std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const 
   return w;
 }
 
-EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
-                            const FilterOptions& options, const ProgressFn& progress) {
-  const auto t_start = Clock::now();
-  Context ctx = BuildContext(scene, mesh, prior, cls, options);
-  // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
-  std::vector<double> cell_mass(prior.layout.CellCount(), 0.0);
-  for (int c = 0; c < prior.layout.CellCount(); ++c)
-    if (ctx.volumes[c].valid) cell_mass[c] = prior.Prob(c, cls);
+namespace {
 
+// One run of the filter (initialisation to convergence) on a prepared context.
+EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng& rng, const ProgressFn& progress) {
   EstimateResult res;
-  res.obj = mesh.name;
-  Rng rng(options.seed);
-  const filter::DiffusionContext diffusion(scene.camera, prior.layout, ctx.volumes, options);
+  const FilterOptions& options = ctx.opt;
+  const SceneInput& scene = ctx.scene;
+  const filter::DiffusionContext diffusion(scene.camera, ctx.prior.layout, ctx.volumes, options);
+  ctx.inlier = options.inlier;
 
   // 1. Initialisation: importance sampling of the prior's cells (§7.4).
   const int N = options.num_particles;
@@ -406,8 +406,52 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   res.T_cam_obj = scene.camera.base_to_camera * PoseToTransform(best.pose);
   res.weight = best.weight;
   res.cell = best.cell;
-  res.time_ms = MsSince(t_start);
   return res;
+}
+
+}  // namespace
+
+EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                            const FilterOptions& options, const ProgressFn& progress) {
+  const auto t_start = Clock::now();
+  Context ctx = BuildContext(scene, mesh, prior, cls, options);
+  // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
+  std::vector<double> cell_mass(prior.layout.CellCount(), 0.0);
+  for (int c = 0; c < prior.layout.CellCount(); ++c)
+    if (ctx.volumes[c].valid) cell_mass[c] = prior.Prob(c, cls);
+
+  // Independent runs (restarts), each with its own random stream; the best weight wins.
+  Rng rng(options.seed);
+  EstimateResult best;
+  for (int run = 0; run < options.restarts; ++run) {
+    Rng run_rng = options.restarts == 1 ? rng : rng.Split();
+    const int offset = run * options.max_iterations;
+    const ProgressFn run_progress = progress ? ProgressFn([&](int it, double w) {
+      progress(offset + it, std::max(w, best.weight));
+    }) : ProgressFn();
+    EstimateResult r = RunFilter(ctx, cell_mass, run_rng, run_progress);
+    FilterStats total = best.stats;
+    total.init_cdf_reads += r.stats.init_cdf_reads;
+    total.init_cdf_reads_linear += r.stats.init_cdf_reads_linear;
+    total.resample_cdf_reads += r.stats.resample_cdf_reads;
+    total.resample_cdf_reads_linear += r.stats.resample_cdf_reads_linear;
+    total.faces_total += r.stats.faces_total;
+    total.faces_front += r.stats.faces_front;
+    total.fragments += r.stats.fragments;
+    total.weighings += r.stats.weighings;
+    const int iterations = best.iterations + r.iterations;
+    std::vector<double> history = best.best_weight_history, times = best.iteration_ms;
+    history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
+    times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
+    if (run == 0 || r.weight > best.weight) best = std::move(r);
+    best.stats = total;
+    best.iterations = iterations;
+    best.best_weight_history = std::move(history);
+    best.iteration_ms = std::move(times);
+  }
+  best.obj = mesh.name;
+  best.time_ms = MsSince(t_start);
+  return best;
 }
 
 }  // namespace posefilter

@@ -8,16 +8,34 @@ namespace posefilter {
 namespace {
 
 // One rendered fragment at depth z against the scene depth zs (0 = missing: never an inlier).
-inline void Compare(float z, float zs, const ScoreKernelParams& k, ScoreKernelResult* r) {
+// One rendered fragment at pixel (u, v), depth z, against the scene depth zs there.
+inline void Compare(int u, int v, float z, float zs, const ScoreKernelParams& k, ScoreKernelResult* r) {
   if (zs <= 0) return;
   const float d = zs - z;
   const float chi = SoftInlier(std::fabs(d), k.inlier);
   r->inlier_sum += chi;
   if (chi == 0.f && d < 0) ++r->n_occluded;
-  if (std::fabs(d) <= k.align_band_m) {
-    r->depth_diff_sum += d;
-    ++r->depth_diff_count;
+  if (std::fabs(d) > k.align_band_m) return;
+  r->depth_diff_sum += d;
+  ++r->depth_diff_count;
+  if (!k.scene_normals) return;
+  // Point-to-plane ICP with projective association: rendered point p, scene point q on the
+  // same pixel, scene normal n; linearised residual (q − p)·n against a small motion
+  // (ω, τ) of the object in the camera frame: J = [p × n; n], A += J·Jᵀ, b += J·r.
+  const float* nn = k.scene_normals + 3 * (std::size_t(v) * k.depth_width + u);
+  if (nn[0] == 0.f && nn[1] == 0.f && nn[2] == 0.f) return;
+  const double x = (u - k.cx) / k.fx, y = (v - k.cy) / k.fy;
+  const double p[3] = {x * z, y * z, z};
+  const double n[3] = {nn[0], nn[1], nn[2]};
+  const double res = d * n[2] + (x * d) * n[0] + (y * d) * n[1];  // (q − p)·n, q − p = d·(x, y, 1)
+  const double J[6] = {p[1] * n[2] - p[2] * n[1], p[2] * n[0] - p[0] * n[2], p[0] * n[1] - p[1] * n[0],
+                       n[0], n[1], n[2]};
+  int e = 0;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = i; j < 6; ++j) r->icp_A[e++] += J[i] * J[j];
+    r->icp_b[i] += J[i] * res;
   }
+  ++r->icp_count;
 }
 
 }  // namespace
@@ -45,7 +63,7 @@ ScoreKernelResult ScoreReference(const ScoreKernelParams& k, RenderWorkspace* ws
         const float z = zb[std::size_t(v) * w.width + u];
         if (z == kEmpty) continue;
         ++r.n_raster;
-        Compare(z, scene_depth(w.u0 + u, w.v0 + v), k, &r);
+        Compare(w.u0 + u, w.v0 + v, z, scene_depth(w.u0 + u, w.v0 + v), k, &r);
         // Silhouette edge test: an uncovered 4-neighbour (inside the window) with valid scene
         // depth is an edge sample; it is "continued" when the scene surface there lies
         // within edge_band_m of this boundary pixel's rendered depth — no depth step where
@@ -66,7 +84,7 @@ ScoreKernelResult ScoreReference(const ScoreKernelParams& k, RenderWorkspace* ws
     // Thesis mode (§7.5.1): no z-buffer, every front-face fragment is compared directly.
     r.faces_front = render::RasterizeMesh(k, ws->cam_vertices.data(), w, [&](int u, int v, float z) {
       ++r.n_raster;
-      Compare(z, scene_depth(u, v), k, &r);
+      Compare(u, v, z, scene_depth(u, v), k, &r);
     });
   }
   return r;
