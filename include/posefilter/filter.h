@@ -49,7 +49,7 @@ inline constexpr int kNumMoves = static_cast<int>(Move::kCount);
 struct FilterOptions {
   std::string engine = "reference";  // "reference" (float, readable)
   int num_particles = 510;           // N (thesis design: 510; GRIP: 625)
-  int max_iterations = 50;           // stop after this many weighings
+  int max_iterations = 17;           // stop a run after this many weighings
   double confidence = 0.9;           // stop when the best weight reaches this, in (0, 1]
   // Weight of eq. 7.4: α·I/N_raster + β·I/N_depth + γ·ρ; each ≥ 0, α + β + γ = 1.
   double alpha = 0.2;
@@ -81,23 +81,24 @@ struct FilterOptions {
   int init_oversample = 1;           // ours: draw this many × N initial particles, keep the best N
   int num_elite = 10;                // best particles carried unchanged into the next set
   double resample_pool = 0.25;       // fraction of the sorted set the rest is drawn from, (0, 1]
-  // At most this fraction of the resampling pool may come from one image region (squares of
-  // max_window_px/2): keeps several hypotheses (true and false detections) alive until the
-  // fine inlier threshold can tell them apart. 1 = off (the thesis's plain elitism).
+  // At most this fraction of the resampling pool may come from one hypothesis (the cells
+  // sharing one decoded box, i.e. one detection): keeps true and false detections alive
+  // until the fine inlier threshold can tell them apart. 1 = off (the thesis's elitism).
   double region_cap = 0.34;
-  // Niches are (image region, coarse orientation: 24 bins): several orientations survive
-  // until the fine threshold can rank them. false = niches by image region only.
-  bool niche_by_rotation = true;
+  // At most this fraction of the pool may share one hypothesis and one coarse orientation
+  // (24 bins: the rotations of a cube), so several orientations survive until the fine
+  // threshold can rank them. 1 = off.
+  double rotation_cap = 0.1;
   int tracker_bins = 32;             // threshold-tracker entries of the CDF samplers (§7.4)
   double sigma_t0_m = 0.01;          // diffusion translation σ at weight 0, metres
   double sigma_r0_rad = 0.2;         // diffusion rotation σ at weight 0, radians
   double min_sigma_fraction = 0.05;  // σ never decays below this fraction of σ0
   // Probability of each Move (normalised internally); default spreads over all 13.
   std::array<double, kNumMoves> move_probabilities = {0.09, 0.09, 0.09, 0.09, 0.08, 0.08, 0.08, 0.1,
-                                                      0.02, 0.02, 0.02, 0.05, 0.05, 0.1, 0.04, 0.0};
+                                                      0.02, 0.02, 0.02, 0.05, 0.05, 0.1, 0.04, 0.05};
   double align_band_m = 0.05;        // depth differences used by the align-depth move, metres
   HeuristicOptions heuristics;       // depth_extension_m is set to the object's radius if 0
-  int restarts = 1;                  // ours: independent runs, the best weight wins (time × restarts)
+  int restarts = 3;                  // ours: independent runs, the best weight wins (time × restarts)
   std::uint64_t seed = 1;            // every random stream derives from this
   int threads = 0;                   // scoring threads; 0 = all cores
   bool IsValid(std::string* why) const;

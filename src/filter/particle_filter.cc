@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <array>
+#include <map>
 #include <sstream>
 
 #include "filter/cdf_sampler.h"
@@ -199,6 +201,7 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (num_elite < 0 || num_elite >= num_particles) return fail("num_elite must be in [0, num_particles)");
   if (!(resample_pool > 0 && resample_pool <= 1)) return fail("resample_pool must be in (0, 1]");
   if (!(region_cap > 0 && region_cap <= 1)) return fail("region_cap must be in (0, 1]");
+  if (!(rotation_cap > 0 && rotation_cap <= 1)) return fail("rotation_cap must be in (0, 1]");
   if (!(delta >= 0 && delta <= 1)) return fail("delta must be in [0, 1]");
   if (!(edge_band_m > 0 && std::isfinite(edge_band_m))) return fail("edge_band_m must be > 0");
   if (!(align_band_m > 0 && std::isfinite(align_band_m))) return fail("align_band_m must be > 0");
@@ -268,15 +271,16 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
     ctx.windows[c] = CellWindow(prior.boxes[c], min_side, options.max_window_px, scene.camera.width, scene.camera.height);
     ctx.n_depth[c] = counter.Count(ctx.windows[c]);
   }
-  // Niches for resampling: a grid of max_window_px/2-sized squares over the image.
-  const int side = std::max(8, options.max_window_px / 2);
-  const int cols = (scene.camera.width + side - 1) / side, rows = (scene.camera.height + side - 1) / side;
-  ctx.region_count = cols * rows;
+  // Hypotheses for niching: cells whose decoded boxes agree to the pixel share one (all the
+  // cells a detection covers carry its box; a cell no detection reaches keeps its anchor).
+  std::map<std::array<long, 4>, int> ids;
   ctx.region.resize(cells);
   for (int c = 0; c < cells; ++c) {
-    const PixelRect& w = ctx.windows[c];
-    ctx.region[c] = ((w.v0 + w.height / 2) / side) * cols + (w.u0 + w.width / 2) / side;
+    const Box& b = prior.boxes[c];
+    const std::array<long, 4> key = {std::lround(b.cx), std::lround(b.cy), std::lround(b.w), std::lround(b.h)};
+    ctx.region[c] = ids.emplace(key, int(ids.size())).first->second;
   }
+  ctx.region_count = int(ids.size());
   return ctx;
 }
 
@@ -371,18 +375,20 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // the pool's CDF (threshold tracker) and diffused.
     const int pool_size = std::max(std::max(options.num_elite, 1), int(std::lround(options.resample_pool * N)));
     const int cap = std::max(1, int(std::ceil(options.region_cap * pool_size)));
+    const int rot_cap = std::max(1, int(std::ceil(options.rotation_cap * pool_size)));
     std::vector<int> pool;  // indices into `ranked`
     pool.reserve(pool_size);
-    const int bins = options.niche_by_rotation ? kRotationBins : 1;
-    std::vector<int> per_niche(std::size_t(ctx.region_count) * bins, 0);
+    std::vector<int> per_hypothesis(ctx.region_count, 0);
+    std::map<std::pair<int, int>, int> per_orientation;
     for (int j = 0; j < N && int(pool.size()) < pool_size; ++j) {
       const Particle& p = current[ranked[j].index];
-      const int bin = options.niche_by_rotation ? RotationBin(p.pose) : 0;
-      int& n = per_niche[std::size_t(ctx.region[p.cell]) * bins + bin];
-      if (n < cap) {
-        ++n;
-        pool.push_back(j);
-      }
+      const int h = ctx.region[p.cell];
+      if (per_hypothesis[h] >= cap) continue;
+      int& o = per_orientation[{h, RotationBin(p.pose)}];
+      if (o >= rot_cap) continue;
+      ++per_hypothesis[h];
+      ++o;
+      pool.push_back(j);
     }
     std::vector<double> pool_w(pool.size());
     for (std::size_t j = 0; j < pool.size(); ++j) pool_w[j] = ranked[pool[j]].weight;

@@ -66,7 +66,7 @@ class CliTest : public ::testing::Test {
     a.insert(a.end(), extra.begin(), extra.end());
     return a;
   }
-  static std::vector<std::string> Small() { return {"--particles", "64", "--iterations", "5"}; }
+  static std::vector<std::string> Small() { return {"--particles", "64", "--iterations", "5", "--restarts", "1"}; }
 
   // An input error: exit 1 and exactly one stderr line "posefilter <cmd>: error: …<needle>…".
   static void ExpectInputError(const RunResult& r, const std::string& cmd, const std::string& needle) {

@@ -79,6 +79,7 @@ TEST(ParticleFilterTest, SameSeedSamePoseDifferentSeedDifferentRun) {
   FilterOptions o;
   o.num_particles = 64;
   o.max_iterations = 6;
+  o.restarts = 1;
   o.seed = 5;
   const SceneInput in{sc.depth, sc.camera};
   const int cls = prior.ClassIndex(sc.target.name);
@@ -102,6 +103,7 @@ TEST(ParticleFilterTest, CountsTheThesisQuantities) {
   FilterOptions o;
   o.num_particles = 100;
   o.max_iterations = 3;
+  o.restarts = 1;
   o.anneal_start_m = 0;
   const EstimateResult r =
       EstimatePose(SceneInput{sc.depth, sc.camera}, sc.target, prior, prior.ClassIndex(sc.target.name), o);
