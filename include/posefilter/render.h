@@ -104,6 +104,11 @@ struct RenderWorkspace {
   std::vector<float> cam_vertices;     // num_vertices × 3, camera frame
 };
 
+// Kernel parameters for `mesh` at T_cam_obj (object → camera) seen by `camera`: model,
+// pose and intrinsics filled in, window = the whole image; the scene depth and the other
+// fields keep their defaults. The mesh must outlive the parameters.
+ScoreKernelParams MakeKernelParams(const Mesh& mesh, const Eigen::Isometry3d& T_cam_obj, const Camera& camera);
+
 // Unit normals of the scene surface (camera frame, facing the camera), 3 floats per depth
 // pixel, from central differences of the back-projected depth; zero on the image border,
 // where a 4-neighbour is missing, or across a depth step of more than 2 cm.

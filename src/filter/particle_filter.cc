@@ -116,17 +116,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
 double Weigh(const Context& ctx, const Particle& p, RenderWorkspace* ws, ScoreKernelResult* out) {
   const Camera& cam = ctx.scene.camera;
   const Eigen::Isometry3d T = cam.base_to_camera * PoseToTransform(p.pose);  // FT without P
-  ScoreKernelParams k;
-  k.vertices = ctx.mesh.vertices[0].data();
-  k.num_vertices = int(ctx.mesh.vertices.size());
-  k.faces = ctx.mesh.faces[0].data();
-  k.num_faces = int(ctx.mesh.faces.size());
-  for (int i = 0; i < 9; ++i) k.R[i] = float(T.linear()(i / 3, i % 3));
-  for (int i = 0; i < 3; ++i) k.t[i] = float(T.translation()[i]);
-  k.fx = float(cam.fx);
-  k.fy = float(cam.fy);
-  k.cx = float(cam.cx);
-  k.cy = float(cam.cy);
+  ScoreKernelParams k = MakeKernelParams(ctx.mesh, T, cam);
   k.near_m = float(ctx.opt.near_m);
   k.window = ctx.windows[p.cell];
   k.depth = ctx.scene.depth.data.data();

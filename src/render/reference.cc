@@ -90,14 +90,7 @@ ScoreKernelResult ScoreReference(const ScoreKernelParams& k, RenderWorkspace* ws
   return r;
 }
 
-void RenderDepth(const Mesh& mesh, const Eigen::Isometry3d& T_cam_obj, const Camera& camera,
-                 DepthImage* depth, std::vector<int>* labels, int label) {
-  if (depth->width != camera.width || depth->height != camera.height) {
-    *depth = DepthImage(camera.width, camera.height, 0.f);
-  }
-  if (labels && labels->size() != std::size_t(camera.width) * camera.height) {
-    labels->assign(std::size_t(camera.width) * camera.height, 0);
-  }
+ScoreKernelParams MakeKernelParams(const Mesh& mesh, const Eigen::Isometry3d& T_cam_obj, const Camera& camera) {
   ScoreKernelParams k;
   k.vertices = mesh.vertices.empty() ? nullptr : mesh.vertices[0].data();
   k.num_vertices = int(mesh.vertices.size());
@@ -111,6 +104,18 @@ void RenderDepth(const Mesh& mesh, const Eigen::Isometry3d& T_cam_obj, const Cam
   k.cx = float(camera.cx);
   k.cy = float(camera.cy);
   k.window = PixelRect{0, 0, camera.width, camera.height};
+  return k;
+}
+
+void RenderDepth(const Mesh& mesh, const Eigen::Isometry3d& T_cam_obj, const Camera& camera,
+                 DepthImage* depth, std::vector<int>* labels, int label) {
+  if (depth->width != camera.width || depth->height != camera.height) {
+    *depth = DepthImage(camera.width, camera.height, 0.f);
+  }
+  if (labels && labels->size() != std::size_t(camera.width) * camera.height) {
+    labels->assign(std::size_t(camera.width) * camera.height, 0);
+  }
+  const ScoreKernelParams k = MakeKernelParams(mesh, T_cam_obj, camera);
   std::vector<float> cam(std::size_t(k.num_vertices) * 3);
   render::TransformVertices(k, cam.data());
   render::RasterizeMesh(k, cam.data(), k.window, [&](int u, int v, float z) {

@@ -15,18 +15,7 @@ namespace posefilter {
 namespace {
 
 ScoreKernelParams Params(const Mesh& m, const Eigen::Isometry3d& T, const SynthScene& sc, const std::vector<float>* normals) {
-  ScoreKernelParams k;
-  k.vertices = m.vertices[0].data();
-  k.num_vertices = int(m.vertices.size());
-  k.faces = m.faces[0].data();
-  k.num_faces = int(m.faces.size());
-  for (int i = 0; i < 9; ++i) k.R[i] = float(T.linear()(i / 3, i % 3));
-  for (int i = 0; i < 3; ++i) k.t[i] = float(T.translation()[i]);
-  k.fx = float(sc.camera.fx);
-  k.fy = float(sc.camera.fy);
-  k.cx = float(sc.camera.cx);
-  k.cy = float(sc.camera.cy);
-  k.window = PixelRect{0, 0, sc.camera.width, sc.camera.height};
+  ScoreKernelParams k = MakeKernelParams(m, T, sc.camera);
   k.depth = sc.depth.data.data();
   k.depth_width = sc.depth.width;
   k.depth_height = sc.depth.height;
@@ -110,17 +99,7 @@ TEST(EdgeSamplesTest, AFaceLaidOnAPlaneIsContinuedTheTrueObjectIsNot) {
   front.translation() = Eigen::Vector3d(0, 0, 0.85);
   RenderDepth(box, front, cam, &scene);
   auto score = [&](const Eigen::Isometry3d& T, const DepthImage& d) {
-    ScoreKernelParams k;
-    k.vertices = box.vertices[0].data();
-    k.num_vertices = int(box.vertices.size());
-    k.faces = box.faces[0].data();
-    k.num_faces = int(box.faces.size());
-    for (int i = 0; i < 9; ++i) k.R[i] = float(T.linear()(i / 3, i % 3));
-    for (int i = 0; i < 3; ++i) k.t[i] = float(T.translation()[i]);
-    k.fx = float(cam.fx);
-    k.fy = float(cam.fy);
-    k.cx = float(cam.cx);
-    k.cy = float(cam.cy);
+    ScoreKernelParams k = MakeKernelParams(box, T, cam);
     k.window = PixelRect{220, 124, 200, 200};
     k.depth = d.data.data();
     k.depth_width = d.width;
