@@ -111,6 +111,18 @@ struct FilterStats {
   std::int64_t faces_total = 0, faces_front = 0;   // summed over all weighings
   std::int64_t fragments = 0;                      // counted fragments (N_raster) summed
   std::int64_t weighings = 0;                      // particle scores computed
+
+  FilterStats& operator+=(const FilterStats& o) {
+    init_cdf_reads += o.init_cdf_reads;
+    init_cdf_reads_linear += o.init_cdf_reads_linear;
+    resample_cdf_reads += o.resample_cdf_reads;
+    resample_cdf_reads_linear += o.resample_cdf_reads_linear;
+    faces_total += o.faces_total;
+    faces_front += o.faces_front;
+    fragments += o.fragments;
+    weighings += o.weighings;
+    return *this;
+  }
 };
 
 struct EstimateResult {

@@ -93,8 +93,8 @@ struct Context {
   std::vector<long> n_depth;         // valid depth pixels per window
   InlierParams inlier;               // this iteration's inlier thresholds (annealed)
   std::vector<float> normals;        // scene normals, 3 per pixel, camera frame (0 = none)
-  std::vector<int> region;           // image region (niche) of each cell's window centre
-  int region_count = 0;
+  std::vector<int> hypothesis;       // niching: cells sharing one decoded box share an id
+  int hypothesis_count = 0;
 };
 
 // Listing 7.5: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
@@ -264,13 +264,13 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   // Hypotheses for niching: cells whose decoded boxes agree to the pixel share one (all the
   // cells a detection covers carry its box; a cell no detection reaches keeps its anchor).
   std::map<std::array<long, 4>, int> ids;
-  ctx.region.resize(cells);
+  ctx.hypothesis.resize(cells);
   for (int c = 0; c < cells; ++c) {
     const Box& b = prior.boxes[c];
     const std::array<long, 4> key = {std::lround(b.cx), std::lround(b.cy), std::lround(b.w), std::lround(b.h)};
-    ctx.region[c] = ids.emplace(key, int(ids.size())).first->second;
+    ctx.hypothesis[c] = ids.emplace(key, int(ids.size())).first->second;
   }
-  ctx.region_count = int(ids.size());
+  ctx.hypothesis_count = int(ids.size());
   return ctx;
 }
 
@@ -301,7 +301,22 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   const FilterOptions& options = ctx.opt;
   const SceneInput& scene = ctx.scene;
   const filter::DiffusionContext diffusion(scene.camera, ctx.prior.layout, ctx.volumes, options);
+  // Coarse-to-fine inlier threshold: thr1 falls geometrically from anneal_start_m to its
+  // final value over the first anneal_fraction of the iterations. Sets the threshold of
+  // iteration `it`; returns true when it changed (weights measured before are stale).
+  const int anneal_its = options.anneal_start_m > options.inlier.thr1_m
+                             ? int(std::lround(options.anneal_fraction * options.max_iterations)) : 0;
+  auto set_threshold = [&](int it) {
+    float thr = options.inlier.thr1_m;
+    if (it < anneal_its)
+      thr = float(options.anneal_start_m * std::pow(options.inlier.thr1_m / options.anneal_start_m, double(it) / anneal_its));
+    const bool changed = thr != ctx.inlier.thr1_m;
+    ctx.inlier.thr1_m = thr;
+    ctx.inlier.hard_thr_m = float(options.inlier.hard_thr_m * thr / options.inlier.thr1_m);
+    return changed;
+  };
   ctx.inlier = options.inlier;
+  set_threshold(0);  // the oversampled start is weighed with the first iteration's threshold
 
   // 1. Initialisation: importance sampling of the prior's cells (§7.4).
   const int N = options.num_particles;
@@ -328,21 +343,9 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   Particle best;
   for (int it = 0; it < options.max_iterations; ++it) {
     const auto t_iter = Clock::now();
-    // Coarse-to-fine inlier threshold: thr1 falls geometrically from anneal_start_m to its
-    // final value over the first anneal_fraction of the iterations; weights measured with
-    // another threshold are stale, so every particle is weighed again when it changes.
-    const int anneal_its = options.anneal_start_m > options.inlier.thr1_m
-                               ? int(std::lround(options.anneal_fraction * options.max_iterations)) : 0;
     const bool annealing = it < anneal_its;
-    if (anneal_its > 0) {
-      const double f = annealing ? double(it) / anneal_its : 1.0;
-      const float thr = float(options.anneal_start_m * std::pow(options.inlier.thr1_m / options.anneal_start_m, f));
-      if (thr != ctx.inlier.thr1_m || it == 0) {
-        ctx.inlier.thr1_m = thr;
-        ctx.inlier.hard_thr_m = float(options.inlier.hard_thr_m * thr / options.inlier.thr1_m);
-        for (auto& p : current) p.scored = false;
-      }
-    }
+    if (set_threshold(it))
+      for (auto& p : current) p.scored = false;
     // 2. Weigh.
     WeighAll(ctx, current, &res.stats);
     // 3. Sort online as the weights arrive.
@@ -360,19 +363,20 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
       break;
     }
     // 5. Resample: the pool is the best particles in rank order, at most region_cap·pool of
-    // them from one image region (niching: a false detection that fits coarsely early on
-    // cannot take the whole set); the elite is the head of the pool, the rest is drawn from
+    // them from one hypothesis and rotation_cap·pool from one hypothesis and orientation
+    // (niching: a false detection or a wrong orientation that fits coarsely early on cannot
+    // take the whole set); the elite is the head of the pool, the rest is drawn from
     // the pool's CDF (threshold tracker) and diffused.
     const int pool_size = std::max(std::max(options.num_elite, 1), int(std::lround(options.resample_pool * N)));
     const int cap = std::max(1, int(std::ceil(options.region_cap * pool_size)));
     const int rot_cap = std::max(1, int(std::ceil(options.rotation_cap * pool_size)));
     std::vector<int> pool;  // indices into `ranked`
     pool.reserve(pool_size);
-    std::vector<int> per_hypothesis(ctx.region_count, 0);
+    std::vector<int> per_hypothesis(ctx.hypothesis_count, 0);
     std::map<std::pair<int, int>, int> per_orientation;
     for (int j = 0; j < N && int(pool.size()) < pool_size; ++j) {
       const Particle& p = current[ranked[j].index];
-      const int h = ctx.region[p.cell];
+      const int h = ctx.hypothesis[p.cell];
       if (per_hypothesis[h] >= cap) continue;
       int& o = per_orientation[{h, RotationBin(p.pose)}];
       if (o >= rot_cap) continue;
@@ -427,14 +431,7 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
     }) : ProgressFn();
     EstimateResult r = RunFilter(ctx, cell_mass, run_rng, run_progress);
     FilterStats total = best.stats;
-    total.init_cdf_reads += r.stats.init_cdf_reads;
-    total.init_cdf_reads_linear += r.stats.init_cdf_reads_linear;
-    total.resample_cdf_reads += r.stats.resample_cdf_reads;
-    total.resample_cdf_reads_linear += r.stats.resample_cdf_reads_linear;
-    total.faces_total += r.stats.faces_total;
-    total.faces_front += r.stats.faces_front;
-    total.fragments += r.stats.fragments;
-    total.weighings += r.stats.weighings;
+    total += r.stats;
     const int iterations = best.iterations + r.iterations;
     std::vector<double> history = best.best_weight_history, times = best.iteration_ms;
     history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
