@@ -1,0 +1,484 @@
+// Tests of the hw render/score pipeline against the float reference: one raster core vs
+// ScoreReference (include/posefilter/render.h) on random poses and windows of synthetic
+// meshes and scenes, in both z-buffer modes; the whole pipeline (chain → distributors →
+// M cores → weight merger) vs the reference's weight formula.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "hw/distributor.h"
+#include "hw/raster_core.h"
+#include "hw/transform.h"
+#include "hw/weight_merger.h"
+#include "posefilter/pose.h"
+#include "posefilter/render.h"
+#include "posefilter/rng.h"
+#include "posefilter/synth.h"
+
+namespace posefilter::hw {
+namespace {
+
+// ---- Host-side conversions (what the hw driver does at the boundary) ----
+double Quant(double v, int frac_bits) { return std::round(std::ldexp(v, frac_bits)) / std::ldexp(1.0, frac_bits); }
+// dst = v (exact before quantization): the host-side conversion of a double.
+template <class T>
+void Set(T& dst, double v) {
+  dst = T(v);
+}
+
+// A mesh whose vertices are exactly representable in xyz_t, and its model memory.
+struct HwModel {
+  Mesh mesh;  // quantized copy (what the reference sees in the "same inputs" comparison)
+  std::unique_ptr<xyz_t[][kMaxVertices]> vmem{new xyz_t[3][kMaxVertices]};
+  std::vector<face_t> faces;
+};
+
+HwModel MakeHwModel(const Mesh& m) {
+  HwModel h;
+  h.mesh = m;
+  for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      const double q = Quant(m.vertices[i][a], kXyzFracBits);
+      h.mesh.vertices[i][a] = float(q);
+      Set(h.vmem[a][i], q);
+    }
+  }
+  h.faces.resize(std::max<std::size_t>(m.faces.size(), 1));
+  for (std::size_t f = 0; f < m.faces.size(); ++f)
+    h.faces[f] = PackFace(m.faces[f][0], m.faces[f][1], m.faces[f][2]);
+  return h;
+}
+
+// Camera quantized to the chain's formats; `cam_q` the same values as a posefilter::Camera.
+CameraParams MakeCameraParams(const Camera& cam, Camera* cam_q) {
+  CameraParams p;
+  *cam_q = cam;
+  cam_q->fx = Quant(cam.fx, 16);
+  cam_q->fy = Quant(cam.fy, 16);
+  cam_q->cx = Quant(cam.cx, 16);
+  cam_q->cy = Quant(cam.cy, 16);
+  Set(p.fx, cam_q->fx);
+  Set(p.fy, cam_q->fy);
+  Set(p.cx, cam_q->cx);
+  Set(p.cy, cam_q->cy);
+  Eigen::Matrix4d C = cam.base_to_camera.matrix();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      C(r, c) = Quant(C(r, c), 16);
+      Set(p.rot[3 * r + c], C(r, c));
+    }
+    C(r, 3) = Quant(C(r, 3), 20);
+    Set(p.trans[r], C(r, 3));
+  }
+  cam_q->base_to_camera.matrix() = C;
+  return p;
+}
+
+Sample MakeSample(const Pose6& pose) {
+  Sample s;
+  Set(s.x, Quant(pose.x, 10));
+  Set(s.y, Quant(pose.y, 10));
+  Set(s.z, Quant(pose.z, 10));
+  Set(s.roll, Quant(WrapAngle(pose.roll), 8));
+  Set(s.pitch, Quant(WrapAngle(pose.pitch), 8));
+  Set(s.yaw, Quant(WrapAngle(pose.yaw), 8));
+  s.cell = 0;
+  return s;
+}
+
+Pose6 SamplePose(const Sample& s) {
+  return Pose6{s.x.to_double(), s.y.to_double(), s.z.to_double(),
+               s.roll.to_double(), s.pitch.to_double(), s.yaw.to_double()};
+}
+
+// Depth image in depth_t (clipped to the format, rounded) and the same values as floats.
+struct HwDepth {
+  std::vector<depth_t> hw;
+  std::vector<float> ref;
+  int width = 0, height = 0;
+};
+
+HwDepth MakeHwDepth(const DepthImage& d) {
+  HwDepth h;
+  h.width = d.width;
+  h.height = d.height;
+  h.hw.resize(std::size_t(kImageWidth) * kImageHeight);
+  h.ref.resize(d.data.size());
+  for (std::size_t i = 0; i < d.data.size(); ++i) {
+    const double raw = std::min(4095.0, std::round(double(d.data[i]) * 1024));
+    Set(h.hw[i], raw / 1024);
+    h.ref[i] = float(raw / 1024);
+  }
+  return h;
+}
+
+RasterParams MakeRasterParams(bool zbuffer, double thr1) {
+  RasterParams p = DefaultRasterParams();
+  p.zbuffer = zbuffer ? 1 : 0;
+  Set(p.thr1, thr1);
+  Set(p.inv_thr1, 1.0 / thr1);
+  return p;
+}
+
+// One particle through the chain, the distributors, the vertex multiplier and one core.
+RasterCoreOutput RunOneParticle(const Sample& s, const CameraParams& cam, const Window& win, const HwModel& model,
+                                const HwDepth& depth, const RasterParams& prm, CycleTrace* trace,
+                                DepthDistributionCounts* counts = nullptr) {
+  const int nf = int(model.mesh.faces.size());
+  std::vector<Sample> samples(1, s);
+  hls::stream<ft_t> chain;
+  FullTransformChain(1, samples.data(), cam, chain, trace);
+  hls::stream<ft_t> ft_core[kMaxRasterCores];
+  DistributeFT(1, 1, chain, ft_core, trace);
+  std::vector<Window> wins(1, win);
+  hls::stream<Window> info[kMaxRasterCores];
+  hls::stream<depth_t> frag[kMaxRasterCores];
+  DepthDistributionCounts c;
+  DistributeDepth(1, 1, wins.data(), depth.hw.data(), depth.width, info, frag, &c, trace);
+  if (counts) *counts = c;
+  hls::stream<Vertex> verts[kMaxRasterCores];
+  VertexMultiplier(1, 1, nf, model.vmem.get(), model.faces.data(), verts, trace);
+  auto mem = std::make_unique<RasterCoreMemory>();
+  hls::stream<RasterCoreOutput> out;
+  RasterCore(1, nf, prm, info[0], frag[0], ft_core[0], verts[0], out, *mem, trace);
+  EXPECT_TRUE(ft_core[0].empty() && info[0].empty() && frag[0].empty() && verts[0].empty())
+      << "the core left input data unread";
+  return out.read();
+}
+
+ScoreKernelParams ReferenceParams(const Mesh& mesh, const Camera& cam_q, const Sample& s, const Window& win,
+                                  const HwDepth& depth, bool zbuffer, double thr1) {
+  const Eigen::Isometry3d T = cam_q.base_to_camera * PoseToTransform(SamplePose(s));
+  ScoreKernelParams k = MakeKernelParams(mesh, T, cam_q);
+  k.window = PixelRect{win.u0.to_int(), win.v0.to_int(), win.width.to_int(), win.height.to_int()};
+  k.depth = depth.ref.data();
+  k.depth_width = depth.width;
+  k.depth_height = depth.height;
+  k.inlier.thr1_m = float(thr1);
+  k.zbuffer = zbuffer;
+  return k;
+}
+
+// Total length (pixels) of the edges of the front faces: the edges whose motion can change
+// coverage (an upper bound of the silhouette length).
+double FrontEdgeLength(const ScoreKernelParams& k) {
+  double total = 0;
+  for (int f = 0; f < k.num_faces; ++f) {
+    double u[3], v[3];
+    bool ok = true;
+    for (int c = 0; c < 3; ++c) {
+      const float* p = k.vertices + 3 * k.faces[3 * f + c];
+      const double x = k.R[0] * p[0] + k.R[1] * p[1] + k.R[2] * p[2] + k.t[0];
+      const double y = k.R[3] * p[0] + k.R[4] * p[1] + k.R[5] * p[2] + k.t[1];
+      const double z = k.R[6] * p[0] + k.R[7] * p[1] + k.R[8] * p[2] + k.t[2];
+      if (z < k.near_m) ok = false;
+      u[c] = k.fx * x / z + k.cx;
+      v[c] = k.fy * y / z + k.cy;
+    }
+    if (!ok) continue;
+    if ((u[2] - u[0]) * (v[1] - v[0]) - (v[2] - v[0]) * (u[1] - u[0]) <= 0) continue;
+    for (int c = 0; c < 3; ++c) total += std::hypot(u[(c + 1) % 3] - u[c], v[(c + 1) % 3] - v[c]);
+  }
+  return total;
+}
+
+struct Scene {
+  SynthScene synth;
+  HwDepth depth;
+  CameraParams cam;
+  Camera cam_q;
+  Pose6 gt;
+};
+
+Scene MakeScene(const std::string& target, std::uint64_t seed) {
+  Scene s;
+  SynthOptions opt;
+  opt.target = target;
+  opt.occlusion = 0.3;
+  opt.min_distance_m = 0.5;
+  opt.max_distance_m = 0.8;
+  s.synth = MakeSynthScene(opt, seed);
+  s.depth = MakeHwDepth(s.synth.depth);
+  s.cam = MakeCameraParams(s.synth.camera, &s.cam_q);
+  s.gt = TransformToPose(s.synth.gt[0].T_cam_obj);  // base = camera (C = I)
+  return s;
+}
+
+// Poses around the ground truth (most) and arbitrary rotations (every fourth), with windows
+// of random size around the projected object centre.
+void RandomPoseAndWindow(const Scene& sc, Rng& rng, int i, Sample* s, Window* w) {
+  Pose6 p = sc.gt;
+  p.x += rng.Uniform(-0.02, 0.02);
+  p.y += rng.Uniform(-0.02, 0.02);
+  p.z += rng.Uniform(-0.03, 0.03);
+  const double span = (i % 4 == 3) ? M_PI : 0.3;
+  p.roll += rng.Uniform(-span, span);
+  p.pitch += rng.Uniform(-span, span);
+  p.yaw += rng.Uniform(-span, span);
+  *s = MakeSample(p);
+  const Eigen::Vector2d c = sc.cam_q.Project(Eigen::Vector3d(p.x, p.y, p.z));
+  const int side_u = 60 + int(rng.UniformInt(141)), side_v = 60 + int(rng.UniformInt(141));
+  *w = SaturatedWindow(int(c.x()), int(c.y()), side_u, side_v, sc.depth.width, sc.depth.height);
+}
+
+// Quantization tolerances (derivation in docs/HARDWARE.md): with the same quantized
+// mesh, pose, camera and depth on both sides, a vertex lands within kSnapShiftPx of the
+// reference's snapped position (fx_math SinCos ≤ 2^-16 → FT rotation entries within
+// 4·2^-16 of their row sum; at |v| ≤ 0.1 m, W ≥ 0.45 m: ≤ 2.6/256 px; plus ½ subpixel of
+// the two roundings), so coverage can change only for pixel centres within that distance of
+// a front-face edge: |Δ| ≤ 2 + 2·kSnapShiftPx·(front edge length).
+constexpr double kSnapShiftPx = 4.0 / 256;
+
+struct ModeCase {
+  const char* shape;
+  bool zbuffer;
+  double thr1;
+};
+
+class HwRenderRasterVsReference : public ::testing::TestWithParam<ModeCase> {};
+
+TEST_P(HwRenderRasterVsReference, SameInputsMatchWithinQuantization) {
+  const ModeCase mc = GetParam();
+  const Scene sc = MakeScene(mc.shape, 11);
+  const HwModel model = MakeHwModel(sc.synth.target);
+  const RasterParams prm = MakeRasterParams(mc.zbuffer, mc.thr1);
+  Rng rng(99);
+  RenderWorkspace ws;
+  int exact_coverage = 0, poses_with_pixels = 0;
+  long faces_total = 0, faces_front = 0;
+  double worst_cov = 0, worst_inl = 0;
+  const int kPoses = 16;
+  for (int i = 0; i < kPoses; ++i) {
+    Sample s;
+    Window w;
+    RandomPoseAndWindow(sc, rng, i, &s, &w);
+    const RasterCoreOutput hw = RunOneParticle(s, sc.cam, w, model, sc.depth, prm, nullptr);
+    const ScoreKernelParams k = ReferenceParams(model.mesh, sc.cam_q, s, w, sc.depth, mc.zbuffer, mc.thr1);
+    const ScoreKernelResult ref = ScoreReference(k, &ws);
+    const double L = FrontEdgeLength(k);
+    const double cov_tol = 2 + 2 * kSnapShiftPx * L;
+    const double n_hw = double(hw.n_raster.to_uint64()), n_ref = double(ref.n_raster);
+    SCOPED_TRACE(::testing::Message() << "pose " << i << " window " << w.u0.to_int() << "," << w.v0.to_int() << " "
+                                      << w.width.to_int() << "x" << w.height.to_int());
+    EXPECT_EQ(hw.faces_total.to_int(), ref.faces_total);
+    EXPECT_NEAR(hw.faces_front.to_int(), ref.faces_front, 1);
+    EXPECT_NEAR(n_hw, n_ref, cov_tol);
+    // Σχ: coverage changes (≤ 1 each) + χ rounding (2^-11) + z_r error on the ramp
+    // (z-buffer word 2^-16 m, vertex shifts: slope·shift ≤ 2^-12 m at these poses) / thr1.
+    const double per_frag = std::ldexp(1.0, -11) + (std::ldexp(1.0, -16) + std::ldexp(1.0, -12)) / mc.thr1;
+    const double inl_tol = cov_tol + per_frag * n_ref + 1e-9;
+    EXPECT_NEAR(hw.inlier_sum.to_double(), ref.inlier_sum, inl_tol);
+    EXPECT_NEAR(double(hw.n_occluded.to_uint64()), double(ref.n_occluded), cov_tol + 0.01 * n_ref);
+    EXPECT_NEAR(double(hw.depth_diff_count.to_uint64()), double(ref.depth_diff_count), cov_tol);
+    if (ref.depth_diff_count > 0 && hw.depth_diff_count > 0) {
+      const double mean_hw = hw.depth_diff_sum.to_double() / double(hw.depth_diff_count.to_uint64());
+      const double mean_ref = ref.depth_diff_sum / double(ref.depth_diff_count);
+      EXPECT_NEAR(mean_hw, mean_ref, 1e-4 + 0.05 * cov_tol / double(ref.depth_diff_count));
+    }
+    EXPECT_EQ(double(hw.n_depth.to_uint64()), [&] {
+      long n = 0;
+      for (int v = 0; v < w.height.to_int(); ++v)
+        for (int u = 0; u < w.width.to_int(); ++u)
+          n += sc.depth.ref[std::size_t(w.v0.to_int() + v) * sc.depth.width + w.u0.to_int() + u] > 0;
+      return double(n);
+    }());
+    if (mc.zbuffer) {
+      EXPECT_NEAR(double(hw.n_edge.to_uint64()), double(ref.n_edge), 2 * cov_tol);
+      EXPECT_NEAR(double(hw.n_edge_continued.to_uint64()), double(ref.n_edge_continued), 2 * cov_tol);
+    } else {
+      EXPECT_EQ(hw.n_edge.to_uint64(), 0u);
+    }
+    if (ref.n_raster > 0) ++poses_with_pixels;
+    exact_coverage += (n_hw == n_ref);
+    worst_cov = std::max(worst_cov, std::fabs(n_hw - n_ref));
+    worst_inl = std::max(worst_inl, std::fabs(hw.inlier_sum.to_double() - ref.inlier_sum));
+    faces_total += ref.faces_total;
+    faces_front += hw.faces_front.to_int();
+  }
+  EXPECT_GE(poses_with_pixels, kPoses / 2) << "the test poses must mostly render something";
+  std::printf("[%s zbuffer=%d thr1=%.4f] exact coverage %d/%d, worst |dN| %.0f, worst |dI| %.3f, faces/front %.2f\n",
+              mc.shape, int(mc.zbuffer), mc.thr1, exact_coverage, kPoses, worst_cov, worst_inl,
+              faces_front > 0 ? double(faces_total) / faces_front : 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, HwRenderRasterVsReference,
+                         ::testing::Values(ModeCase{"lshape", true, 1.0 / 256}, ModeCase{"lshape", false, 1.0 / 256},
+                                           ModeCase{"box", true, 0.0123}, ModeCase{"cylinder", false, 0.0123},
+                                           ModeCase{"cylinder", true, 1.0 / 256}),
+                         [](const ::testing::TestParamInfo<ModeCase>& info) {
+                           return std::string(info.param.shape) + (info.param.zbuffer ? "_zbuffer" : "_nozbuffer") +
+                                  (info.param.thr1 > 0.005 ? "_annealed" : "");
+                         });
+
+
+// The hw model's 1 mm vertex grid against the reference on the original float mesh: a vertex
+// moves by ≤ √3·2^-11 m, i.e. ≤ fx·√3·2^-11 / z_min pixels on screen (≈ 0.8 px at 0.5 m with
+// the thesis camera): coverage changes only within that distance of front-face edges.
+TEST(HwRenderRasterVsFloatMesh, VertexQuantizationMovesEdgesOnly) {
+  const Scene sc = MakeScene("box", 23);
+  const HwModel model = MakeHwModel(sc.synth.target);
+  const RasterParams prm = MakeRasterParams(true, 1.0 / 256);
+  Rng rng(5);
+  RenderWorkspace ws;
+  double worst_rel = 0;
+  int rendered = 0;
+  for (int i = 0; i < 12; ++i) {
+    Sample s;
+    Window w;
+    RandomPoseAndWindow(sc, rng, i, &s, &w);
+    const RasterCoreOutput hw = RunOneParticle(s, sc.cam, w, model, sc.depth, prm, nullptr);
+    const ScoreKernelParams k = ReferenceParams(sc.synth.target, sc.cam_q, s, w, sc.depth, true, 1.0 / 256);
+    const ScoreKernelResult ref = ScoreReference(k, &ws);
+    const double z_min = SamplePose(s).z - 0.5 * sc.synth.target.Diameter();
+    ASSERT_GT(z_min, 0.2);
+    const double shift_px = sc.cam_q.fx * std::sqrt(3.0) * std::ldexp(1.0, -11) / z_min + kSnapShiftPx;
+    const double cov_tol = 2 + 2 * shift_px * FrontEdgeLength(k);
+    const double n_hw = double(hw.n_raster.to_uint64()), n_ref = double(ref.n_raster);
+    EXPECT_NEAR(n_hw, n_ref, cov_tol) << "pose " << i;
+    // χ: plus the depth change of a 1 mm vertex move (≤ 2^-11·√3 m) over thr1.
+    const double per_frag = std::ldexp(1.0, -11) + std::sqrt(3.0) * std::ldexp(1.0, -11) * 256;
+    EXPECT_NEAR(hw.inlier_sum.to_double(), ref.inlier_sum, cov_tol + per_frag * n_ref) << "pose " << i;
+    if (n_ref > 0) {
+      ++rendered;
+      worst_rel = std::max(worst_rel, std::fabs(n_hw - n_ref) / n_ref);
+    }
+  }
+  EXPECT_GE(rendered, 6);
+  std::printf("float mesh vs 1 mm vertex grid: worst relative coverage difference %.4f\n", worst_rel);
+}
+
+TEST(HwRenderRasterCore, BehindTheCameraOrAcrossTheNearPlaneMatchesTheReference) {
+  const Scene sc = MakeScene("lshape", 3);
+  const HwModel model = MakeHwModel(sc.synth.target);
+  const RasterParams prm = MakeRasterParams(false, 1.0 / 256);
+  RenderWorkspace ws;
+  const Window w = SaturatedWindow(320, 240, 200, 200, sc.depth.width, sc.depth.height);
+  // Behind the camera: nothing passes the near test.
+  Pose6 p = sc.gt;
+  p.z = -0.4;
+  RasterCoreOutput hw = RunOneParticle(MakeSample(p), sc.cam, w, model, sc.depth, prm, nullptr);
+  EXPECT_EQ(hw.n_raster.to_uint64(), 0u);
+  EXPECT_EQ(hw.faces_front.to_int(), 0);
+  EXPECT_EQ(hw.inlier_sum.to_double(), 0.0);
+  // Straddling the near plane (5 cm): faces with a vertex in front of it are skipped, the
+  // others render — as in the reference.
+  p = sc.gt;
+  p.x = 0;
+  p.y = 0;
+  p.z = 0.06;
+  const Sample s = MakeSample(p);
+  hw = RunOneParticle(s, sc.cam, w, model, sc.depth, prm, nullptr);
+  const ScoreKernelResult ref = ScoreReference(ReferenceParams(model.mesh, sc.cam_q, s, w, sc.depth, false, 1.0 / 256), &ws);
+  EXPECT_LT(ref.faces_front, ref.faces_total);
+  EXPECT_NEAR(hw.faces_front.to_int(), ref.faces_front, 1);
+  EXPECT_NEAR(double(hw.n_raster.to_uint64()), double(ref.n_raster), 2 + 0.01 * double(ref.n_raster));
+}
+
+// The whole pipeline for N particles on M cores: chain → FT distributor, depth distributor,
+// vertex multiplier → M raster cores → weight merger, with a non-trivial base→camera C, vs
+// ScoreReference + the weight formula of the reference engine (Weigh in particle_filter.cc).
+TEST(HwRenderPipeline, MultiCoreWeightsMatchTheReference) {
+  Scene sc = MakeScene("lshape", 41);
+  Camera cam = sc.synth.camera;
+  cam.base_to_camera = Eigen::Translation3d(0.1, -0.05, 0.2) * Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1, 0.1).normalized());
+  sc.cam = MakeCameraParams(cam, &sc.cam_q);
+  const Eigen::Isometry3d T_base_obj = sc.cam_q.base_to_camera.inverse() * sc.synth.gt[0].T_cam_obj;
+  const Pose6 gt_base = TransformToPose(T_base_obj);
+  const HwModel model = MakeHwModel(sc.synth.target);
+  const int nf = int(model.mesh.faces.size());
+  const int N = 11, M = 4;
+  const RasterParams prm = MakeRasterParams(true, 1.0 / 256);
+  const WeightParams wprm = DefaultWeightParams();
+  Rng rng(8);
+  std::vector<Sample> samples(N);
+  std::vector<Window> windows(N);
+  std::vector<cell_index_t> cells(kMaxParticles);
+  std::vector<prob_t> prob(kNumCells);
+  for (int i = 0; i < kNumCells; ++i) Set(prob[i], Quant(rng.Uniform(0, 0.99), 8));
+  const Eigen::Vector2d c = sc.cam_q.Project(sc.synth.gt[0].T_cam_obj.translation());
+  for (int i = 0; i < N; ++i) {
+    Pose6 p = gt_base;
+    if (i > 0) {
+      p.x += rng.Uniform(-0.01, 0.01);
+      p.y += rng.Uniform(-0.01, 0.01);
+      p.yaw += rng.Uniform(-0.2, 0.2);
+    }
+    samples[i] = MakeSample(p);
+    // Windows of a converging filter: overlapping boxes around the object.
+    windows[i] = SaturatedWindow(int(c.x()) + int(rng.UniformInt(21)) - 10, int(c.y()) + int(rng.UniformInt(21)) - 10,
+                                 120 + int(rng.UniformInt(60)), 120 + int(rng.UniformInt(60)), sc.depth.width,
+                                 sc.depth.height);
+    cells[i] = rng.UniformInt(kNumCells);
+  }
+  CycleTrace trace;
+  hls::stream<ft_t> chain;
+  FullTransformChain(N, samples.data(), sc.cam, chain, &trace);
+  hls::stream<ft_t> ft[kMaxRasterCores];
+  DistributeFT(N, M, chain, ft, &trace);
+  hls::stream<Window> info[kMaxRasterCores];
+  hls::stream<depth_t> frag[kMaxRasterCores];
+  DepthDistributionCounts counts;
+  DistributeDepth(N, M, windows.data(), sc.depth.hw.data(), sc.depth.width, info, frag, &counts, &trace);
+  hls::stream<Vertex> verts[kMaxRasterCores];
+  VertexMultiplier(N, M, nf, model.vmem.get(), model.faces.data(), verts, &trace);
+  hls::stream<RasterCoreOutput> core_out[kMaxRasterCores];
+  auto mem = std::make_unique<RasterCoreMemory>();  // cores run one after another in C simulation
+  for (int core = 0; core < M; ++core) {
+    const int mine = (N - core + M - 1) / M;
+    RasterCore(mine, nf, prm, info[core], frag[core], ft[core], verts[core], core_out[core], *mem, &trace);
+  }
+  hls::stream<WeightOut> weights;
+  hls::stream<RasterCoreOutput> stats;
+  MergeWeights(N, M, wprm, core_out, cells.data(), prob.data(), weights, stats, &trace);
+  ASSERT_FALSE(trace.overflowed);
+
+  RenderWorkspace ws;
+  uint64_t window_pixels = 0;
+  for (int i = 0; i < N; ++i) {
+    ASSERT_FALSE(weights.empty());
+    const WeightOut w = weights.read();
+    const RasterCoreOutput o = stats.read();
+    ASSERT_EQ(w.index.to_int(), i);
+    const ScoreKernelParams k = ReferenceParams(model.mesh, sc.cam_q, samples[i], windows[i], sc.depth, true, 1.0 / 256);
+    const ScoreKernelResult r = ScoreReference(k, &ws);
+    const double nr = double(r.n_raster - r.n_occluded);
+    const double nd = double(o.n_depth.to_uint64());
+    ASSERT_GT(nr, 100) << "particle " << i << " must render the object";
+    const double I = r.inlier_sum;
+    const double ref = std::max(0.0, 0.2 * std::min(1.0, I / nr) + 0.5 * std::min(1.0, I / nd) +
+                                         0.3 * prob[cells[i].to_int()].to_double() -
+                                         0.3 * (r.n_edge > 0 ? double(r.n_edge_continued) / double(r.n_edge) : 0.0));
+    // Bound from the coverage/inlier tolerances above: ΔI and ΔN of a few pixels over
+    // N_raster ≥ 100 pixels, edge samples likewise: a few 1e-3.
+    const double cov_tol = 2 + 2 * kSnapShiftPx * FrontEdgeLength(k);
+    const double tol = (0.2 + 0.5) * 2 * (cov_tol + 0.01 * nr) / nr + 0.3 * 4 * cov_tol / std::max(1.0, double(r.n_edge)) + 1e-4;
+    EXPECT_NEAR(w.weight.to_double(), ref, tol) << "particle " << i;
+    window_pixels += uint64_t(windows[i].width.to_int()) * windows[i].height.to_int();
+  }
+  EXPECT_TRUE(weights.empty());
+  for (int c = 0; c < kMaxRasterCores; ++c)
+    EXPECT_TRUE(ft[c].empty() && info[c].empty() && frag[c].empty() && verts[c].empty() && core_out[c].empty());
+  // Depth reads: overlapping windows of a round are read once.
+  EXPECT_EQ(counts.reads_unshared.to_uint64(), window_pixels);
+  EXPECT_LT(counts.reads_shared.to_uint64(), window_pixels);
+  // Trace: the depth fill of the cores saw every window pixel, the vertex stage every face
+  // of every particle.
+  uint64_t fill = 0, vertices = 0;
+  for (int i = 0; i < trace.count; ++i) {
+    const std::string loop = trace.records[i].loop;
+    if (loop == "RC_DEPTH_FILL") fill += trace.records[i].trips;
+    if (loop == "RC_VERTICES") vertices += trace.records[i].trips;
+  }
+  EXPECT_EQ(fill, window_pixels);
+  EXPECT_EQ(vertices, uint64_t(N) * 3 * nf);
+  std::printf("pipeline N=%d M=%d: depth reads shared %llu vs unshared %llu\n", N, M,
+              (unsigned long long)counts.reads_shared.to_uint64(), (unsigned long long)counts.reads_unshared.to_uint64());
+}
+
+}  // namespace
+}  // namespace posefilter::hw
