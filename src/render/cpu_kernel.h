@@ -1,0 +1,106 @@
+// src/render/cpu_kernel.h — the `cpu` engine's score kernel (internal API).
+//
+// ScoreCpu computes exactly what ScoreReference computes (include/posefilter/render.h; the
+// rasterization rules there are binding), with SIMD and a fused render+inlier pipeline:
+//   1. vertex pass: transform + project + snap, 8 vertices per step (bit-identical float ops);
+//   2. face pass: gather, back-face cull, window test, setup of edge functions, 8 faces per
+//      step; front faces in the window are compacted into a triangle list;
+//   3. raster: per triangle, rows of 8 pixel centres with double edge functions holding exact
+//      integers; z-buffer mode keeps the max of 1/z per pixel (a window-sized buffer in the
+//      workspace), z-buffer-free mode scores every fragment on the spot;
+//   4. z-buffer mode: one scoring pass over the covered part of the window.
+// Runtime dispatch: one implementation source (cpu_kernel_impl.inc) compiled three times —
+// portable (baseline x86-64 / any target), AVX2, AVX-512 — picked by what the CPU supports.
+// docs/PERFORMANCE.md ("The cpu engine's kernel") has the design notes and the exactness arguments.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "posefilter/render.h"
+
+namespace posefilter::render {
+
+// Instruction-set variants of the kernel.
+enum class CpuTarget { kPortable, kAvx2, kAvx512 };
+
+// "portable", "avx2", "avx512".
+const char* CpuTargetName(CpuTarget t);
+// Whether this build contains the variant and this CPU can run it (portable: always).
+bool CpuTargetSupported(CpuTarget t);
+// The variants this machine can run, portable first.
+std::vector<CpuTarget> SupportedCpuTargets();
+// The fastest supported variant (what ScoreCpu uses).
+CpuTarget BestCpuTarget();
+
+// Per-worker scratch memory of the cpu kernel (no global state): grows to the largest mesh
+// and window seen, never shrinks. One per thread; not shareable between concurrent calls.
+struct CpuWorkspace {
+  std::vector<std::int64_t> vxy;      // per vertex: packed snapped (x, y), 1/256 px, or a marker
+  std::vector<std::int32_t> vexact;   // per vertex: snapped x, y (1/256 px), any magnitude
+  std::vector<std::int32_t> vok;      // per vertex: 1 = passed the near-plane/off-screen test
+  std::vector<double> viz;            // per vertex: 1/z, 1/metres
+  std::vector<double> tri;            // compacted triangle setup, field-major (see impl)
+  std::vector<std::int32_t> tri_box;  // per triangle: u_lo, u_hi, v_lo, v_hi (image pixels)
+  std::vector<std::int32_t> slow;     // faces that take the exact int64 path
+  std::vector<double> zbuffer;        // window-sized max(1/z) per pixel, 0 = empty
+  std::vector<std::int32_t> frag_u;   // fragments waiting to be scored: pixel u, v, 1/z
+  std::vector<std::int32_t> frag_v;
+  std::vector<double> frag_iz;
+  RenderWorkspace reference;          // fallback for parameters outside the fast path's domain
+};
+
+namespace cpu_detail {
+// Raw views of a CpuWorkspace sized for one call (filled in by cpu_kernel.cc); the variants
+// (cpu_kernel_impl.inc) allocate nothing.
+struct CoreScratch {
+  std::int64_t* vxy;
+  std::int32_t* vexact;
+  std::int32_t* vok;
+  double* viz;
+  double* tri;
+  std::int64_t tri_cap;  // elements per field of `tri`/`tri_box` (≥ num_faces + 8)
+  std::int32_t* tri_box;
+  std::int32_t* slow;
+  double* zb;            // z-buffer row 0, column 0 (≥ 8 doubles of slack before/after rows, 3 spare rows)
+  std::int64_t zb_stride;
+  std::int32_t* frag_u;  // fragment buffer: pixel u, v (image) and 1/z, frag_cap + 8 each
+  std::int32_t* frag_v;
+  double* frag_iz;
+  int frag_cap;
+};
+// Each returns −1, or the index of a face with an out-of-range vertex index (nothing scored).
+std::int64_t CorePortable(const ScoreKernelParams& k, const CoreScratch& s, ScoreKernelResult* r);
+std::int64_t CoreAvx2(const ScoreKernelParams& k, const CoreScratch& s, ScoreKernelResult* r);
+std::int64_t CoreAvx512(const ScoreKernelParams& k, const CoreScratch& s, ScoreKernelResult* r);
+// Whether the variant was compiled with its instruction set (false on non-x86 builds).
+bool BuiltAvx2();
+bool BuiltAvx512();
+}  // namespace cpu_detail
+
+// Scores with the best supported variant. Same contract and result as ScoreReference; throws
+// posefilter::Error when the window does not lie inside the depth image, the depth (or mesh)
+// pointers are missing, or a face index is out of range.
+ScoreKernelResult ScoreCpu(const ScoreKernelParams& params, CpuWorkspace* ws);
+// Scores with a given variant; throws posefilter::Error if this machine cannot run it.
+ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& params, CpuWorkspace* ws);
+
+// Summed-area table of the valid-depth mask (depth > 0): the number of valid depth pixels in
+// any rectangle in O(1) (N_depth of eq. 7.4).
+class ValidDepthSat {
+ public:
+  ValidDepthSat() = default;
+  // depth: row-major, width × height, metres (0 = missing). Throws Error on negative sizes or a
+  // null pointer with a non-empty size.
+  ValidDepthSat(const float* depth, int width, int height);
+  // Valid pixels in r ∩ image (an empty intersection gives 0).
+  std::int64_t Count(const PixelRect& r) const;
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  int width_ = 0, height_ = 0;
+  std::vector<std::int64_t> sat_;  // (width+1) × (height+1), sat_(u, v) = count in [0,u)×[0,v)
+};
+
+}  // namespace posefilter::render

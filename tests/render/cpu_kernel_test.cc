@@ -1,0 +1,383 @@
+// The cpu engine kernel against the reference kernel: every dispatch variant this machine can
+// run, many poses (edge-on, partly off-image, at the near plane, far off-screen vertices),
+// meshes, windows and both z-buffer modes — counts exactly equal, sums within 1e-4 relative.
+// Plus its input errors and the valid-depth summed-area table.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "posefilter/error.h"
+#include "posefilter/render.h"
+#include "posefilter/rng.h"
+#include "posefilter/synth.h"
+#include "render/cpu_kernel.h"
+#include "test_util.h"
+
+namespace posefilter {
+namespace {
+
+using render::CpuTarget;
+using render::CpuWorkspace;
+using testing_util::PinholeCamera;
+
+// fn() must throw posefilter::Error whose message contains every word of `words`.
+template <class Fn>
+void ExpectThrowsWith(Fn&& fn, std::initializer_list<const char*> words) {
+  try {
+    fn();
+    ADD_FAILURE() << "no posefilter::Error thrown";
+  } catch (const Error& e) {
+    for (const char* w : words) EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << e.what();
+  }
+}
+
+// |a − b| within 1e-4 of |reference| (1e-6 absolute floor).
+::testing::AssertionResult Close(double ref, double got, const char* what) {
+  const double tol = std::max(1e-6, 1e-4 * std::fabs(ref));
+  if (std::fabs(ref - got) <= tol) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << what << ": reference " << ref << ", cpu " << got;
+}
+
+// Exact equality of the counts, tolerance on the sums; `ctx` names the case.
+void ExpectSame(const ScoreKernelResult& ref, const ScoreKernelResult& got, const std::string& ctx) {
+  EXPECT_EQ(ref.n_raster, got.n_raster) << ctx;
+  EXPECT_EQ(ref.n_occluded, got.n_occluded) << ctx;
+  EXPECT_EQ(ref.faces_front, got.faces_front) << ctx;
+  EXPECT_EQ(ref.faces_total, got.faces_total) << ctx;
+  EXPECT_EQ(ref.depth_diff_count, got.depth_diff_count) << ctx;
+  EXPECT_EQ(ref.n_edge, got.n_edge) << ctx;
+  EXPECT_EQ(ref.n_edge_continued, got.n_edge_continued) << ctx;
+  EXPECT_EQ(ref.icp_count, got.icp_count) << ctx;
+  EXPECT_TRUE(Close(ref.inlier_sum, got.inlier_sum, "inlier_sum")) << ctx;
+  EXPECT_TRUE(Close(ref.depth_diff_sum, got.depth_diff_sum, "depth_diff_sum")) << ctx;
+  for (int i = 0; i < 21; ++i) EXPECT_TRUE(Close(ref.icp_A[i], got.icp_A[i], "icp_A")) << ctx << " i=" << i;
+  for (int i = 0; i < 6; ++i) EXPECT_TRUE(Close(ref.icp_b[i], got.icp_b[i], "icp_b")) << ctx << " i=" << i;
+}
+
+// Random rotation (uniform axis, angle in ±π) and the given translation.
+Eigen::Isometry3d RandomPose(Rng& rng, double x, double y, double z) {
+  Eigen::Vector3d axis(rng.Normal(), rng.Normal(), rng.Normal());
+  if (axis.norm() < 1e-9) axis = Eigen::Vector3d::UnitZ();
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(rng.Uniform(-M_PI, M_PI), axis.normalized()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(x, y, z);
+  return T;
+}
+
+// A random triangle soup (mixed orientations, self-intersecting, some degenerate faces).
+Mesh RandomSoup(Rng& rng, int nv, int nf, double size) {
+  Mesh m;
+  m.name = "soup";
+  for (int i = 0; i < nv; ++i)
+    m.vertices.emplace_back(float(rng.Uniform(-size, size)), float(rng.Uniform(-size, size)),
+                            float(rng.Uniform(-size, size)));
+  for (int f = 0; f < nf; ++f) {
+    std::array<std::uint32_t, 3> t;
+    for (auto& i : t) i = std::uint32_t(rng.UniformInt(std::uint64_t(nv)));
+    m.faces.push_back(t);
+  }
+  return m;
+}
+
+// A scene the renderings are compared with: the mesh at a nearby pose (so inliers, ramp and
+// occlusions all occur), over a background plane, with per-pixel noise and holes.
+DepthImage MakeScene(const Mesh& mesh, const Eigen::Isometry3d& T, const Camera& cam, Rng& rng) {
+  DepthImage d(cam.width, cam.height, 0.f);
+  Eigen::Isometry3d Ts = T;
+  Ts.translation() += Eigen::Vector3d(rng.Uniform(-0.004, 0.004), rng.Uniform(-0.004, 0.004), rng.Uniform(-0.006, 0.006));
+  RenderDepth(mesh, Ts, cam, &d);
+  const float plane = float(T.translation().z() + rng.Uniform(-0.05, 0.3));
+  for (float& z : d.data) {
+    if (z == 0.f) z = plane;
+    const double r = rng.Uniform();
+    if (r < 0.08) z = 0.f;                                   // holes
+    else if (r < 0.12) z -= float(rng.Uniform(0.0, 0.2));    // clutter in front
+    else z += float(rng.Uniform(-0.006, 0.006));             // noise across the ramp
+    if (z < 0.f) z = 0.f;
+  }
+  return d;
+}
+
+// Windows: full image, ≤ 200×200 around the object, 1-px wide/high, at every border.
+std::vector<PixelRect> Windows(const Camera& cam, Rng& rng, const Eigen::Vector2d& centre) {
+  const int W = cam.width, H = cam.height;
+  auto clip = [&](int u0, int v0, int w, int h) {
+    u0 = std::clamp(u0, 0, W - 1);
+    v0 = std::clamp(v0, 0, H - 1);
+    w = std::clamp(w, 1, W - u0);
+    h = std::clamp(h, 1, H - v0);
+    return PixelRect{u0, v0, w, h};
+  };
+  const int cu = int(std::lround(std::clamp(centre.x(), -1e4, 1e4))),
+            cv = int(std::lround(std::clamp(centre.y(), -1e4, 1e4)));
+  const int s = 100 + int(rng.UniformInt(101));
+  return {PixelRect{0, 0, W, H},
+          clip(cu - s / 2, cv - s / 2, s, s),
+          clip(cu, cv - 60, 1, 120),                 // 1 px wide
+          clip(cu - 60, cv, 120, 1),                 // 1 px high
+          clip(0, cv - 50, 37, 100),                 // left border
+          clip(W - 45, cv - 50, 45, 100),            // right border
+          clip(cu - 80, 0, 160, 23),                 // top border
+          clip(cu - 80, H - 31, 160, 31),            // bottom border
+          clip(W - 200, H - 200, 200, 200)};         // bottom-right corner
+}
+
+class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
+ protected:
+  void SetUp() override {
+    if (!render::CpuTargetSupported(GetParam()))
+      GTEST_SKIP() << "this machine/build cannot run the '" << render::CpuTargetName(GetParam())
+                   << "' kernel variant";
+  }
+
+  // Compares ScoreCpuWith(target) with ScoreReference on one case in both z-buffer modes.
+  void Check(ScoreKernelParams k, const std::string& ctx) {
+    for (bool zb : {true, false}) {
+      k.zbuffer = zb;
+      RenderWorkspace rws;
+      const ScoreKernelResult ref = ScoreReference(k, &rws);
+      const ScoreKernelResult got = render::ScoreCpuWith(GetParam(), k, &ws_);
+      ExpectSame(ref, got, ctx + (zb ? " zbuffer" : " no-zbuffer"));
+      fragments_ += ref.n_raster;
+      edges_ += ref.n_edge;
+      icp_ += ref.icp_count;
+      occluded_ += ref.n_occluded;
+    }
+  }
+
+  CpuWorkspace ws_;  // shared by all cases: also checks that reuse leaves no stale state
+  std::int64_t fragments_ = 0, edges_ = 0, icp_ = 0, occluded_ = 0;
+};
+
+TEST_P(CpuKernelTarget, MatchesReferenceOnRandomPosesMeshesAndWindows) {
+  Rng rng(20240611);
+  const Camera cam = PinholeCamera(525, 520, 319.5, 239.5);
+  std::vector<Mesh> meshes = {MakeBox(0.12, 0.08, 0.16), MakeCylinder(0.04, 0.14, 24), MakeLShape(0.14, 0.05, 0.06),
+                              MakeTorus(0.06, 0.025, 24, 16), RandomSoup(rng, 60, 150, 0.08)};
+  int cases = 0;
+  for (const Mesh& mesh : meshes) {
+    for (int p = 0; p < 8; ++p) {
+      // Mostly in view; some partly off the image, some straddling the near plane.
+      double x = rng.Uniform(-0.15, 0.15), y = rng.Uniform(-0.1, 0.1), z = rng.Uniform(0.4, 1.2);
+      if (p == 5) x = rng.Uniform(0.35, 0.5) * (rng.Uniform() < 0.5 ? -1 : 1);  // off the side
+      if (p == 6) z = rng.Uniform(0.02, 0.09);                                    // near plane
+      const Eigen::Isometry3d T = RandomPose(rng, x, y, z);
+      const DepthImage depth = MakeScene(mesh, T, cam, rng);
+      const std::vector<float> normals = ComputeSceneNormals(depth, cam);
+      const Eigen::Vector3d c = T.translation();
+      const Eigen::Vector2d centre(cam.fx * c.x() / std::max(c.z(), 0.05) + cam.cx,
+                                   cam.fy * c.y() / std::max(c.z(), 0.05) + cam.cy);
+      int wi = 0;
+      for (const PixelRect& w : Windows(cam, rng, centre)) {
+        ScoreKernelParams k = MakeKernelParams(mesh, T, cam);
+        k.window = w;
+        k.depth = depth.data.data();
+        k.depth_width = depth.width;
+        k.depth_height = depth.height;
+        k.scene_normals = (wi % 3 == 2) ? nullptr : normals.data();
+        if (wi % 4 == 1) k.inlier.hard = true;
+        if (wi % 4 == 3) k.inlier.thr1_m = 0.003f;  // not a power of two
+        Check(k, mesh.name + " pose " + std::to_string(p) + " window " + std::to_string(wi));
+        ++wi;
+        ++cases;
+      }
+    }
+  }
+  // The cases must exercise every counted quantity (else the equalities prove little).
+  EXPECT_GT(cases, 300);
+  EXPECT_GT(fragments_, 100000);
+  EXPECT_GT(edges_, 1000);
+  EXPECT_GT(icp_, 10000);
+  EXPECT_GT(occluded_, 1000);
+}
+
+TEST_P(CpuKernelTarget, MatchesReferenceOnEdgeOnAndPixelAlignedGeometry) {
+  const Camera cam = PinholeCamera(500, 500);
+  DepthImage depth(640, 480, 1.0f);
+  for (int i = 0; i < 640 * 480; i += 7) depth.data[i] = 0.995f;
+  // A square exactly on pixel centres (shared-edge ownership), boxes turned edge-on (faces
+  // parallel to the viewing rays: 2·Area = 0 → culled), and a box rotated by 45° about z.
+  const Mesh sq = testing_util::FrontSquare(0.1f);
+  const Mesh box = MakeBox(0.1, 0.1, 0.1);
+  std::vector<std::pair<const Mesh*, Eigen::Isometry3d>> cases;
+  cases.push_back({&sq, testing_util::At(0, 0, 1)});
+  cases.push_back({&sq, testing_util::At(0.0005, -0.0013, 1)});
+  for (double a : {M_PI / 2, M_PI, M_PI / 4}) {
+    Eigen::Isometry3d T = testing_util::At(0, 0, 0.9);
+    T.linear() = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    cases.push_back({&box, T});
+    T.linear() = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    cases.push_back({&box, T});
+  }
+  int i = 0;
+  for (const auto& [mesh, T] : cases) {
+    for (PixelRect w : {PixelRect{0, 0, 640, 480}, PixelRect{260, 180, 120, 120}, PixelRect{295, 215, 1, 50}}) {
+      ScoreKernelParams k = MakeKernelParams(*mesh, T, cam);
+      k.window = w;
+      k.depth = depth.data.data();
+      k.depth_width = 640;
+      k.depth_height = 480;
+      Check(k, "case " + std::to_string(i));
+    }
+    ++i;
+  }
+  EXPECT_GT(fragments_, 10000);
+}
+
+TEST_P(CpuKernelTarget, FarOffScreenVerticesTakeTheExactPathAndMatch) {
+  // Huge triangles (vertices projecting beyond ±16384 px, still inside ±2^20 px) and vertices
+  // beyond ±2^20 px (skipped): the int64 path of the kernel.
+  Rng rng(7);
+  const Camera cam = PinholeCamera(525, 525);
+  DepthImage depth(640, 480, 0.f);
+  for (float& z : depth.data) z = float(rng.Uniform(0.5, 3.0));
+  Mesh m;
+  m.name = "huge";
+  for (int i = 0; i < 40; ++i)
+    m.vertices.emplace_back(float(rng.Uniform(-60, 60)), float(rng.Uniform(-60, 60)), float(rng.Uniform(-0.5, 0.5)));
+  m.vertices.emplace_back(1e5f, 0.f, 0.f);  // beyond 2^20 px at z ≈ 1 m
+  for (int f = 0; f < 120; ++f) {
+    std::array<std::uint32_t, 3> t;
+    for (auto& q : t) q = std::uint32_t(rng.UniformInt(m.vertices.size()));
+    m.faces.push_back(t);
+  }
+  for (int p = 0; p < 6; ++p) {
+    ScoreKernelParams k = MakeKernelParams(m, RandomPose(rng, 0, 0, rng.Uniform(0.8, 2.0)), cam);
+    k.window = p % 2 ? PixelRect{0, 0, 640, 480} : PixelRect{100, 50, 200, 200};
+    k.depth = depth.data.data();
+    k.depth_width = 640;
+    k.depth_height = 480;
+    Check(k, "pose " + std::to_string(p));
+  }
+  EXPECT_GT(fragments_, 10000);
+}
+
+TEST_P(CpuKernelTarget, UnusualParametersMatchTheReference) {
+  Rng rng(99);
+  const Camera cam = PinholeCamera(525, 525);
+  const Mesh torus = MakeTorus(0.06, 0.025, 16, 12);
+  const Eigen::Isometry3d T = RandomPose(rng, 0.02, 0, 0.7);
+  const DepthImage depth = MakeScene(torus, T, cam, rng);
+  ScoreKernelParams k = MakeKernelParams(torus, T, cam);
+  k.depth = depth.data.data();
+  k.depth_width = depth.width;
+  k.depth_height = depth.height;
+  k.near_m = -1.0f;  // outside the fast path's domain: the kernel must fall back, not differ
+  Check(k, "near_m <= 0");
+  k.near_m = 0.69f;  // cuts through the object
+  Check(k, "near plane through the object");
+  k.near_m = 0.05f;
+  k.window = PixelRect{10, 10, 0, 5};  // empty window: nothing counted, not even front faces
+  Check(k, "empty window");
+  k.window = PixelRect{0, 0, 640, 480};
+  k.align_band_m = 1e-3f;
+  k.edge_band_m = 0.05f;
+  k.inlier.thr1_m = 0.01f;
+  Check(k, "bands");
+}
+
+TEST_P(CpuKernelTarget, TinyTrianglesAtTheWindowsBottomRightMatch) {
+  // A finely tessellated torus far away: nearly every triangle's box is at most 4×4 px (the
+  // kernel's stamp path), placed so that stamps reach past the window's last row and column
+  // (the z-buffer's spare rows and row slack) and past the image's bottom-right corner.
+  Rng rng(41);
+  const Camera cam = PinholeCamera(525, 525);
+  const Mesh torus = MakeTorus(0.06, 0.025, 48, 32);
+  for (int p = 0; p < 6; ++p) {
+    // Centre near the image's bottom-right corner at 1.6–2.4 m (≈ 3200 front faces of ≈ 2 px).
+    const double z = rng.Uniform(1.6, 2.4);
+    const Eigen::Isometry3d T = RandomPose(rng, (300.0 + rng.Uniform(-30, 10)) * z / 525,
+                                           (220.0 + rng.Uniform(-30, 10)) * z / 525, z);
+    const DepthImage depth = MakeScene(torus, T, cam, rng);
+    const std::vector<float> normals = ComputeSceneNormals(depth, cam);
+    for (const PixelRect& w : {PixelRect{520, 380, 120, 100}, PixelRect{560, 400, 57, 43}, PixelRect{600, 470, 40, 10}}) {
+      ScoreKernelParams k = MakeKernelParams(torus, T, cam);
+      k.window = w;
+      k.depth = depth.data.data();
+      k.depth_width = depth.width;
+      k.depth_height = depth.height;
+      k.scene_normals = normals.data();
+      Check(k, "pose " + std::to_string(p) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
+    }
+  }
+  EXPECT_GT(fragments_, 5000);
+  EXPECT_GT(edges_, 500);
+}
+
+INSTANTIATE_TEST_SUITE_P(CpuKernel, CpuKernelTarget,
+                         ::testing::Values(CpuTarget::kPortable, CpuTarget::kAvx2, CpuTarget::kAvx512),
+                         [](const ::testing::TestParamInfo<CpuTarget>& i) {
+                           return std::string(render::CpuTargetName(i.param));
+                         });
+
+TEST(CpuKernel, DispatchListsPortableFirstAndTheBestVariantIsSupported) {
+  const auto targets = render::SupportedCpuTargets();
+  ASSERT_FALSE(targets.empty());
+  EXPECT_EQ(targets.front(), CpuTarget::kPortable);
+  EXPECT_TRUE(render::CpuTargetSupported(render::BestCpuTarget()));
+  EXPECT_EQ(targets.back(), render::BestCpuTarget());
+  EXPECT_STREQ(render::CpuTargetName(CpuTarget::kAvx512), "avx512");
+}
+
+TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
+  const Mesh box = MakeBox(0.1, 0.1, 0.1);
+  const Camera cam = PinholeCamera(500, 500);
+  DepthImage depth(640, 480, 1.0f);
+  CpuWorkspace ws;
+  auto params = [&] {
+    ScoreKernelParams k = MakeKernelParams(box, testing_util::At(0, 0, 1), cam);
+    k.depth = depth.data.data();
+    k.depth_width = 640;
+    k.depth_height = 480;
+    return k;
+  };
+  ScoreKernelParams k = params();
+  k.window = PixelRect{600, 0, 50, 10};  // sticks out of the image
+  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"window", "640x480"});
+  k = params();
+  k.window = PixelRect{-1, 0, 10, 10};
+  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"window"});
+  k = params();
+  k.depth = nullptr;
+  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"depth"});
+  Mesh broken = box;
+  broken.faces[5][1] = 8;  // one past the last vertex
+  k = MakeKernelParams(broken, testing_util::At(0, 0, 1), cam);
+  k.depth = depth.data.data();
+  k.depth_width = 640;
+  k.depth_height = 480;
+  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"face 5", "out of range"});
+  for (CpuTarget t : render::SupportedCpuTargets())
+    ExpectThrowsWith([&] { render::ScoreCpuWith(t, k, &ws); }, {"face 5"});
+  k.near_m = 0;  // the fallback path checks indices too
+  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"face 5"});
+  k = params();
+  k.num_faces = 3;
+  k.faces = nullptr;
+  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"faces"});
+}
+
+TEST(CpuKernel, ValidDepthSatCountsAnyRectangle) {
+  Rng rng(3);
+  const int W = 37, H = 23;
+  std::vector<float> d(W * H);
+  for (float& z : d) z = rng.Uniform() < 0.3 ? 0.f : float(rng.Uniform(0.5, 2));
+  const render::ValidDepthSat sat(d.data(), W, H);
+  for (int i = 0; i < 300; ++i) {
+    const PixelRect r{int(rng.UniformInt(50)) - 5, int(rng.UniformInt(35)) - 5, int(rng.UniformInt(45)),
+                      int(rng.UniformInt(30))};
+    std::int64_t brute = 0;
+    for (int v = std::max(0, r.v0); v < std::min(H, r.v0 + r.height); ++v)
+      for (int u = std::max(0, r.u0); u < std::min(W, r.u0 + r.width); ++u) brute += d[v * W + u] > 0;
+    EXPECT_EQ(sat.Count(r), brute) << r.u0 << "," << r.v0 << " " << r.width << "x" << r.height;
+  }
+  EXPECT_EQ(sat.Count(PixelRect{0, 0, W, H}), std::int64_t(std::count_if(d.begin(), d.end(), [](float z) { return z > 0; })));
+  ExpectThrowsWith([] { render::ValidDepthSat(nullptr, 4, 4); }, {"ValidDepthSat"});
+  ExpectThrowsWith([] { render::ValidDepthSat(nullptr, -1, 4); }, {"negative"});
+}
+
+}  // namespace
+}  // namespace posefilter
