@@ -1,0 +1,298 @@
+// posefilter bench — the speed of the scoring engines on one fixed synthetic workload.
+//
+// Workload (deterministic per --seed): a 640×480 synthetic table-top scene (MakeSynthScene,
+// thesis camera, clutter and false detections at their defaults) with a non-convex target at
+// 0.6–1.0 m — by default the 2048-triangle torus — and its detection prior. Each engine runs
+// the particle filter (EstimatePose) on it with --particles particles for exactly --iterations
+// iterations: no early stop (confidence 1, which the weight of eq. 7.4 does not reach with a
+// prior probability < 1), one run (restarts 1), no final polish, so every timed millisecond is
+// an iteration of the filter.
+//
+// What is timed: EstimateResult::iteration_ms, the wall time of each iteration (weigh all
+// unscored particles in parallel, sort, resample, diffuse) — what a user of the engine waits
+// for, with the engine-independent steps included (they are < 1 % of an iteration with the
+// reference engine). Not timed: building the context (heuristics, scene normals, LOD) and the
+// initial draw. Per repeat we take the mean over its iterations; the table shows the median
+// (and the minimum) over repeats. Engines run interleaved (repeat 1 of every engine, then
+// repeat 2, ...), so a load change on a shared machine hits all of them alike. Before the timed
+// repeats each engine makes a one-iteration check run, which also warms the caches: it weighs
+// the initial particle set — the same poses for every engine, since the initial draw uses no
+// weights — so every correct engine must count the same fragments (N_raster) there.
+// Throughput: particles/s = weighings / timed seconds, fragments/s = fragments / timed seconds,
+// both summed over all repeats.
+// CPU time: the process's CPU time (all threads) is read at the end of each iteration (the
+// progress callback), so iterations 2..N of a run give its CPU ms per iteration (shown when
+// --iterations ≥ 2). On a machine shared with other jobs, wall time grows with their load and
+// CPU time much less: compare engines on the minimum and on CPU time there; CPU/wall is the
+// number of cores the engine kept busy. The load average at the start is printed with it.
+#include <time.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "filter_cli.h"
+#include "posefilter/error.h"
+#include "posefilter/filter.h"
+#include "posefilter/mesh_simplify.h"
+#include "posefilter/synth.h"
+
+namespace posefilter::cli {
+
+namespace {
+
+// Engine names the bench knows of; the available ones are those FilterOptions::IsValid accepts.
+const std::vector<std::string> kKnownEngines = {"reference", "cpu", "hw", "cuda"};
+
+bool EngineAvailable(const std::string& engine) {
+  FilterOptions o;
+  o.engine = engine;
+  return o.IsValid(nullptr);
+}
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Per engine: what the repeats measured.
+struct EngineRun {
+  std::string engine;
+  std::vector<double> ms_per_iteration;  // one per repeat: mean over its iterations
+  std::vector<double> cpu_ms_per_iteration;  // one per repeat: CPU ms of iterations 2..N / (N − 1)
+  double timed_ms = 0;                   // Σ iteration_ms over all repeats
+  FilterStats stats;                     // summed over all repeats
+  std::vector<std::int64_t> fragments_per_repeat;
+  std::int64_t check_fragments = 0;      // the one-iteration check run
+  double check_weight = 0;
+  double best_weight = 0;                // of the last repeat
+};
+
+// CPU time of the whole process (all threads), milliseconds.
+double ProcessCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
+}
+
+// The 1-minute load average ("" where /proc/loadavg is missing).
+std::string LoadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string first;
+  in >> first;
+  return first;
+}
+
+}  // namespace
+
+int RunBench(int argc, char** argv) {
+  CLI::App app{"Speed of the scoring engines on a fixed synthetic workload (ms per iteration, throughput)", "bench"};
+  std::vector<std::string> engines;
+  int particles = 510;
+  int iterations = 10;
+  int repeats = 5;
+  int threads = 0;
+  std::string zbuffer = "on";
+  int lod = 0;
+  std::uint64_t seed = 1;
+  std::string target = "torus";
+  std::string json_path;
+  bool quiet = false;
+  std::vector<std::string> available;
+  for (const auto& e : kKnownEngines)
+    if (EngineAvailable(e)) available.push_back(e);
+  app.add_option("--engines", engines, "engines to compare, comma-separated (default: all available: " + Join(available) + ")")
+      ->delimiter(',');
+  app.add_option("--particles", particles, "particles N, 128..8192")->capture_default_str();
+  app.add_option("--iterations", iterations, "iterations per run (no early stop), 1..1000")->capture_default_str();
+  app.add_option("--repeats", repeats, "timed runs per engine; the median is reported, 1..100")->capture_default_str();
+  app.add_option("--threads", threads, "scoring threads (0 = all cores)")->capture_default_str();
+  app.add_option("--zbuffer", zbuffer, "on: exact z-buffer; off: the thesis's culling-only mode")->capture_default_str();
+  app.add_option("--lod", lod, "render the mesh simplified to at most this many faces (0 = full mesh)")->capture_default_str();
+  app.add_option("--seed", seed, "seed of the scene and of the filter")->capture_default_str();
+  app.add_option("--target", target, "object kind of the scene (box, cylinder, lshape, torus)")->capture_default_str();
+  app.add_option("--json", json_path, "also write the results as JSON to this file");
+  app.add_flag("--quiet", quiet, "no progress on stderr");
+
+  return RunApp(app, argc, argv, [&] {
+    // ---- Options.
+    if (engines.empty()) engines = available;
+    if (engines.empty()) throw Error("--engines: no engine is available");
+    for (std::size_t i = 0; i < engines.size(); ++i) {
+      if (!EngineAvailable(engines[i]))
+        throw Error("--engines: engine '" + engines[i] + "' is not available (available: " + Join(available) + ")");
+      if (std::find(engines.begin(), engines.begin() + i, engines[i]) != engines.begin() + i)
+        throw Error("--engines: engine '" + engines[i] + "' is listed twice");
+    }
+    if (particles < 128 || particles > 8192)
+      throw Error("--particles must be in [128, 8192] (got " + std::to_string(particles) + ")");
+    if (iterations < 1 || iterations > 1000)
+      throw Error("--iterations must be in [1, 1000] (got " + std::to_string(iterations) + ")");
+    if (repeats < 1 || repeats > 100) throw Error("--repeats must be in [1, 100] (got " + std::to_string(repeats) + ")");
+    if (zbuffer != "on" && zbuffer != "off") throw Error("--zbuffer must be 'on' or 'off' (got '" + zbuffer + "')");
+    FilterOptions opt;
+    opt.num_particles = particles;
+    opt.max_iterations = iterations;
+    opt.confidence = 1.0;
+    opt.restarts = 1;
+    opt.polish_steps = 0;
+    opt.threads = threads;
+    opt.zbuffer = zbuffer == "on";
+    opt.lod_max_faces = lod;
+    opt.seed = seed;
+    CheckFilterOptions(opt);  // names --threads, --lod, ... as the filter commands do
+    SynthOptions synth;
+    synth.target = target;
+    std::string why;
+    if (!synth.IsValid(&why)) throw Error("--target: " + why);
+    std::ofstream json_out;
+    if (!json_path.empty()) {  // fail before the measurement, not after it
+      json_out.open(json_path);
+      if (!json_out) throw Error(json_path + ": cannot write (--json)");
+    }
+
+    // ---- Workload.
+    const SynthScene scene = MakeSynthScene(synth, seed);
+    const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
+    const SceneInput input{scene.depth, scene.camera};
+    const int cls = prior.ClassIndex(scene.target.name);
+    Mesh lod_storage;
+    const Mesh& rendered = MeshAtLod(scene.target, lod, &lod_storage);
+    const unsigned hw_threads = std::max(1u, std::thread::hardware_concurrency());
+    const std::string load_average = LoadAverage().empty() ? "n/a" : LoadAverage();
+    std::printf("workload: %s, %zu faces (rendered: %zu%s), at %.2f m in a %dx%d scene (seed %llu); %d particles, "
+                "%d iterations x %d repeats; threads %d%s; z-buffer %s; load average %s\n",
+                scene.target.name.c_str(), scene.target.faces.size(), rendered.faces.size(),
+                lod > 0 ? (" with --lod " + std::to_string(lod)).c_str() : "", scene.distance_m, scene.camera.width,
+                scene.camera.height, (unsigned long long)seed, particles, iterations, repeats, threads,
+                threads == 0 ? (" (all " + std::to_string(hw_threads) + " cores)").c_str() : "", zbuffer.c_str(),
+                load_average.c_str());
+    std::fflush(stdout);
+
+    std::vector<EngineRun> runs(engines.size());
+    std::vector<double> cpu_stamps;  // process CPU ms at the end of each iteration of the last run
+    auto run_once = [&](const std::string& engine, int its) {
+      FilterOptions o = opt;
+      o.engine = engine;
+      o.max_iterations = its;
+      cpu_stamps.clear();
+      const EstimateResult r =
+          EstimatePose(input, scene.target, prior, cls, o, [&](int, double) { cpu_stamps.push_back(ProcessCpuMs()); });
+      if (r.iterations != its || int(r.iteration_ms.size()) != its)
+        throw Error("engine '" + engine + "' stopped after " + std::to_string(r.iterations) + " of " +
+                    std::to_string(its) + " iterations");
+      return r;
+    };
+    for (std::size_t e = 0; e < engines.size(); ++e) {  // check runs (and warm-up)
+      runs[e].engine = engines[e];
+      const EstimateResult r = run_once(engines[e], 1);
+      runs[e].check_fragments = r.stats.fragments;
+      runs[e].check_weight = r.weight;
+    }
+    for (int rep = 0; rep < repeats; ++rep) {
+      for (std::size_t e = 0; e < engines.size(); ++e) {
+        const EstimateResult r = run_once(engines[e], iterations);
+        const double ms = std::accumulate(r.iteration_ms.begin(), r.iteration_ms.end(), 0.0);
+        runs[e].ms_per_iteration.push_back(ms / iterations);
+        if (iterations >= 2 && int(cpu_stamps.size()) == iterations)
+          runs[e].cpu_ms_per_iteration.push_back((cpu_stamps.back() - cpu_stamps.front()) / (iterations - 1));
+        runs[e].timed_ms += ms;
+        runs[e].stats += r.stats;
+        runs[e].fragments_per_repeat.push_back(r.stats.fragments);
+        runs[e].best_weight = r.weight;
+        if (!quiet)
+          std::fprintf(stderr, "repeat %d/%d %-10s %9.2f ms/iteration\n", rep + 1, repeats, engines[e].c_str(),
+                       ms / iterations);
+      }
+    }
+
+    // ---- Results.
+    const double base_ms = Median(runs[0].ms_per_iteration);
+    bool agree = true;
+    for (const auto& r : runs) agree = agree && r.check_fragments == runs[0].check_fragments;
+    std::printf("%-10s %12s %12s %12s %12s %13s %10s %12s %9s\n", "engine", "ms/iter(med)", "ms/iter(min)",
+                "cpu-ms/iter", "particles/s", "Mfragments/s", "faces/wgh", "rendered/wgh", "speedup");
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& r : runs) {
+      const double med = Median(r.ms_per_iteration);
+      const double mn = *std::min_element(r.ms_per_iteration.begin(), r.ms_per_iteration.end());
+      const double secs = r.timed_ms / 1000;
+      const double w = double(std::max<std::int64_t>(1, r.stats.weighings));
+      const double pps = secs > 0 ? double(r.stats.weighings) / secs : 0;
+      const double fps = secs > 0 ? double(r.stats.fragments) / secs : 0;
+      const double speedup = med > 0 ? base_ms / med : 0;
+      const bool deterministic = std::all_of(r.fragments_per_repeat.begin(), r.fragments_per_repeat.end(),
+                                             [&](std::int64_t f) { return f == r.fragments_per_repeat[0]; });
+      const double cpu_med = r.cpu_ms_per_iteration.empty() ? 0.0 : Median(r.cpu_ms_per_iteration);
+      char cpu_text[32] = "-";
+      if (!r.cpu_ms_per_iteration.empty()) std::snprintf(cpu_text, sizeof cpu_text, "%.2f", cpu_med);
+      std::printf("%-10s %12.2f %12.2f %12s %12.0f %13.2f %10.0f %12.1f %8.2fx\n", r.engine.c_str(), med, mn, cpu_text,
+                  pps, fps / 1e6, double(r.stats.faces_total) / w, double(r.stats.faces_front) / w, speedup);
+      rows.push_back({{"engine", r.engine},
+                      {"ms_per_iteration_median", med},
+                      {"ms_per_iteration_min", mn},
+                      {"ms_per_iteration_repeats", r.ms_per_iteration},
+                      {"cpu_ms_per_iteration_median", r.cpu_ms_per_iteration.empty() ? nlohmann::json() : nlohmann::json(cpu_med)},
+                      {"cpu_ms_per_iteration_repeats", r.cpu_ms_per_iteration},
+                      {"particles_per_s", pps},
+                      {"fragments_per_s", fps},
+                      {"weighings", r.stats.weighings},
+                      {"fragments", r.stats.fragments},
+                      {"faces_per_weighing", double(r.stats.faces_total) / w},
+                      {"rendered_faces_per_weighing", double(r.stats.faces_front) / w},
+                      {"speedup_vs_baseline", speedup},
+                      {"deterministic", deterministic},
+                      {"best_weight", r.best_weight},
+                      {"check_fragments", r.check_fragments},
+                      {"check_weight", r.check_weight}});
+    }
+    std::printf("speedup = median ms/iteration of %s / that of the engine, same run. check run (initial set, same "
+                "poses for all): fragments %s\n",
+                engines[0].c_str(), agree ? "agree" : "DIFFER");
+    if (json_out.is_open()) {
+      const nlohmann::json doc = {
+          {"workload",
+           {{"target", scene.target.name},
+            {"mesh_faces", scene.target.faces.size()},
+            {"rendered_faces", rendered.faces.size()},
+            {"lod_max_faces", lod},
+            {"distance_m", scene.distance_m},
+            {"image_width", scene.camera.width},
+            {"image_height", scene.camera.height},
+            {"particles", particles},
+            {"iterations", iterations},
+            {"repeats", repeats},
+            {"threads", threads},
+            {"hardware_threads", hw_threads},
+            {"load_average", load_average},
+            {"zbuffer", opt.zbuffer},
+            {"seed", seed},
+            {"timing", "median over repeats of the mean EstimateResult::iteration_ms (no early stop, 1 restart, "
+                       "no polish); engines interleaved"}}},
+          {"baseline", engines[0]},
+          {"engines", rows},
+          {"engines_agree", agree}};
+      json_out << doc.dump(1) << "\n";
+      if (!json_out) throw Error(json_path + ": write failed (--json)");
+    }
+    if (!agree) throw Error("engines disagree on the fragments of the check run (see the table)");
+  });
+}
+
+}  // namespace posefilter::cli

@@ -1,0 +1,122 @@
+// Google Benchmark cases of the score kernel, one call = one particle weighed (render + soft
+// inlier + the side sums of ScoreKernelResult): the reference kernel against the cpu engine's
+// kernel (every instruction-set variant this machine runs, when src/render/cpu_kernel.h is in
+// the tree), in both z-buffer modes, for tori of 512, 2048 and 8192 triangles.
+//
+// Workload: the torus (R 6 cm, r 2.5 cm) at 0.8 m in front of a wall at 1.2 m, rendered into a
+// 640×480 depth image with the thesis camera; each call scores one of 16 poses near the true
+// one (3 mm deeper and turned by up to ±0.3 rad about varying axes: a mix of inliers, ramp values
+// and misses, as in a converging particle set) inside a 200×200 window, cycling through them.
+// Counters: fragments/s (counted fragments, N_raster) and particles/s (kernel calls).
+// Run: build with -DPOSEFILTER_BUILD_BENCH=ON, then
+//   build/<dir>/bench/posefilter_bench --benchmark_filter=BM_Kernel
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+#include "posefilter/render.h"
+#include "posefilter/rng.h"
+#include "posefilter/synth.h"
+
+#if __has_include("render/cpu_kernel.h")
+#include "render/cpu_kernel.h"
+#define POSEFILTER_BENCH_HAS_CPU 1
+#endif
+
+namespace posefilter {
+namespace {
+
+constexpr int kPoses = 16;
+
+// The scene and the kernel parameters of each pose, for an n×n torus (2·n² triangles).
+struct KernelSetup {
+  Mesh mesh;
+  Camera camera;
+  DepthImage depth;
+  std::vector<ScoreKernelParams> params;  // one per pose
+
+  KernelSetup(int n, bool zbuffer) : mesh(MakeTorus(0.06, 0.025, n, n)) {
+    Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+    truth.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+    truth.translation() = Eigen::Vector3d(0.01, -0.02, 0.8);
+    depth = DepthImage(camera.width, camera.height, 0.f);
+    RenderDepth(mesh, truth, camera, &depth);
+    for (float& z : depth.data)
+      if (z == 0) z = 1.2f;  // the wall behind
+    Rng rng(17);
+    for (int i = 0; i < kPoses; ++i) {
+      Eigen::Isometry3d T = truth;
+      const Eigen::Vector3d axis(rng.Normal(), rng.Normal(), rng.Normal());
+      T.linear() = truth.linear() * Eigen::AngleAxisd(rng.Uniform(-0.3, 0.3), axis.normalized()).toRotationMatrix();
+      T.translation().z() += 0.003;
+      ScoreKernelParams k = MakeKernelParams(mesh, T, camera);
+      k.window = PixelRect{225, 124, 200, 200};
+      k.depth = depth.data.data();
+      k.depth_width = depth.width;
+      k.depth_height = depth.height;
+      k.zbuffer = zbuffer;
+      params.push_back(k);
+    }
+    // MakeKernelParams keeps pointers into `mesh`: the setup must not be copied or moved.
+  }
+  KernelSetup(const KernelSetup&) = delete;
+  KernelSetup& operator=(const KernelSetup&) = delete;
+};
+
+void SetCounters(benchmark::State& state, std::int64_t fragments, const KernelSetup& s, const std::string& engine) {
+  state.counters["fragments/s"] = benchmark::Counter(double(fragments), benchmark::Counter::kIsRate);
+  state.counters["particles/s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.SetLabel(engine + ", " + std::to_string(s.mesh.faces.size()) + " faces, " +
+                 (s.params[0].zbuffer ? "z-buffer" : "no z-buffer (thesis)"));
+}
+
+// Args: (n: torus subdivisions, zbuffer: 0/1).
+void BM_KernelReference(benchmark::State& state) {
+  const KernelSetup s(int(state.range(0)), state.range(1) != 0);
+  RenderWorkspace ws;
+  std::int64_t fragments = 0;
+  int i = 0;
+  for (auto _ : state) {
+    const ScoreKernelResult r = ScoreReference(s.params[i], &ws);
+    benchmark::DoNotOptimize(r.inlier_sum);
+    fragments += r.n_raster;
+    i = (i + 1) % kPoses;
+  }
+  SetCounters(state, fragments, s, "reference");
+}
+
+void MeshSizesAndModes(benchmark::internal::Benchmark* b) {
+  for (int n : {16, 32, 64})
+    for (int zbuffer : {1, 0}) b->Args({n, zbuffer});
+  b->ArgNames({"n", "zbuffer"});
+}
+BENCHMARK(BM_KernelReference)->Apply(MeshSizesAndModes);
+
+#ifdef POSEFILTER_BENCH_HAS_CPU
+// The cpu kernel with one instruction-set variant; registered for each variant this CPU runs.
+void BM_KernelCpu(benchmark::State& state, render::CpuTarget target) {
+  const KernelSetup s(int(state.range(0)), state.range(1) != 0);
+  render::CpuWorkspace ws;
+  std::int64_t fragments = 0;
+  int i = 0;
+  for (auto _ : state) {
+    const ScoreKernelResult r = render::ScoreCpuWith(target, s.params[i], &ws);
+    benchmark::DoNotOptimize(r.inlier_sum);
+    fragments += r.n_raster;
+    i = (i + 1) % kPoses;
+  }
+  SetCounters(state, fragments, s, std::string("cpu/") + render::CpuTargetName(target));
+}
+
+const int kCpuRegistered = [] {
+  for (render::CpuTarget t : render::SupportedCpuTargets()) {
+    const std::string name = std::string("BM_KernelCpu/") + render::CpuTargetName(t);
+    benchmark::RegisterBenchmark(name.c_str(), BM_KernelCpu, t)->Apply(MeshSizesAndModes);
+  }
+  return 0;
+}();
+#endif
+
+}  // namespace
+}  // namespace posefilter

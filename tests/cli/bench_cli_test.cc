@@ -1,0 +1,173 @@
+// `posefilter bench` end to end (the built binary): bad options each give a non-zero exit and
+// one line naming the option, before any measurement; a tiny real run (128 particles, 2
+// iterations, 1 repeat, 1 thread) prints the table and writes a JSON with every field, and the
+// engines measured agree on the fragments of the check run. No timing is asserted.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "posefilter/filter.h"
+#include "test_util.h"
+
+namespace posefilter {
+namespace {
+
+using testing_util::Lines;
+using testing_util::ReadFile;
+using testing_util::RunResult;
+using testing_util::ScratchDir;
+
+// The engines FilterOptions::IsValid accepts (the bench's default set).
+std::vector<std::string> AvailableEngines() {
+  std::vector<std::string> out;
+  for (const char* e : {"reference", "cpu", "hw", "cuda"}) {
+    FilterOptions o;
+    o.engine = e;
+    if (o.IsValid(nullptr)) out.push_back(e);
+  }
+  return out;
+}
+
+struct BadOption {
+  std::vector<std::string> args;
+  std::vector<std::string> words;  // the message must name these
+};
+
+TEST(BenchCli, BadOptionsFailWithOneLineNamingTheOption) {
+  ScratchDir dir("bench_cli");
+  const std::vector<BadOption> cases = {
+      {{"--particles", "127"}, {"--particles", "[128, 8192]"}},
+      {{"--particles", "8193"}, {"--particles", "8193"}},
+      {{"--iterations", "0"}, {"--iterations"}},
+      {{"--repeats", "0"}, {"--repeats"}},
+      {{"--repeats", "101"}, {"--repeats"}},
+      {{"--threads", "-1"}, {"--threads"}},
+      {{"--zbuffer", "maybe"}, {"--zbuffer", "maybe"}},
+      {{"--lod", "3"}, {"--lod"}},
+      {{"--lod", "-1"}, {"--lod"}},
+      {{"--engines", "nosuch"}, {"--engines", "nosuch"}},
+      {{"--engines", "reference,reference"}, {"--engines", "twice"}},
+      {{"--target", "sphere"}, {"--target"}},
+      {{"--json", dir.Path("no/such/dir/out.json")}, {"--json", "no/such/dir/out.json"}},
+  };
+  int n = 0;
+  for (const auto& c : cases) {
+    std::vector<std::string> args = {"bench"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    SCOPED_TRACE(c.args[0] + " " + c.args[1]);
+    const RunResult r = testing_util::RunCli(args, dir.dir() / ("run" + std::to_string(n++)));
+    EXPECT_EQ(r.code, 1) << r.err;
+    const auto lines = Lines(r.err);
+    ASSERT_EQ(lines.size(), 1u) << r.err;
+    EXPECT_EQ(lines[0].rfind("posefilter bench: error: ", 0), 0u) << lines[0];
+    for (const auto& w : c.words) EXPECT_NE(lines[0].find(w), std::string::npos) << lines[0] << "\nmissing: " << w;
+    EXPECT_EQ(r.out, "") << "the workload must not run with a bad option";
+  }
+}
+
+TEST(BenchCli, MalformedOptionsAreUsageErrors) {
+  ScratchDir dir("bench_cli");
+  int n = 0;
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"bench", "--particles", "many"}, {"bench", "--bogus"}, {"bench", "--seed", "-x"}}) {
+    const RunResult r = testing_util::RunCli(args, dir.dir() / ("run" + std::to_string(n++)));
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(args[1]), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+}
+
+TEST(BenchCli, TinyRunWritesTableAndJson) {
+  ScratchDir dir("bench_cli");
+  const std::vector<std::string> engines = AvailableEngines();
+  ASSERT_FALSE(engines.empty());
+  ASSERT_EQ(engines[0], "reference");
+  const std::string json_path = dir.Path("bench.json");
+  const RunResult r = testing_util::RunCli({"bench", "--particles", "128", "--iterations", "2", "--repeats", "1",
+                                            "--threads", "1", "--seed", "2", "--quiet", "--json", json_path},
+                                           dir.dir() / "run");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "");  // --quiet
+  // One table row per engine, the baseline at 1.00x.
+  for (const auto& e : engines) {
+    bool row = false;
+    for (const auto& l : Lines(r.out)) row = row || l.rfind(e + " ", 0) == 0;
+    EXPECT_TRUE(row) << "no row for " << e << " in\n" << r.out;
+  }
+  EXPECT_NE(r.out.find("1.00x"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("fragments agree"), std::string::npos) << r.out;
+
+  const nlohmann::json j = nlohmann::json::parse(ReadFile(json_path));
+  const auto& w = j.at("workload");
+  EXPECT_EQ(w.at("particles"), 128);
+  EXPECT_EQ(w.at("iterations"), 2);
+  EXPECT_EQ(w.at("repeats"), 1);
+  EXPECT_EQ(w.at("threads"), 1);
+  EXPECT_EQ(w.at("zbuffer"), true);
+  EXPECT_EQ(w.at("target"), "torus");
+  EXPECT_EQ(w.at("mesh_faces"), 2048);  // the ~2000-triangle non-convex default
+  EXPECT_EQ(w.at("rendered_faces"), 2048);
+  EXPECT_EQ(w.at("image_width"), 640);
+  EXPECT_EQ(w.at("image_height"), 480);
+  EXPECT_GE(w.at("distance_m").get<double>(), 0.6);
+  EXPECT_LE(w.at("distance_m").get<double>(), 1.0);
+  EXPECT_EQ(j.at("baseline"), engines[0]);
+  EXPECT_EQ(j.at("engines_agree"), true);
+  const auto& rows = j.at("engines");
+  ASSERT_EQ(rows.size(), engines.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& e = rows[i];
+    SCOPED_TRACE(engines[i]);
+    EXPECT_EQ(e.at("engine"), engines[i]);
+    const double ms = e.at("ms_per_iteration_median");
+    EXPECT_GT(ms, 0);
+    EXPECT_LE(e.at("ms_per_iteration_min").get<double>(), ms);
+    EXPECT_EQ(e.at("ms_per_iteration_repeats").size(), 1u);
+    // The CPU time of iteration 2 was measured (its value is not asserted: no timed tests).
+    EXPECT_GT(e.at("cpu_ms_per_iteration_median").get<double>(), 0);
+    EXPECT_EQ(e.at("cpu_ms_per_iteration_repeats").size(), 1u);
+    // Annealing re-weighs every particle in both iterations: 2 × 128 weighings.
+    EXPECT_EQ(e.at("weighings"), 256);
+    EXPECT_GT(e.at("fragments").get<std::int64_t>(), 0);
+    EXPECT_GT(e.at("check_fragments").get<std::int64_t>(), 0);
+    EXPECT_LT(e.at("check_fragments").get<std::int64_t>(), e.at("fragments").get<std::int64_t>());
+    EXPECT_EQ(e.at("check_fragments"), rows[0].at("check_fragments"));  // engines agree
+    EXPECT_GT(e.at("particles_per_s").get<double>(), 0);
+    EXPECT_GT(e.at("fragments_per_s").get<double>(), e.at("particles_per_s").get<double>());
+    EXPECT_EQ(e.at("faces_per_weighing"), 2048.0);
+    const double front = e.at("rendered_faces_per_weighing");
+    EXPECT_GT(front, 0);
+    EXPECT_LT(front, 2048);  // back faces culled
+    EXPECT_TRUE(e.at("deterministic").get<bool>());
+    EXPECT_GT(e.at("speedup_vs_baseline").get<double>(), 0);
+    EXPECT_GE(e.at("best_weight").get<double>(), 0);
+  }
+  EXPECT_DOUBLE_EQ(rows[0].at("speedup_vs_baseline").get<double>(), 1.0);
+}
+
+TEST(BenchCli, LodAndCullingOnlyModeChangeTheWorkload) {
+  ScratchDir dir("bench_cli");
+  const std::string json_path = dir.Path("bench.json");
+  const RunResult r = testing_util::RunCli({"bench", "--engines", "reference", "--particles", "128", "--iterations",
+                                            "1", "--repeats", "1", "--threads", "1", "--lod", "500", "--zbuffer",
+                                            "off", "--quiet", "--json", json_path},
+                                           dir.dir() / "run");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(ReadFile(json_path));
+  EXPECT_EQ(j.at("workload").at("zbuffer"), false);
+  EXPECT_EQ(j.at("workload").at("lod_max_faces"), 500);
+  EXPECT_EQ(j.at("workload").at("mesh_faces"), 2048);
+  const int rendered = j.at("workload").at("rendered_faces");
+  EXPECT_LE(rendered, 500);
+  EXPECT_GT(rendered, 250);
+  ASSERT_EQ(j.at("engines").size(), 1u);
+  EXPECT_EQ(j.at("engines")[0].at("faces_per_weighing"), double(rendered));
+  EXPECT_TRUE(j.at("engines")[0].at("cpu_ms_per_iteration_median").is_null());  // 1 iteration: no CPU figure
+  EXPECT_NE(r.out.find(" - "), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace posefilter
