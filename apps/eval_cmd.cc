@@ -5,10 +5,18 @@
 // (fraction of gt objects accepted). A gt object with no result of its name counts as a failure
 // ("missing"). With several instances of one name, the i-th gt instance is compared with the
 // i-th result of that name (file order); results left over are listed as unmatched.
+//
+// Dataset mode (--dataset DIR [--split test] --results results.csv): a BOP results CSV against
+// a dataset's ground truth (bop.h: BOP split or YCB-Video folder) on its targets: per object and
+// overall the ADD / ADD-S recall at threshold·diameter, the YCB-Video AUC of ADD and ADD-S, the
+// BOP 2019 VSD / MSSD / MSPD recalls and AR (bop_metrics.h).
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -18,6 +26,8 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "posefilter/bop.h"
+#include "posefilter/bop_metrics.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh.h"
 #include "posefilter/metrics.h"
@@ -94,18 +104,162 @@ void PrintTable(std::ostream& os, const std::vector<Row>& rows) {
   }
 }
 
+// JSON number, or null when not finite (∞ = no estimate).
+nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json ScoresJson(const BopScores& s) {
+  return {{"obj_id", s.obj_id},           {"name", s.name},
+          {"diameter_mm", s.diameter_m * 1e3}, {"n_instances", s.n_instances},
+          {"n_estimated", s.n_estimated}, {"add_recall", s.add_recall},
+          {"adds_recall", s.adds_recall}, {"auc_add", s.auc_add},
+          {"auc_adds", s.auc_adds},       {"vsd_recall", Finite(s.vsd_recall)},
+          {"mssd_recall", s.mssd_recall}, {"mspd_recall", s.mspd_recall},
+          {"ar", Finite(s.ar)}};
+}
+
+void PrintBopTable(std::ostream& os, const BopEvalReport& rep) {
+  std::size_t name_w = 3;
+  for (const auto& o : rep.objects) name_w = std::max(name_w, o.name.size());
+  const std::vector<std::string> heads = {"n",       "est",     "ADD",  "ADD-S", "AUC ADD", "AUC ADD-S",
+                                          "VSD",     "MSSD",    "MSPD", "AR"};
+  os << Pad("obj", name_w, true);
+  for (const auto& h : heads) os << "  " << Pad(h, std::max<std::size_t>(h.size(), 5), false);
+  os << "\n";
+  auto row = [&](const BopScores& s) {
+    auto f = [](double v) { return std::isfinite(v) ? Fixed(v, 3) : std::string("-"); };
+    const std::vector<std::string> cells = {std::to_string(s.n_instances), std::to_string(s.n_estimated),
+                                            f(s.add_recall), f(s.adds_recall), f(s.auc_add), f(s.auc_adds),
+                                            f(s.vsd_recall), f(s.mssd_recall), f(s.mspd_recall), f(s.ar)};
+    os << Pad(s.name, name_w, true);
+    for (std::size_t c = 0; c < heads.size(); ++c)
+      os << "  " << Pad(cells[c], std::max<std::size_t>(heads[c].size(), 5), false);
+    os << "\n";
+  };
+  for (const auto& o : rep.objects) row(o);
+  row(rep.overall);
+}
+
+// `posefilter eval --dataset`: the BOP / YCB-Video evaluation of a results CSV.
+void RunDatasetEval(const std::string& dataset_dir, const std::string& split, const std::string& targets_path,
+                    const std::string& results_path, const std::string& json_path, double threshold,
+                    double vsd_delta_mm, bool no_vsd, bool quiet, int limit) {
+  if (!std::isfinite(vsd_delta_mm) || vsd_delta_mm < 0)
+    throw Error("--vsd-delta must be a finite number ≥ 0 (millimetres), got " + std::to_string(vsd_delta_mm));
+  Dataset ds = OpenDataset(dataset_dir, split, targets_path);
+  if (ds.targets.empty()) throw Error(dataset_dir + ": no targets to evaluate");
+  if (limit > 0) {  // the first `limit` images with targets (targets are in image order)
+    std::vector<DatasetTarget> kept;
+    int images = 0;
+    for (std::size_t i = 0; i < ds.targets.size(); ++i) {
+      const bool new_image = i == 0 || ds.targets[i].scene_id != ds.targets[i - 1].scene_id ||
+                             ds.targets[i].im_id != ds.targets[i - 1].im_id;
+      if (new_image && ++images > limit) break;
+      kept.push_back(ds.targets[i]);
+    }
+    ds.targets = kept;
+  }
+  const std::vector<BopResult> results = ReadBopResultsCsv(results_path);
+  BopEvalOptions eo;
+  eo.add_threshold = threshold;
+  eo.vsd_delta_m = vsd_delta_mm * 1e-3;
+  eo.compute_vsd = !no_vsd;
+  EvalProgressFn progress;
+  if (!quiet && isatty(fileno(stderr)))
+    progress = [](int done, int total) {
+      std::fprintf(stderr, "\reval: %d/%d images", done, total);
+      if (done == total) std::fprintf(stderr, "\n");
+      std::fflush(stderr);
+    };
+  BopEvalReport rep;
+  try {
+    rep = EvaluateBop(ds, results, eo, progress);
+  } catch (const Error& e) {
+    // Errors about result rows start with "results:"; name the CSV there.
+    const std::string what = e.what();
+    if (what.rfind("results: ", 0) == 0) throw Error(results_path + ": " + what.substr(9));
+    throw;
+  }
+
+  PrintBopTable(std::cout, rep);
+  std::cout << "ADD, ADD-S: recall at " << Fixed(threshold, 3) << "·diameter; AUC: YCB-Video area under the "
+            << "accuracy curve up to " << Fixed(eo.auc_max_m * 1e3, 0) << " mm; VSD, MSSD, MSPD: BOP 2019 recalls"
+            << (no_vsd ? " (VSD off)" : "") << "; AR = mean of the three\n";
+  std::cout << rep.n_results_used << " of " << rep.n_results << " result row(s) used (top inst_count per target); "
+            << rep.overall.n_instances - rep.overall.n_estimated << " of " << rep.overall.n_instances
+            << " gt instance(s) without an estimate (failures)\n";
+  if (rep.mean_time_s >= 0) std::cout << "mean time per image: " << Fixed(rep.mean_time_s, 3) << " s\n";
+
+  if (json_path.empty()) return;
+  nlohmann::json j;
+  j["dataset"] = dataset_dir;
+  j["format"] = ds.format;
+  j["split"] = ds.split;
+  j["targets"] = ds.targets_source;
+  j["results"] = results_path;
+  j["add_threshold"] = threshold;
+  j["vsd_delta_mm"] = vsd_delta_mm;
+  j["vsd_taus"] = eo.vsd_taus;
+  j["vsd_thresholds"] = eo.vsd_thresholds;
+  j["mssd_thresholds"] = eo.mssd_thresholds;
+  j["mspd_thresholds_px_at_640"] = eo.mspd_thresholds_px;
+  j["auc_max_mm"] = eo.auc_max_m * 1e3;
+  j["n_results"] = rep.n_results;
+  j["n_results_used"] = rep.n_results_used;
+  j["mean_time_per_image_s"] = rep.mean_time_s;
+  j["overall"] = ScoresJson(rep.overall);
+  j["objects"] = nlohmann::json::array();
+  for (const auto& o : rep.objects) j["objects"].push_back(ScoresJson(o));
+  j["instances"] = nlohmann::json::array();
+  for (const auto& t : rep.instances) {
+    nlohmann::json v = nlohmann::json::array();
+    for (double e : t.vsd) v.push_back(e);
+    j["instances"].push_back({{"scene_id", t.scene_id},
+                              {"im_id", t.im_id},
+                              {"obj_id", t.obj_id},
+                              {"gt_index", t.gt_index},
+                              {"estimated", t.estimated},
+                              {"add_mm", Finite(t.add_m * 1e3)},
+                              {"adds_mm", Finite(t.adds_m * 1e3)},
+                              {"mssd_mm", Finite(t.mssd_m * 1e3)},
+                              {"mspd_px", Finite(t.mspd_px)},
+                              {"vsd", v}});
+  }
+  std::ofstream out(json_path);
+  if (!out) throw Error(json_path + ": cannot open for writing (--json)");
+  out << j.dump(2) << "\n";
+  out.flush();
+  if (!out) throw Error(json_path + ": write failed (--json)");
+}
+
 }  // namespace
 
 int RunEval(int argc, char** argv) {
   CLI::App app{"Compare a results JSON (posefilter estimate) with a gt.json: ADD, ADD-S, "
-               "rotation/translation errors and recall at threshold·diameter.",
+               "rotation/translation errors and recall at threshold·diameter; or (--dataset) a BOP results "
+               "CSV with a dataset: ADD/ADD-S recall and AUC, VSD/MSSD/MSPD recall, AR.",
                "eval"};
-  std::string results_path, gt_path, json_path;
+  std::string results_path, gt_path, json_path, dataset_dir, split = "test", targets_path;
+  double vsd_delta_mm = 15;
+  bool no_vsd = false, quiet = false;
+  int limit = -1;
   std::vector<std::string> mesh_specs, point_specs;
   double threshold = 0.1;
   double unit_scale = 1.0;
-  app.add_option("--results", results_path, "results.json written by posefilter estimate")->required();
-  app.add_option("--gt", gt_path, "gt.json: {objects: [{obj, R, t}]}, object → camera, metres")->required();
+  app.add_option("--results", results_path,
+                 "results.json written by posefilter estimate (with --dataset: a BOP results CSV)")
+      ->required();
+  auto* gt_opt = app.add_option("--gt", gt_path, "gt.json: {objects: [{obj, R, t}]}, object → camera, metres");
+  auto* dataset_opt = app.add_option("--dataset", dataset_dir,
+                                     "dataset folder (BOP or YCB-Video): evaluate a results CSV on its targets");
+  app.add_option("--split", split, "BOP split of --dataset")->capture_default_str();
+  app.add_option("--targets", targets_path,
+                 "targets JSON of --dataset (default: test_targets_bop19.json if present, else every gt object)");
+  app.add_option("--vsd-delta", vsd_delta_mm, "VSD visibility tolerance delta, millimetres (--dataset)")
+      ->capture_default_str();
+  app.add_flag("--no-vsd", no_vsd, "skip VSD (no renderings; VSD recall and AR not reported) (--dataset)");
+  app.add_flag("--quiet", quiet, "no progress on stderr (--dataset)");
+  app.add_option("--limit", limit, "only the first N images with targets (--dataset; as run-dataset --limit)");
+  gt_opt->excludes(dataset_opt);
   app.add_option("--mesh", mesh_specs,
                  "NAME=PATH mesh of an object (repeatable); every gt object needs one. Its "
                  "diameter sets the threshold; its vertices are the model points unless --points")
@@ -119,8 +273,24 @@ int RunEval(int argc, char** argv) {
   app.add_option("--unit-scale", unit_scale, "factor applied to mesh coordinates (0.001 for mm meshes)")
       ->capture_default_str();
   app.add_option("--json", json_path, "also write the per-object errors and recalls to this JSON file");
+  app.callback([&] {
+    if (gt_opt->count() == 0 && dataset_opt->count() == 0) throw CLI::RequiredError("--gt (or --dataset)");
+    if (dataset_opt->count() > 0)
+      for (const char* o : {"--mesh", "--points", "--unit-scale"})
+        if (app.count(o) > 0)
+          throw CLI::ValidationError(o, "not used with --dataset (the dataset has the models)");
+  });
 
   return RunApp(app, argc, argv, [&] {
+    if (dataset_opt->count() > 0) {
+      if (!std::isfinite(threshold) || threshold <= 0)
+        throw Error("--threshold must be a finite number > 0 (fraction of the diameter), got " +
+                    std::to_string(threshold));
+      if (app.count("--limit") && limit < 1) throw Error("--limit must be ≥ 1, got " + std::to_string(limit));
+      RunDatasetEval(dataset_dir, split, targets_path, results_path, json_path, threshold, vsd_delta_mm, no_vsd,
+                     quiet, limit);
+      return;
+    }
     if (!std::isfinite(threshold) || threshold <= 0)
       throw Error("--threshold must be a finite number > 0 (fraction of the diameter), got " +
                   std::to_string(threshold));

@@ -16,6 +16,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "posefilter/bop.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh.h"
 #include "posefilter/prior.h"
@@ -25,9 +26,6 @@
 
 namespace posefilter::cli {
 namespace {
-
-// Smallest width/height of a jittered box, pixels (as the synthetic world's detections).
-constexpr double kMinBoxPx = 4;
 
 // "NAME=PATH" or "PATH" (name = the file's stem) → name → path; a name given twice → Error.
 std::map<std::string, std::string> ParseMeshArgs(const std::vector<std::string>& args) {
@@ -114,20 +112,17 @@ int RunGtDetections(int argc, char** argv) {
     std::vector<Detection> dets;
     for (std::size_t i = 0; i < gt.size(); ++i) {
       const GtObject& g = gt[i];
-      // Always draw the four normals, so one object out of view does not shift the others' boxes.
-      const double jx = rng.Normal(), jy = rng.Normal(), jw = rng.Normal(), jh = rng.Normal();
-      const Box box = ProjectedBox(meshes.at(g.obj), g.T_cam_obj, cam.camera);
-      if (!(box.w > 0 && box.h > 0)) {
+      // JitteredGtBox (bop.h) always draws its four normals, so one object out of view does not
+      // shift the others' boxes.
+      const GtBoxDetection gb = JitteredGtBox(meshes.at(g.obj), g.T_cam_obj, cam.camera, g.obj, jitter_px, score, rng);
+      const Box& box = gb.silhouette;
+      if (!gb.in_view) {
         std::cerr << "posefilter gt-detections: warning: " << gt_path << ": objects[" << i << "] '" << g.obj
                   << "' is not in view (no silhouette pixel in the image); no detection\n";
         continue;
       }
-      Box b = box;
-      b.cx += std::clamp(jitter_px * jx, -0.25 * box.w, 0.25 * box.w);
-      b.cy += std::clamp(jitter_px * jy, -0.25 * box.h, 0.25 * box.h);
-      b.w = std::max(kMinBoxPx, box.w + jitter_px * jw);
-      b.h = std::max(kMinBoxPx, box.h + jitter_px * jh);
-      dets.push_back({g.obj, score, b.cx - b.w / 2, b.cy - b.h / 2, b.w, b.h});
+      const Box b = DetectionBox(gb.detection);
+      dets.push_back(gb.detection);
       if (!quiet)
         std::printf("%-24s silhouette [%.1f %.1f %.1f %.1f]  detection [%.1f %.1f %.1f %.1f]  IoU %.2f\n",
                     g.obj.c_str(), box.cx - box.w / 2, box.cy - box.h / 2, box.w, box.h, dets.back().x,

@@ -1,0 +1,236 @@
+// apps/run_dataset_cmd.cc — `posefilter run-dataset`: estimate every target of every image of a
+// dataset (BOP split or YCB-Video folder, bop.h) and append the poses to a BOP results CSV.
+//
+// Per image: the depth is loaded, a stage-1 prior is built (BOP detections of the image,
+// jittered ground-truth boxes — JitteredGtBox, the rule of `gt-detections` — or uniform), and
+// the filter runs once per target instance. A target with inst_count = 1 uses the prior of all
+// the image's detections; with inst_count = k > 1, instance i uses a prior of the class's i-th
+// best detection alone (no estimate when there are fewer than k). Rows of an image are appended
+// and flushed when the image is done, all with the image's wall time; an image already in the
+// CSV is skipped, so a run can be interrupted and resumed. Random streams derive from --seed,
+// the scene, the image and the target, so a resumed run gives the rows an uninterrupted one
+// would.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "filter_cli.h"
+#include "posefilter/bop.h"
+#include "posefilter/error.h"
+#include "posefilter/filter.h"
+#include "posefilter/prior.h"
+#include "posefilter/rng.h"
+
+namespace posefilter::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A seed for one (scene, image, object, instance), mixed from the user's seed.
+std::uint64_t MixSeed(std::uint64_t seed, int scene_id, int im_id, int obj_id, int instance) {
+  Rng r(seed ^ (std::uint64_t(std::uint32_t(scene_id)) << 32 | std::uint32_t(im_id)));
+  std::uint64_t s = r.NextU64();
+  Rng r2(s ^ (std::uint64_t(std::uint32_t(obj_id)) << 32 | std::uint32_t(instance)));
+  return r2.NextU64();
+}
+
+std::string Duration(double s) {
+  char buf[32];
+  const long t = static_cast<long>(s + 0.5);
+  if (t >= 3600)
+    std::snprintf(buf, sizeof buf, "%ldh%02ldm", t / 3600, (t / 60) % 60);
+  else if (t >= 60)
+    std::snprintf(buf, sizeof buf, "%ldm%02lds", t / 60, t % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%lds", t);
+  return buf;
+}
+
+// "[=====>    ] 3/10 images  scene 1 image 3  elapsed 12s  ETA 28s" on stderr: rewritten in
+// place on a terminal, one line per image otherwise.
+void PrintProgress(int done, int total, int scene_id, int im_id, double elapsed_s, bool tty) {
+  constexpr int kWidth = 24;
+  const int fill = total > 0 ? done * kWidth / total : kWidth;
+  std::string bar(kWidth, ' ');
+  for (int i = 0; i < fill; ++i) bar[i] = '=';
+  if (fill < kWidth) bar[fill] = '>';
+  const double eta = done > 0 ? elapsed_s / done * (total - done) : 0;
+  std::fprintf(stderr, "%s[%s] %d/%d images  scene %d image %d  elapsed %s  ETA %s%s", tty ? "\r" : "", bar.c_str(),
+               done, total, scene_id, im_id, Duration(elapsed_s).c_str(), Duration(eta).c_str(), tty ? "   " : "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+int RunRunDataset(int argc, char** argv) {
+  CLI::App app{"Estimate every target of a dataset (BOP split or YCB-Video folder) and append the poses "
+               "to a BOP results CSV (resumable)",
+               "run-dataset"};
+  std::string dataset_dir, split = "test", detections_path, out_path, targets_path;
+  double jitter_px = 0;
+  double gt_box_score = 0.9;
+  bool uniform = false, quiet = false;
+  int limit = -1;
+  FilterOptions opt;
+  app.add_option("--dataset", dataset_dir, "dataset folder (BOP: models/ + <split>/; or YCB-Video: scenes/ + models/)")
+      ->required();
+  app.add_option("--split", split, "BOP split folder (ignored for a YCB-Video folder)")->capture_default_str();
+  auto* det_opt = app.add_option("--detections", detections_path,
+                                 "BOP detections JSON [{scene_id, image_id, category_id, bbox, score}]");
+  auto* gt_opt = app.add_option("--gt-boxes", jitter_px,
+                                "prior from the ground-truth silhouette boxes jittered by this sigma (pixels)");
+  auto* uni_opt = app.add_flag("--uniform-prior", uniform, "no stage-1 prior (uniform over cells)");
+  det_opt->excludes(gt_opt)->excludes(uni_opt);
+  gt_opt->excludes(uni_opt);
+  app.add_option("--gt-box-score", gt_box_score, "score of the ground-truth boxes, [0, 1]")->capture_default_str();
+  app.add_option("--out", out_path, "results CSV (appended to; images already in it are skipped)")->required();
+  app.add_option("--targets", targets_path,
+                 "targets JSON (BOP test_targets_bop19 format; default: <dataset>/test_targets_bop19.json if "
+                 "present, else every gt object)");
+  app.add_option("--limit", limit, "only the first N images with targets (already done ones included)");
+  app.add_flag("--quiet", quiet, "no progress bar on stderr");
+  AddFilterOptions(app, &opt);
+  app.callback([&] {
+    if (det_opt->count() + gt_opt->count() + uni_opt->count() == 0)
+      throw CLI::RequiredError("a prior: --detections FILE, --gt-boxes JITTER_PX or --uniform-prior");
+  });
+
+  return RunApp(app, argc, argv, [&] {
+    CheckFilterOptions(opt);
+    if (det_opt->count() == 0 && gt_opt->count() && (!std::isfinite(jitter_px) || jitter_px < 0 || jitter_px > 1000))
+      throw Error("--gt-boxes must be in [0, 1000] pixels, got " + std::to_string(jitter_px));
+    if (!std::isfinite(gt_box_score) || gt_box_score < 0 || gt_box_score > 1)
+      throw Error("--gt-box-score must be in [0, 1], got " + std::to_string(gt_box_score));
+    if (app.count("--limit") && limit < 1) throw Error("--limit must be ≥ 1, got " + std::to_string(limit));
+    const bool use_dets = det_opt->count() > 0, use_gt = gt_opt->count() > 0;
+
+    const Dataset ds = OpenDataset(dataset_dir, split, targets_path);
+    if (ds.targets.empty())
+      throw Error(dataset_dir + ": no targets (no " + (targets_path.empty() ? "test_targets_bop19.json" : targets_path) +
+                  " and no ground truth)");
+
+    std::map<std::pair<int, int>, std::vector<BopDetection>> dets_by_image;
+    if (use_dets)
+      for (const BopDetection& d : ReadBopDetections(detections_path)) dets_by_image[{d.scene_id, d.im_id}].push_back(d);
+
+    // Images with targets, in order; then --limit.
+    std::map<std::pair<int, int>, std::vector<DatasetTarget>> targets;
+    for (const auto& t : ds.targets) targets[{t.scene_id, t.im_id}].push_back(t);
+    std::vector<std::pair<int, int>> images;
+    for (const auto& [key, t] : targets) images.push_back(key);
+    if (limit > 0 && int(images.size()) > limit) images.resize(limit);
+
+    // Resume: images already in the CSV.
+    std::set<std::pair<int, int>> done;
+    std::error_code ec;
+    if (std::filesystem::exists(out_path, ec) && std::filesystem::file_size(out_path, ec) > 0)
+      for (const BopResult& r : ReadBopResultsCsv(out_path)) done.insert({r.scene_id, r.im_id});
+    std::vector<std::pair<int, int>> todo;
+    for (const auto& key : images)
+      if (!done.count(key)) todo.push_back(key);
+    const int skipped = static_cast<int>(images.size() - todo.size());
+    if (!quiet && skipped > 0)
+      std::fprintf(stderr, "run-dataset: %d of %zu image(s) already in %s, skipped\n", skipped, images.size(),
+                   out_path.c_str());
+
+    const std::vector<std::string> classes = ds.ClassNames();
+    std::map<int, Mesh> meshes;
+    auto mesh_of = [&](int obj_id) -> const Mesh& {
+      auto it = meshes.find(obj_id);
+      if (it == meshes.end()) it = meshes.emplace(obj_id, LoadDatasetMesh(*ds.Model(obj_id))).first;
+      return it->second;
+    };
+
+    const bool tty = isatty(fileno(stderr));
+    const auto t_start = Clock::now();
+    int rows_written = 0, n_done = 0, n_failed = 0;
+    for (const auto& key : todo) {
+      const auto t_image = Clock::now();
+      const DatasetImage* im = ds.Image(key.first, key.second);
+      const std::string where = "scene " + std::to_string(im->scene_id) + ", image " + std::to_string(im->im_id);
+      const SceneInput scene = LoadDatasetScene(*im);
+      ValidateScene(scene, im->depth_path);
+      const PyramidLayout layout = PyramidLayout::Thesis(scene.camera.width, scene.camera.height, int(classes.size()));
+
+      // The image's detections.
+      std::vector<Detection> dets;
+      if (use_dets) {
+        if (const auto it = dets_by_image.find(key); it != dets_by_image.end())
+          dets = ToPriorDetections(it->second, ds, detections_path);
+      } else if (use_gt) {
+        if (!im->has_gt) throw Error(where + ": --gt-boxes needs ground truth, the dataset has none for it");
+        Rng rng(MixSeed(opt.seed, im->scene_id, im->im_id, 0, -1));
+        for (const GtInstance& g : im->gt) {
+          const GtBoxDetection b = JitteredGtBox(mesh_of(g.obj_id), g.T_cam_obj, scene.camera, ds.Model(g.obj_id)->name,
+                                                 jitter_px, gt_box_score, rng);
+          if (b.in_view) dets.push_back(b.detection);
+        }
+      }
+      const Prior image_prior =
+          uniform ? UniformPrior(layout, classes) : PriorFromDetections(dets, layout, classes);
+
+      std::vector<BopResult> rows;
+      for (const DatasetTarget& t : targets.at(key)) {
+        const DatasetModel& model = *ds.Model(t.obj_id);
+        const int cls = image_prior.ClassIndex(model.name);
+        // One prior per instance: the image's prior for a single instance, else the class's
+        // detections one by one (best score first).
+        std::vector<const Detection*> own;
+        for (const auto& d : dets)
+          if (d.cls == model.name) own.push_back(&d);
+        std::stable_sort(own.begin(), own.end(), [](const Detection* a, const Detection* b) { return a->score > b->score; });
+        for (int inst = 0; inst < t.inst_count; ++inst) {
+          Prior single;
+          const Prior* prior = &image_prior;
+          if (t.inst_count > 1 && !uniform) {
+            if (inst >= int(own.size())) break;
+            single = PriorFromDetections({*own[inst]}, layout, classes);
+            prior = &single;
+          }
+          FilterOptions o = opt;
+          o.seed = MixSeed(opt.seed, t.scene_id, t.im_id, t.obj_id, inst);
+          try {
+            const EstimateResult r = EstimatePose(scene, mesh_of(t.obj_id), *prior, cls, o);
+            BopResult row;
+            row.scene_id = t.scene_id;
+            row.im_id = t.im_id;
+            row.obj_id = t.obj_id;
+            row.score = r.weight;
+            row.T_cam_obj = r.T_cam_obj;
+            rows.push_back(row);
+          } catch (const Error& e) {
+            ++n_failed;
+            std::fprintf(stderr, "%srun-dataset: warning: %s, obj_id %d: no estimate: %s\n", tty && !quiet ? "\n" : "",
+                         where.c_str(), t.obj_id, e.what());
+          }
+        }
+      }
+      const double image_s = std::chrono::duration<double>(Clock::now() - t_image).count();
+      for (auto& r : rows) r.time_s = image_s;
+      AppendBopResultsCsv(rows, out_path);
+      rows_written += static_cast<int>(rows.size());
+      ++n_done;
+      if (!quiet)
+        PrintProgress(n_done, static_cast<int>(todo.size()), im->scene_id, im->im_id,
+                      std::chrono::duration<double>(Clock::now() - t_start).count(), tty);
+    }
+    if (!quiet && tty && n_done > 0) std::fprintf(stderr, "\n");
+    std::printf("%d image(s) estimated, %d skipped (already in %s), %d row(s) written", n_done, skipped,
+                out_path.c_str(), rows_written);
+    if (n_failed > 0) std::printf(", %d target instance(s) without an estimate", n_failed);
+    std::printf("\n");
+  });
+}
+
+}  // namespace posefilter::cli
