@@ -1,0 +1,120 @@
+"""Estimation through the bindings: accuracy on synthetic scenes, determinism, batches,
+depth dtypes and layouts, priors in every accepted form."""
+
+import numpy as np
+import pytest
+
+import posefilter as pf
+from conftest import EASY_SCENE, SMALL, TINY
+
+
+@pytest.mark.parametrize("seed", [1, 4, 6])
+def test_pose_recovered_on_synthetic_scene(seed):
+    scene = pf.make_synth_scene(seed, **EASY_SCENE)
+    result = pf.Estimator(seed=1, **SMALL).estimate(scene.depth, scene.camera, scene.target, scene.prior)
+    err = pf.pose_errors(scene.target, result.pose, scene.gt_poses[0])
+    assert err.adds < 0.1 * scene.target.diameter(), err
+    assert err.adds_ok
+    assert result.obj == scene.target.name
+    assert result.pose.shape == (4, 4) and result.pose6.shape == (6,)
+    # pose6 (object -> base) and pose (object -> camera) agree: base_to_camera is the identity.
+    np.testing.assert_allclose(pf.pose_to_transform(result.pose6), result.pose, atol=1e-9)
+    assert 0 < result.weight <= 1
+    assert result.iterations == len(result.best_weight_history) == len(result.iteration_ms)
+    assert result.iterations <= SMALL["max_iterations"] * SMALL["restarts"]
+    assert np.all(result.iteration_ms >= 0) and result.time_ms > 0
+    assert result.stats["weighings"] > 0
+
+
+def test_same_seed_same_pose_other_seed_other_pose(easy_scene):
+    args = (easy_scene.depth, easy_scene.camera, easy_scene.target, easy_scene.prior)
+    a = pf.Estimator(seed=11, **TINY).estimate(*args)
+    b = pf.Estimator(seed=11, **TINY).estimate(*args)
+    c = pf.Estimator(seed=12, **TINY).estimate(*args)
+    np.testing.assert_array_equal(a.pose, b.pose)
+    np.testing.assert_array_equal(a.best_weight_history, b.best_weight_history)
+    assert a.weight == b.weight
+    assert not np.array_equal(a.best_weight_history, c.best_weight_history)
+
+
+def test_depth_dtypes_and_layouts_give_the_same_pose(easy_scene, tiny_estimator):
+    s = easy_scene
+    ref = tiny_estimator.estimate(s.depth, s.camera, s.target, s.prior)
+    # float64 metres.
+    r64 = tiny_estimator.estimate(s.depth.astype(np.float64), s.camera, s.target, s.prior)
+    np.testing.assert_array_equal(ref.pose, r64.pose)
+    # A non-contiguous view (every element of a 2x-wide array's even columns) is copied.
+    wide = np.zeros((s.depth.shape[0], 2 * s.depth.shape[1]), np.float32)
+    wide[:, ::2] = s.depth
+    view = wide[:, ::2]
+    assert not view.flags.c_contiguous
+    np.testing.assert_array_equal(ref.pose, tiny_estimator.estimate(view, s.camera, s.target, s.prior).pose)
+    # Fortran order.
+    fortran = np.asfortranarray(s.depth)
+    np.testing.assert_array_equal(ref.pose, tiny_estimator.estimate(fortran, s.camera, s.target, s.prior).pose)
+    # uint16 with depth_scale: the synthetic depth is a multiple of depth_scale.
+    u16 = np.round(s.depth / s.depth_scale).astype(np.uint16)
+    r16 = tiny_estimator.estimate(u16, s.camera, s.target, s.prior, depth_scale=s.depth_scale)
+    np.testing.assert_allclose(r16.pose, ref.pose, atol=1e-6)
+
+
+def test_prior_forms(easy_scene, tiny_estimator, tmp_path):
+    s = easy_scene
+    from_prior = tiny_estimator.estimate(s.depth, s.camera, s.target, s.prior)
+    # Detections as objects, as dicts, and as a JSON file all give a prior of the same cells.
+    dicts = [{"class": d.cls, "score": d.score, "bbox": list(d.bbox)} for d in s.detections]
+    path = tmp_path / "detections.json"
+    pf.write_detections_json(s.detections, str(path))
+    poses = [tiny_estimator.estimate(s.depth, s.camera, s.target, p).pose for p in (s.detections, dicts, path, str(path))]
+    for p in poses[1:]:
+        np.testing.assert_array_equal(p, poses[0])
+    assert np.isfinite(from_prior.pose).all()
+    # No prior: a uniform one over the object's class; the call still returns a valid pose.
+    uniform = pf.Estimator(**TINY).estimate(s.depth, s.camera, s.target)
+    assert uniform.pose.shape == (4, 4) and np.isfinite(uniform.pose).all()
+
+
+def test_batch_returns_stacked_arrays(easy_scene):
+    s = easy_scene
+    other = pf.make_shape("box")
+    est = pf.Estimator(seed=5, **TINY)
+    dets = list(s.detections) + [pf.Detection("box", 0.5, (20, 20, 80, 80))]
+    batch = est.estimate(s.depth, s.camera, [s.target, other], dets)
+    assert isinstance(batch, pf.BatchResult) and len(batch) == 2
+    assert batch.poses.shape == (2, 4, 4) and batch.poses6.shape == (2, 6) and batch.weights.shape == (2,)
+    assert batch.objs == ["torus", "box"]
+    for i, r in enumerate(batch):
+        np.testing.assert_array_equal(batch.poses[i], r.pose)
+        assert batch.weights[i] == r.weight
+    assert batch[-1].obj == "box"
+    with pytest.raises(IndexError):
+        batch[2]
+    # The first object of the batch is estimated exactly as alone (same seed, same prior).
+    alone = est.estimate(s.depth, s.camera, s.target, pf.prior_from_detections(dets, s.camera, ["torus", "box"]))
+    np.testing.assert_array_equal(alone.pose, batch.poses[0])
+
+
+def test_obj_names_a_prior_class(easy_scene):
+    s = easy_scene
+    mesh = pf.Mesh(s.target.vertices, s.target.faces, name="my_ring")
+    est = pf.Estimator(**TINY)
+    r = est.estimate(s.depth, s.camera, mesh, s.prior, obj="torus")
+    assert r.obj == "torus"
+    with pytest.raises(ValueError, match="my_ring"):
+        est.estimate(s.depth, s.camera, mesh, s.prior)
+
+
+def test_progress_callback_sees_every_iteration(easy_scene):
+    s = easy_scene
+    seen = []
+    est = pf.Estimator(num_particles=40, max_iterations=3, restarts=2, polish_steps=0, threads=2, confidence=1.0)
+    r = est.estimate(s.depth, s.camera, s.target, s.prior, progress=lambda obj, it, w: seen.append((obj, it, w)))
+    assert [it for _, it, _ in seen] == list(range(r.iterations))
+    assert all(obj == "torus" for obj, _, _ in seen)
+    assert all(0 <= w <= 1 for _, _, w in seen)
+
+    def boom(obj, it, w):
+        raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        est.estimate(s.depth, s.camera, s.target, s.prior, progress=boom)
