@@ -13,5 +13,8 @@ int RunSynth(int argc, char** argv);     // apps/synth_cmd.cc
 int RunEval(int argc, char** argv);      // apps/eval_cmd.cc
 int RunSuite(int argc, char** argv);     // apps/suite_cmd.cc
 int RunGtDetections(int argc, char** argv);  // apps/gt_detections_cmd.cc
+int RunRunDataset(int argc, char** argv);    // apps/run_dataset_cmd.cc
+int RunBench(int argc, char** argv);     // apps/bench_cmd.cc
+int RunHwReport(int argc, char** argv);  // apps/hw_report_cmd.cc
 
 }  // namespace posefilter::cli

@@ -26,7 +26,9 @@ constexpr FieldOption kFieldOptions[] = {
     {"gamma", "--gamma"},           {"inlier threshold", "--inlier-thr"}, {"max_window_px", "--window"},
     {"num_elite", "--elite"},       {"resample_pool", "--pool"},          {"sigma_t0_m", "--sigma-t"},
     {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"},
-    {"delta", "--delta"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"}};
+    {"delta", "--delta"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"},
+    {"lod_max_faces", "--lod"},     {"polish_steps", "--polish-steps"},   {"polish_seeds", "--polish-seeds"},
+    {"polish_climbers", "--polish-climbers"}};
 
 // The option that sets `field`; evaluated while compiling, so an unknown field does not compile.
 consteval const char* OptionOf(std::string_view field) {
@@ -72,7 +74,7 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   auto add = [&app](const char* name, auto& value, const char* help) {
     return app.add_option(name, value, help)->capture_default_str();
   };
-  add(OptionOf("engine"), o->engine, "scoring engine")->check(CLI::IsMember({"reference"}));
+  add(OptionOf("engine"), o->engine, "scoring engine")->check(CLI::IsMember({"cpu", "reference", "hw"}));
   add(OptionOf("num_particles"), o->num_particles, "number of particles N");
   add(OptionOf("max_iterations"), o->max_iterations, "maximum iterations");
   add(OptionOf("confidence"), o->confidence, "stop when the best weight reaches this");
@@ -92,6 +94,12 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("delta"), o->delta, "silhouette edge penalty weight (0 = off)");
   add(OptionOf("anneal_start_m"), o->anneal_start_m, "coarse-to-fine: initial inlier threshold (m, 0 = off)");
   add(OptionOf("restarts"), o->restarts, "independent runs, the best weight wins");
+  add(OptionOf("lod_max_faces"), o->lod_max_faces, "level of detail: render the mesh simplified to at most this many faces (0 = full mesh)");
+  add(OptionOf("polish_steps"), o->polish_steps, "final polish: ICP steps per polished candidate (0 = off)");
+  app.add_flag("!--no-polish-turns", o->polish_turns, "final polish: do not try the 23 cube turns of each seed");
+  add(OptionOf("polish_seeds"), o->polish_seeds, "final polish: niche leaders per run used as seeds");
+  add(OptionOf("polish_climbers"), o->polish_climbers, "final polish: candidates refined by pattern search");
+  app.add_flag("!--no-grow-window", o->grow_window, "weigh each particle in its cell's window only (thesis)");
   add(OptionOf("seed"), o->seed, "random seed (same seed, same poses)");
   add(OptionOf("threads"), o->threads, "scoring threads (0 = all cores)");
 }

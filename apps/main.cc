@@ -26,6 +26,12 @@ constexpr Command kCommands[] = {
      "accuracy on N synthetic scenes (targets x occlusion levels): ADD-S table and recall"},
     {"gt-detections", posefilter::cli::RunGtDetections,
      "make a stage-1 detections JSON from ground-truth poses (jittered silhouette boxes)"},
+    {"run-dataset", posefilter::cli::RunRunDataset,
+     "estimate every target of a BOP / YCB-Video dataset into a BOP results CSV (resumable)"},
+    {"bench", posefilter::cli::RunBench,
+     "speed of the scoring engines on a fixed synthetic workload (ms per iteration, throughput)"},
+    {"hw-report", posefilter::cli::RunHwReport,
+     "cycle model of the hw engine (FPGA C simulation) on a synthetic scene, vs the thesis's figures"},
 };
 
 void PrintUsage(std::ostream& os) {

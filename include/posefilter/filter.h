@@ -47,7 +47,7 @@ enum class Move : int {
 inline constexpr int kNumMoves = static_cast<int>(Move::kCount);
 
 struct FilterOptions {
-  std::string engine = "reference";  // "reference" (float, readable)
+  std::string engine = "cpu";  // "cpu" (SIMD kernel, same results) or "reference" (float, readable)
   int num_particles = 510;           // N (thesis design: 510; GRIP: 625)
   int max_iterations = 17;           // stop a run after this many weighings
   double confidence = 0.9;           // stop when the best weight reaches this, in (0, 1]
@@ -77,7 +77,15 @@ struct FilterOptions {
   // heuristic depth) wide and high, so a box smaller than the object cannot be "explained"
   // by one flat face of it. 0 = the box as it is (thesis).
   double min_window_diameters = 1.0;
+  // Ours: a particle's window also grows to contain its own projected bounding box (up to
+  // max(max_window_px, the cell window) per side), so a pose is never judged on a cut-off
+  // rendering; N_depth counts the grown window (summed-area table). false = cell windows only.
+  bool grow_window = true;
   double near_m = 0.05;              // triangles closer than this to the camera are skipped, m
+  // Level of detail (ours; the thesis downsamples to ≤ 1024 vertices, §7.1): render the mesh
+  // simplified to at most this many faces (SimplifyMesh, posefilter/mesh_simplify.h), once per
+  // EstimatePose/WeighPoses call. 0 = the full mesh; otherwise ≥ 4.
+  int lod_max_faces = 0;
   int init_oversample = 1;           // ours: draw this many × N initial particles, keep the best N
   int num_elite = 10;                // best particles carried unchanged into the next set
   double resample_pool = 0.25;       // fraction of the sorted set the rest is drawn from, (0, 1]
@@ -99,6 +107,18 @@ struct FilterOptions {
   double align_band_m = 0.05;        // depth differences used by the align-depth move, metres
   HeuristicOptions heuristics;       // depth_extension_m is set to the object's radius if 0
   int restarts = 3;                  // ours: independent runs, the best weight wins (time × restarts)
+  // Final polish (ours): the best pose of every run, and each of those turned about the
+  // model's bounding-box centre by the 23 other rotations of a cube, is refined by this many
+  // point-to-plane ICP steps at the final inlier threshold; the best weight seen wins.
+  // 0 = off (the thesis: the filter's best particle is the answer).
+  int polish_steps = 8;
+  bool polish_turns = true;          // include the 23 turned copies (false: refine only)
+  // Seeds per run: the best particle of each (hypothesis, orientation) niche of the run's
+  // final set, best first. With turns, each seed costs 24 × (polish_steps + 1) weighings.
+  int polish_seeds = 1;
+  // The best this many polished candidates then climb the weight by pattern search
+  // (±1 cm / ±0.1 rad along camera axes, halved down to 0.5 mm when nothing improves).
+  int polish_climbers = 4;
   std::uint64_t seed = 1;            // every random stream derives from this
   int threads = 0;                   // scoring threads; 0 = all cores
   bool IsValid(std::string* why) const;

@@ -90,8 +90,10 @@ struct ScoreKernelResult {
   double icp_b[6] = {};
   std::int64_t icp_count = 0;
   // z-buffer mode only: silhouette edge samples (a covered pixel and an uncovered
-  // 4-neighbour inside the window with valid scene depth), and those where the scene surface
-  // continues across the outline (|z_s(neighbour) − z_r| ≤ edge_band_m).
+  // 4-neighbour inside the window, whatever that neighbour's scene depth), and those where
+  // the scene surface continues across the outline (the neighbour has valid scene depth and
+  // |z_s(neighbour) − z_r| ≤ edge_band_m). A missing reading next to the outline counts as a
+  // discontinuity (sensors drop pixels at depth steps), never as continued.
   std::int64_t n_edge = 0;
   std::int64_t n_edge_continued = 0;
   std::int64_t faces_front = 0;  // faces that passed near-plane test and culling

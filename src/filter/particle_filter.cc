@@ -6,13 +6,17 @@
 #include <cmath>
 #include <array>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
 #include "filter/online_sorter.h"
+#include "render/cpu_kernel.h"
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
+#include "posefilter/hw_engine.h"
+#include "posefilter/mesh_simplify.h"
 #include "posefilter/rng.h"
 
 namespace posefilter {
@@ -39,6 +43,7 @@ class ValidDepthCounter {
       }
     }
   }
+  const std::vector<long>& table() const { return sat_; }
   long Count(const PixelRect& r) const {
     auto at = [&](int u, int v) { return sat_[std::size_t(v) * w_ + u]; };
     return at(r.u0 + r.width, r.v0 + r.height) - at(r.u0, r.v0 + r.height) -
@@ -95,7 +100,48 @@ struct Context {
   std::vector<float> normals;        // scene normals, 3 per pixel, camera frame (0 = none)
   std::vector<int> hypothesis;       // niching: cells sharing one decoded box share an id
   int hypothesis_count = 0;
+  std::vector<long> valid_sat;       // summed-area table of valid depth, (W+1)×(H+1)
+  std::array<Eigen::Vector3d, 8> bbox_corners;  // the model's bounding box, object frame, m
+  // Valid depth pixels in a rectangle, O(1).
+  long CountValid(const PixelRect& r) const {
+    const int w = scene.depth.width + 1;
+    auto at = [&](int u, int v) { return valid_sat[std::size_t(v) * w + u]; };
+    return at(r.u0 + r.width, r.v0 + r.height) - at(r.u0, r.v0 + r.height) - at(r.u0 + r.width, r.v0) + at(r.u0, r.v0);
+  }
 };
+
+// The window a particle is weighed in (ours, FilterOptions::grow_window): its cell's window
+// grown, axis by axis, to contain the projection of the model's bounding box at the
+// particle's pose (T = object → camera), clipped to the image. An axis whose grown extent
+// would exceed max(max_window_px, the cell window's) keeps the cell window's extent, as does
+// a pose with a corner behind the near plane. Without growing, a pose that fits the scene but
+// hangs out of a jittered detection box loses its outside pixels to a pose that does not.
+PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) {
+  const PixelRect& w = ctx.windows[cell];
+  if (!ctx.opt.grow_window) return w;
+  const Camera& cam = ctx.scene.camera;
+  double u_lo = 1e30, u_hi = -1e30, v_lo = 1e30, v_hi = -1e30;
+  for (const Eigen::Vector3d& c : ctx.bbox_corners) {
+    const Eigen::Vector3d p = T * c;
+    if (p.z() < ctx.opt.near_m) return w;
+    const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
+    u_lo = std::min(u_lo, u);
+    u_hi = std::max(u_hi, u);
+    v_lo = std::min(v_lo, v);
+    v_hi = std::max(v_hi, v);
+  }
+  auto grow = [](int lo, int size, double p_lo, double p_hi, int limit, int cap, int* out_lo, int* out_size) {
+    const long a = std::max(0L, std::min(long(lo), long(std::floor(p_lo))));
+    const long b = std::min(long(limit), std::max(long(lo) + size, long(std::ceil(p_hi)) + 1));
+    if (b - a > std::max(cap, size)) return;  // keep the cell window's extent
+    *out_lo = int(a);
+    *out_size = int(b - a);
+  };
+  PixelRect r = w;
+  grow(w.u0, w.width, u_lo, u_hi, cam.width, ctx.opt.max_window_px, &r.u0, &r.width);
+  grow(w.v0, w.height, v_lo, v_hi, cam.height, ctx.opt.max_window_px, &r.v0, &r.height);
+  return r;
+}
 
 // Listing 7.5: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
 Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
@@ -113,12 +159,12 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
 }
 
 // Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory.
-double Weigh(const Context& ctx, const Particle& p, RenderWorkspace* ws, ScoreKernelResult* out) {
+double Weigh(const Context& ctx, const Particle& p, render::CpuWorkspace* ws, ScoreKernelResult* out) {
   const Camera& cam = ctx.scene.camera;
   const Eigen::Isometry3d T = cam.base_to_camera * PoseToTransform(p.pose);  // FT without P
   ScoreKernelParams k = MakeKernelParams(ctx.mesh, T, cam);
   k.near_m = float(ctx.opt.near_m);
-  k.window = ctx.windows[p.cell];
+  k.window = ParticleWindow(ctx, T, p.cell);
   k.depth = ctx.scene.depth.data.data();
   k.depth_width = ctx.scene.depth.width;
   k.depth_height = ctx.scene.depth.height;
@@ -127,12 +173,12 @@ double Weigh(const Context& ctx, const Particle& p, RenderWorkspace* ws, ScoreKe
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
   k.scene_normals = ctx.normals.data();
-  *out = ScoreReference(k, ws);
+  *out = ctx.opt.engine == "cpu" ? render::ScoreCpu(k, ws) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
   const double r_raster = n_raster > 0 ? std::min(1.0, I / double(n_raster)) : 0.0;
-  const long nd = ctx.n_depth[p.cell];
+  const long nd = ctx.CountValid(k.window);
   const double r_depth = nd > 0 ? std::min(1.0, I / double(nd)) : 0.0;
   const double rho = ctx.prior.Prob(p.cell, ctx.cls);
   const double r_edge = out->n_edge > 0 ? double(out->n_edge_continued) / double(out->n_edge) : 0.0;
@@ -146,7 +192,7 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats)
   const int threads = ctx.opt.threads > 0 ? ctx.opt.threads : omp_get_max_threads();
 #pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
   {
-    RenderWorkspace ws;
+    render::CpuWorkspace ws;  // this worker's scratch (cpu kernel; holds the reference's too)
 #pragma omp for schedule(dynamic, 4)
     for (int i = 0; i < n; ++i) {
       if (ps[i].scored) continue;
@@ -174,7 +220,8 @@ bool FilterOptions::IsValid(std::string* why) const {
     if (why) *why = m;
     return false;
   };
-  if (engine != "reference") return fail("engine must be 'reference' (got '" + engine + "')");
+  if (engine != "cpu" && engine != "reference" && engine != "hw")
+    return fail("engine must be 'cpu', 'reference' or 'hw' (got '" + engine + "')");
   if (num_particles < 2 || num_particles > 1'000'000) return fail("num_particles must be in [2, 1000000]");
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
   if (!(confidence > 0 && confidence <= 1)) return fail("confidence must be in (0, 1]");
@@ -197,6 +244,10 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (!(align_band_m > 0 && std::isfinite(align_band_m))) return fail("align_band_m must be > 0");
   if (init_oversample < 1 || init_oversample > 64) return fail("init_oversample must be in [1, 64]");
   if (restarts < 1 || restarts > 100) return fail("restarts must be in [1, 100]");
+  if (lod_max_faces != 0 && lod_max_faces < kMinSimplifyFaces) return fail("lod_max_faces must be 0 (full mesh) or >= 4");
+  if (polish_steps < 0 || polish_steps > 100) return fail("polish_steps must be in [0, 100]");
+  if (polish_seeds < 1 || polish_seeds > 1000) return fail("polish_seeds must be in [1, 1000]");
+  if (polish_climbers < 0 || polish_climbers > 1000) return fail("polish_climbers must be in [0, 1000]");
   if (tracker_bins < 1 || tracker_bins > 4096) return fail("tracker_bins must be in [1, 4096]");
   if (!(sigma_t0_m >= 0 && std::isfinite(sigma_t0_m))) return fail("sigma_t0_m must be >= 0");
   if (!(sigma_r0_rad >= 0 && std::isfinite(sigma_r0_rad))) return fail("sigma_r0_rad must be >= 0");
@@ -252,6 +303,16 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   ctx.volumes = ComputeHeuristics(scene.depth, scene.camera, prior.boxes, hopt);
   const int cells = prior.layout.CellCount();
   const ValidDepthCounter counter(scene.depth);
+  ctx.valid_sat = counter.table();
+  {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = Eigen::Vector3d::Constant(-1e30);
+    for (const auto& v : mesh.vertices) {
+      lo = lo.cwiseMin(v.cast<double>());
+      hi = hi.cwiseMax(v.cast<double>());
+    }
+    for (int i = 0; i < 8; ++i)
+      ctx.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  }
   ctx.windows.resize(cells);
   ctx.n_depth.resize(cells);
   for (int c = 0; c < cells; ++c) {
@@ -278,7 +339,8 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
 
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
-  const Context ctx = BuildContext(scene, mesh, prior, cls, options);
+  Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
+  const Context ctx = BuildContext(scene, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options);
   std::vector<Particle> ps(hypotheses.size());
   for (std::size_t i = 0; i < hypotheses.size(); ++i) {
     if (hypotheses[i].second < 0 || hypotheses[i].second >= prior.layout.CellCount())
@@ -296,7 +358,10 @@ std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const 
 namespace {
 
 // One run of the filter (initialisation to convergence) on a prepared context.
-EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng& rng, const ProgressFn& progress) {
+// `leaders` receives the best particle of each (hypothesis, orientation bin) niche of the
+// final set, best first, at most FilterOptions::polish_seeds of them.
+EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng& rng, const ProgressFn& progress,
+                         std::vector<Particle>* leaders) {
   EstimateResult res;
   const FilterOptions& options = ctx.opt;
   const SceneInput& scene = ctx.scene;
@@ -358,6 +423,11 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // 4. Converged, or out of iterations: the last set is already weighed; report its best.
     if (!annealing && best.weight >= options.confidence) res.converged = true;
     if (res.converged || it + 1 == options.max_iterations) {
+      std::set<std::pair<int, int>> niches;
+      for (int j = 0; j < N && int(niches.size()) < options.polish_seeds; ++j) {
+        const Particle& p = current[ranked[j].index];
+        if (niches.insert({ctx.hypothesis[p.cell], RotationBin(p.pose)}).second) leaders->push_back(p);
+      }
       res.iteration_ms.push_back(MsSince(t_iter));
       if (progress) progress(it, best.weight);
       break;
@@ -411,10 +481,127 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
 
 }  // namespace
 
+namespace {
+
+// The 24 rotations of a cube (signed permutation matrices with determinant +1).
+std::vector<Eigen::Matrix3d> CubeRotations() {
+  std::vector<Eigen::Matrix3d> out;
+  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (const auto& p : perms)
+    for (int signs = 0; signs < 8; ++signs) {
+      Eigen::Matrix3d R = Eigen::Matrix3d::Zero();
+      for (int r = 0; r < 3; ++r) R(r, p[r]) = (signs >> r) & 1 ? -1.0 : 1.0;
+      if (R.determinant() > 0) out.push_back(R);
+    }
+  return out;  // identity first: perms[0] with signs 0
+}
+
+// Final polish (ours, FilterOptions::polish_steps): every seed, and with polish_turns each
+// seed turned about the model's bounding-box centre c by the 23 other cube rotations
+// (T' = T·[R_k | c − R_k·c], so the object stays where it is), takes polish_steps ICP steps
+// (the kIcpStep move solved from its own last weighing) at the final inlier threshold. A
+// turned copy whose translation is a little off can thus settle before it is compared, which
+// the filter's own quarter-turn move cannot do (its copies are outweighed at once). Returns
+// the best weighed particle seen, or the best seed if nothing beats it.
+Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* stats) {
+  const FilterOptions& o = ctx.opt;
+  ctx.inlier = o.inlier;  // final thresholds
+  const Eigen::Vector3d centre = 0.5 * (ctx.bbox_corners[0] + ctx.bbox_corners[7]);
+  std::vector<Eigen::Matrix3d> turns = CubeRotations();
+  if (!o.polish_turns) turns.resize(1);
+  std::vector<Particle> cands;
+  cands.reserve(seeds.size() * turns.size());
+  for (const Particle& s : seeds)
+    for (const Eigen::Matrix3d& R : turns) {
+      Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+      turn.linear() = R;
+      turn.translation() = centre - R * centre;
+      Particle p = s;
+      p.pose = TransformToPose(PoseToTransform(s.pose) * turn);
+      p.scored = false;
+      cands.push_back(p);
+    }
+  const filter::DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o);
+  Rng unused(0);  // the ICP move draws no random numbers
+  std::vector<Particle> path_best(cands.size());  // best weighed state of each candidate
+  for (auto& p : path_best) p.weight = -1;
+  for (int step = 0; step <= o.polish_steps; ++step) {
+    WeighAll(ctx, cands, stats);
+    for (std::size_t i = 0; i < cands.size(); ++i)
+      if (cands[i].weight > path_best[i].weight) path_best[i] = cands[i];
+    if (step == o.polish_steps) break;
+    for (Particle& p : cands) filter::ApplyMove(diffusion, Move::kIcpStep, &p, p.weight, unused);
+  }
+  std::sort(path_best.begin(), path_best.end(), [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
+
+  // Pattern search (compass search) on the weight itself from the best candidates: each
+  // round tries ±step along the camera's x, y, z and ±angle about the camera axes through
+  // the model centre, moves to the best improvement, and halves step and angle when none
+  // improves; the ICP steps align surfaces, this also aligns the outline (N_depth, edges).
+  const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
+  struct Climber {
+    Particle p;
+    double step_m = 0.01, angle_rad = 0.1;
+  };
+  std::vector<Climber> climbers;
+  for (int i = 0; i < std::min(int(path_best.size()), o.polish_climbers); ++i) climbers.push_back({path_best[i]});
+  for (int round = 0; round < 24; ++round) {
+    std::vector<Particle> trials;
+    std::vector<int> owner;
+    for (int c = 0; c < int(climbers.size()); ++c) {
+      const Climber& cl = climbers[c];
+      if (cl.step_m < 0.0005) continue;
+      const Eigen::Isometry3d T_cam = C * PoseToTransform(cl.p.pose);
+      const Eigen::Vector3d pc = T_cam * centre;
+      for (int dof = 0; dof < 6; ++dof)
+        for (double sign : {-1.0, 1.0}) {
+          Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
+          if (dof < 3) {
+            D.translation()[dof] = sign * cl.step_m;
+          } else {
+            D.linear() = Eigen::AngleAxisd(sign * cl.angle_rad, Eigen::Vector3d::Unit(dof - 3)).toRotationMatrix();
+            D.translation() = pc - D.linear() * pc;
+          }
+          Particle t = cl.p;
+          t.pose = TransformToPose(C.inverse() * D * T_cam);
+          t.scored = false;
+          trials.push_back(t);
+          owner.push_back(c);
+        }
+    }
+    if (trials.empty()) break;
+    WeighAll(ctx, trials, stats);
+    std::vector<int> best_trial(climbers.size(), -1);
+    for (int i = 0; i < int(trials.size()); ++i) {
+      const int c = owner[i];
+      const double ref = best_trial[c] < 0 ? climbers[c].p.weight : trials[best_trial[c]].weight;
+      if (trials[i].weight > ref) best_trial[c] = i;
+    }
+    for (int c = 0; c < int(climbers.size()); ++c) {
+      Climber& cl = climbers[c];
+      if (cl.step_m < 0.0005) continue;
+      if (best_trial[c] >= 0) {
+        cl.p = trials[best_trial[c]];
+      } else {
+        cl.step_m *= 0.5;
+        cl.angle_rad *= 0.5;
+      }
+    }
+  }
+  Particle best = path_best.front();
+  for (const Climber& cl : climbers)
+    if (cl.p.weight > best.weight) best = cl.p;
+  return best;
+}
+
+}  // namespace
+
 EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                             const FilterOptions& options, const ProgressFn& progress) {
+  if (options.engine == "hw") return EstimatePoseHw(scene, mesh, prior, cls, options, progress);  // src/hw/engine.cc
   const auto t_start = Clock::now();
-  Context ctx = BuildContext(scene, mesh, prior, cls, options);
+  Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
+  Context ctx = BuildContext(scene, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options);
   // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
   std::vector<double> cell_mass(prior.layout.CellCount(), 0.0);
   for (int c = 0; c < prior.layout.CellCount(); ++c)
@@ -423,13 +610,14 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   // Independent runs (restarts), each with its own random stream; the best weight wins.
   Rng rng(options.seed);
   EstimateResult best;
+  std::vector<Particle> run_bests;  // seeds of the final polish
   for (int run = 0; run < options.restarts; ++run) {
     Rng run_rng = options.restarts == 1 ? rng : rng.Split();
     const int offset = run * options.max_iterations;
     const ProgressFn run_progress = progress ? ProgressFn([&](int it, double w) {
       progress(offset + it, std::max(w, best.weight));
     }) : ProgressFn();
-    EstimateResult r = RunFilter(ctx, cell_mass, run_rng, run_progress);
+    EstimateResult r = RunFilter(ctx, cell_mass, run_rng, run_progress, &run_bests);
     FilterStats total = best.stats;
     total += r.stats;
     const int iterations = best.iterations + r.iterations;
@@ -441,6 +629,16 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
     best.iterations = iterations;
     best.best_weight_history = std::move(history);
     best.iteration_ms = std::move(times);
+  }
+  if (options.polish_steps > 0) {
+    const Particle p = Polish(ctx, run_bests, &best.stats);
+    if (p.weight > best.weight) {
+      best.pose_base = p.pose;
+      best.T_cam_obj = scene.camera.base_to_camera * PoseToTransform(p.pose);
+      best.weight = p.weight;
+      best.cell = p.cell;
+      best.converged = best.converged || p.weight >= options.confidence;
+    }
   }
   best.obj = mesh.name;
   best.time_ms = MsSince(t_start);

@@ -74,9 +74,8 @@ ScoreKernelResult ScoreReference(const ScoreKernelParams& k, RenderWorkspace* ws
           if (un < 0 || vn < 0 || un >= w.width || vn >= w.height) continue;
           if (zb[std::size_t(vn) * w.width + un] != kEmpty) continue;
           const float zs = scene_depth(w.u0 + un, w.v0 + vn);
-          if (zs <= 0) continue;
-          ++r.n_edge;
-          if (std::fabs(zs - z) <= k.edge_band_m) ++r.n_edge_continued;
+          ++r.n_edge;  // a missing reading next to the outline is a discontinuity: not continued
+          if (zs > 0 && std::fabs(zs - z) <= k.edge_band_m) ++r.n_edge_continued;
         }
       }
     }

@@ -105,6 +105,7 @@ TEST(ParticleFilterTest, CountsTheThesisQuantities) {
   o.max_iterations = 3;
   o.restarts = 1;
   o.anneal_start_m = 0;
+  o.polish_steps = 0;  // the filter's own weighings only
   const EstimateResult r =
       EstimatePose(SceneInput{sc.depth, sc.camera}, sc.target, prior, prior.ClassIndex(sc.target.name), o);
   EXPECT_GT(r.stats.init_cdf_reads_linear, 0);

@@ -127,6 +127,7 @@ TEST(RestartsTest, RunsAreIndependentAndTheBestWins) {
   o.num_particles = 40;
   o.max_iterations = 4;
   o.restarts = 3;
+  o.polish_steps = 0;  // the runs' own results only
   const SceneInput in{sc.depth, sc.camera};
   const EstimateResult r = EstimatePose(in, sc.target, prior, prior.ClassIndex("box"), o);
   EXPECT_EQ(r.iterations, 12);
@@ -137,6 +138,37 @@ TEST(RestartsTest, RunsAreIndependentAndTheBestWins) {
   const EstimateResult again = EstimatePose(in, sc.target, prior, prior.ClassIndex("box"), o);
   EXPECT_EQ(again.weight, r.weight);
   EXPECT_TRUE(again.T_cam_obj.isApprox(r.T_cam_obj, 0.0));
+}
+
+// The final polish starts from the runs' results, so it can only raise the weight; with the
+// same seed the runs are identical, so the polished result is at least as good, it costs
+// weighings, and it is deterministic.
+TEST(PolishTest, NeverLowersTheWeightAndIsDeterministic) {
+  SynthOptions so;
+  so.target = "lshape";
+  so.false_positives = 0;
+  const SynthScene sc = MakeSynthScene(so, 3);
+  const Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
+  FilterOptions o;
+  o.num_particles = 60;
+  o.max_iterations = 4;
+  o.restarts = 2;
+  o.polish_steps = 0;
+  const SceneInput in{sc.depth, sc.camera};
+  const int cls = prior.ClassIndex("lshape");
+  const EstimateResult plain = EstimatePose(in, sc.target, prior, cls, o);
+  o.polish_steps = 3;
+  o.polish_climbers = 2;
+  const EstimateResult polished = EstimatePose(in, sc.target, prior, cls, o);
+  EXPECT_GE(polished.weight, plain.weight);
+  EXPECT_GT(polished.stats.weighings, plain.stats.weighings + 2 * 24 * 3);  // 2 seeds × 24 turns × 3 steps
+  EXPECT_EQ(polished.iterations, plain.iterations);  // polish is not a filter iteration
+  // The result's weight is the weight of its pose: weighing it again gives the same number.
+  const std::vector<double> w = WeighPoses(in, sc.target, prior, cls, o, {{polished.pose_base, polished.cell}});
+  EXPECT_NEAR(w[0], polished.weight, 1e-12);
+  const EstimateResult again = EstimatePose(in, sc.target, prior, cls, o);
+  EXPECT_EQ(again.weight, polished.weight);
+  EXPECT_TRUE(again.T_cam_obj.isApprox(polished.T_cam_obj, 0.0));
 }
 
 }  // namespace

@@ -1,0 +1,169 @@
+// posefilter hw-report — the hw engine's cycle model on a synthetic scene comparable to the
+// thesis's (640×480, thesis camera, N = 510, windows capped at 200×200, a model of 1024
+// vertices / 2048 faces — the synthetic torus), side by side with the thesis's figures
+// (SPEC §7; Tables 7.2, 7.3, Fig. 7.11, 7.21). docs/HARDWARE.md explains the model.
+#include <cstdio>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "filter_cli.h"
+#include "posefilter/error.h"
+#include "posefilter/hw_engine.h"
+#include "posefilter/metrics.h"
+#include "posefilter/synth.h"
+
+namespace posefilter::cli {
+namespace {
+
+// The thesis's figures (SPEC §7) for M = 1, 5, 10 cores; < 0 = not reported.
+struct ThesisRow {
+  int cores;
+  double depth_distribution_ms, first_iteration_ms, average_iteration_ms;
+};
+constexpr ThesisRow kThesis[] = {{1, 204, -1, -1}, {5, 85, 177, 120}, {10, 55, 115, 80}};
+constexpr double kThesisInitRatio = 41, kThesisResampleRatio = 45, kThesisFacesRatio = 2.06;
+
+const ThesisRow* ThesisFor(int cores) {
+  for (const auto& r : kThesis)
+    if (r.cores == cores) return &r;
+  return nullptr;
+}
+
+std::string Ms(double v) {
+  if (v < 0) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+
+}  // namespace
+
+int RunHwReport(int argc, char** argv) {
+  CLI::App app{"Cycle model of the hw engine on a synthetic scene, compared with the thesis", "hw-report"};
+  std::uint64_t scene_seed = 1;
+  std::string target = "torus";
+  double occlusion = 0.0;
+  std::string json_path;
+  HwProfileOptions popt;
+  FilterOptions opt;
+  opt.engine = "hw";
+  opt.max_iterations = 50;  // the thesis's 50-iteration figures
+  opt.confidence = 1.0;     // run all of them
+  opt.restarts = 1;
+  // The thesis's depth fragments are 200×200 for every particle (eq. 7.8, Table 7.2): windows of
+  // at least 4 object diameters are clipped to the 200-pixel cap.
+  opt.min_window_diameters = 4;
+  app.add_option("--scene-seed", scene_seed, "synthetic scene seed")->capture_default_str();
+  app.add_option("--target", target, "synthetic object kind (torus: 1024 vertices, 2048 faces)")->capture_default_str();
+  app.add_option("--occlusion", occlusion, "occluded fraction of the target")->capture_default_str();
+  app.add_option("--cores", popt.cores, "raster-core counts to model")->delimiter(',')->capture_default_str();
+  app.add_option("--clock-mhz", popt.clock_mhz, "clock frequency, MHz")->capture_default_str();
+  app.add_option("--profile-every", popt.profile_every,
+                 "model every k-th iteration (the first always; others reuse the last model)")
+      ->capture_default_str();
+  app.add_option("--window-diameters", opt.min_window_diameters,
+                 "minimum window side in object diameters (4: every window 200x200, as the thesis; 1: the filter's default)")
+      ->capture_default_str();
+  app.add_option("--json", json_path, "also write the report as JSON");
+  AddFilterOptions(app, &opt);
+
+  return RunApp(app, argc, argv, [&] {
+    if (opt.engine != "hw") throw Error("--engine: hw-report models the hw engine only");
+    CheckFilterOptions(opt);
+    std::string pwhy;
+    if (!popt.IsValid(&pwhy)) throw Error("invalid hw-report option: " + pwhy);
+    SynthOptions so;
+    so.target = target;
+    so.occlusion = occlusion;
+    std::string why;
+    if (!so.IsValid(&why)) throw Error("invalid scene option: " + why);
+    const SynthScene scene = MakeSynthScene(so, scene_seed);
+    const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
+    popt.raw_pyramid = scene.raw_pyramid;
+    const HwProfile p =
+        ProfileHw(SceneInput{scene.depth, scene.camera}, scene.target, prior, prior.ClassIndex(scene.target.name), opt, popt);
+    const PoseErrors e = ComputePoseErrors(SamplePoints(scene.target), scene.target.Diameter(), p.result.T_cam_obj,
+                                           scene.gt[0].T_cam_obj);
+
+    std::printf("hw-report: scene seed %llu, %s (%d vertices, %d faces), %dx%d, N = %d, %d iterations (%d modelled), %.0f MHz\n",
+                (unsigned long long)scene_seed, target.c_str(), p.num_vertices, p.num_faces, scene.camera.width,
+                scene.camera.height, p.num_particles, p.iterations, p.modelled_iterations, p.clock_mhz);
+    std::printf("result: weight %.3f, ADD-S %.1f mm (%s), mean window %.0f px^2\n\n", p.result.weight, 1000 * e.adds,
+                e.adds_ok ? "found" : "not found", p.mean_window_area);
+    std::printf("%-34s %10s %10s %10s\n", "per iteration [ms]", "", "ours", "thesis");
+    for (const HwCoreModel& m : p.models) {
+      const ThesisRow* t = ThesisFor(m.cores);
+      std::printf("M = %d cores\n", m.cores);
+      std::printf("  %-32s %10s %10s %10s\n", "depth distribution", "", Ms(p.CyclesToMs(m.depth_distribution_cycles)).c_str(),
+                  Ms(t ? t->depth_distribution_ms : -1).c_str());
+      std::printf("  %-32s %10s %10s %10s\n", "first iteration", "", Ms(p.CyclesToMs(m.first_iteration_cycles)).c_str(),
+                  Ms(t ? t->first_iteration_ms : -1).c_str());
+      std::printf("  %-32s %10s %10s %10s\n", "average iteration", "", Ms(p.CyclesToMs(m.average_iteration_cycles)).c_str(),
+                  Ms(t ? t->average_iteration_ms : -1).c_str());
+      std::printf("  %-32s %10s %10s\n", "  weigh region (modelled its)", "", Ms(p.CyclesToMs(m.weigh_cycles)).c_str());
+      std::printf("  %-32s %10s %10s\n", "  resample + diffusion", "", Ms(p.CyclesToMs(m.update_cycles)).c_str());
+      std::printf("  %-32s %10.0f %10s\n", "  depth px read, shared", m.depth_reads_shared, "");
+      std::printf("  %-32s %10.0f %10s\n", "  depth px read, unshared", m.depth_reads_unshared, "");
+      std::printf("  per module [cycles, ms]:\n");
+      for (const auto& mod : m.modules)
+        std::printf("    %-30s %10.0f %10s\n", mod.module.c_str(), mod.cycles, Ms(p.CyclesToMs(mod.cycles)).c_str());
+    }
+    std::printf("\n%-34s %10s %10s\n", "once per run", "ours", "thesis");
+    std::printf("  %-32s %10s %10s\n", "post-process [ms]", Ms(p.CyclesToMs(p.postprocess_cycles)).c_str(), "-");
+    std::printf("  %-32s %10s %10s\n", "initialisation [ms]", Ms(p.CyclesToMs(p.init_cycles)).c_str(), "-");
+    const double init_ratio = p.init_reads > 0 ? p.init_reads_linear / p.init_reads : 0;
+    const double res_ratio = p.resample_reads > 0 ? p.resample_reads_linear / p.resample_reads : 0;
+    const double faces_ratio = p.faces_front > 0 ? p.faces_total / p.faces_front : 0;
+    std::printf("  %-32s %4.1f -> %-5.2f %10s\n", "init reads per draw", p.init_reads_linear, p.init_reads, "2520->61.5");
+    std::printf("  %-32s %10.1fx %9.0fx\n", "  threshold tracker saving", init_ratio, kThesisInitRatio);
+    std::printf("  %-32s %4.1f -> %-5.2f %10s\n", "resample reads per draw", p.resample_reads_linear, p.resample_reads,
+                "375->8.34");
+    std::printf("  %-32s %10.1fx %9.0fx\n", "  threshold tracker saving", res_ratio, kThesisResampleRatio);
+    std::printf("  %-32s %10.2f %10.2f\n", "faces / rendered faces", faces_ratio, kThesisFacesRatio);
+
+    if (!json_path.empty()) {
+      nlohmann::json models = nlohmann::json::array();
+      for (const HwCoreModel& m : p.models) {
+        nlohmann::json mods = nlohmann::json::array();
+        for (const auto& mod : m.modules) mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}, {"ms", p.CyclesToMs(mod.cycles)}});
+        const ThesisRow* t = ThesisFor(m.cores);
+        models.push_back({{"cores", m.cores},
+                          {"depth_distribution_ms", p.CyclesToMs(m.depth_distribution_cycles)},
+                          {"first_iteration_ms", p.CyclesToMs(m.first_iteration_cycles)},
+                          {"average_iteration_ms", p.CyclesToMs(m.average_iteration_cycles)},
+                          {"weigh_ms", p.CyclesToMs(m.weigh_cycles)},
+                          {"update_ms", p.CyclesToMs(m.update_cycles)},
+                          {"iteration_ms", p.CyclesToMs(m.iteration_cycles)},
+                          {"depth_reads_shared", m.depth_reads_shared},
+                          {"depth_reads_unshared", m.depth_reads_unshared},
+                          {"modules", mods},
+                          {"thesis", t ? nlohmann::json{{"depth_distribution_ms", t->depth_distribution_ms},
+                                                        {"first_iteration_ms", t->first_iteration_ms},
+                                                        {"average_iteration_ms", t->average_iteration_ms}}
+                                       : nlohmann::json(nullptr)}});
+      }
+      nlohmann::json init_mods = nlohmann::json::array();
+      for (const auto& mod : p.init_modules) init_mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}});
+      const nlohmann::json j = {
+          {"scene_seed", scene_seed}, {"target", target}, {"vertices", p.num_vertices}, {"faces", p.num_faces},
+          {"particles", p.num_particles}, {"iterations", p.iterations}, {"modelled_iterations", p.modelled_iterations},
+          {"clock_mhz", p.clock_mhz}, {"weight", p.result.weight}, {"adds_m", e.adds}, {"found", e.adds_ok},
+          {"mean_window_area", p.mean_window_area}, {"postprocess_ms", p.CyclesToMs(p.postprocess_cycles)},
+          {"init_ms", p.CyclesToMs(p.init_cycles)}, {"init_modules", init_mods},
+          {"init_reads_per_draw", p.init_reads}, {"init_reads_linear_per_draw", p.init_reads_linear},
+          {"resample_reads_per_draw", p.resample_reads}, {"resample_reads_linear_per_draw", p.resample_reads_linear},
+          {"faces_total", p.faces_total}, {"faces_front", p.faces_front}, {"faces_ratio", faces_ratio},
+          {"models", models},
+          {"thesis", {{"init_tracker_saving", kThesisInitRatio}, {"resample_tracker_saving", kThesisResampleRatio},
+                      {"faces_ratio", kThesisFacesRatio}}}};
+      std::ofstream out(json_path);
+      if (!out) throw Error(json_path + ": cannot write");
+      out << j.dump(1) << "\n";
+    }
+  });
+}
+
+}  // namespace posefilter::cli

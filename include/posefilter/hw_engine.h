@@ -1,0 +1,86 @@
+// posefilter/hw_engine.h — the `hw` engine: a bit-accurate C simulation of the thesis's FPGA
+// architecture (Chapter 7; SPEC §7) driven like the float engines, plus its cycle model.
+//
+// EstimatePose(…) with FilterOptions::engine == "hw" calls EstimatePoseHw. The driver
+// (src/hw/engine.cc) converts the inputs to the hardware's fixed-point memories (depth clipped
+// to 4 m in ufixed<12,2>, the model reduced to ≤ 1024 vertices / ≤ 2048 faces, camera,
+// per-cell windows, heuristic volumes and class probabilities), runs the top functions of
+// src/hw/top.h for the configured iterations and restarts, and returns an EstimateResult like
+// the float engines. docs/HARDWARE.md describes the modules, the host/hardware split and every
+// deviation from the thesis.
+//
+// Differences from the reference engine's options (all documented in docs/HARDWARE.md):
+// num_particles ≤ 510, max_window_px ≤ 200, a 640×480-or-smaller image and the thesis's
+// 6300-cell pyramid are required (Error otherwise); the float-only extensions rotation_cap,
+// init_oversample, the align-depth / ICP moves and the final polish are not modelled (the
+// quarter-turn move only about the object's x axis).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "posefilter/filter.h"
+
+namespace posefilter {
+
+// The hw engine (see above). Same contract as EstimatePose; throws Error on inputs the
+// hardware cannot take, naming the option or input.
+EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                              const FilterOptions& options, const ProgressFn& progress = nullptr);
+
+// ---- Cycle model report (posefilter hw-report) ----
+
+struct HwProfileOptions {
+  std::vector<int> cores = {1, 5, 10};  // raster-core counts M to model, each in [1, 10]
+  double clock_mhz = 200;               // clock of the thesis's design, MHz (> 0)
+  int profile_every = 1;                // model every k-th iteration (≥ 1; the first always)
+  // Raw stage-1 pyramid of the scene (raw layout of prior.h), optional: when non-empty the hw
+  // post-process kernel runs on it once and its cycles are reported (part of the first
+  // iteration's latency, as in the thesis).
+  std::vector<float> raw_pyramid;
+  bool IsValid(std::string* why) const;
+};
+
+// One module's cycles per iteration: Σ over its loop records of trips × II + depth (its own
+// sequential latency, before dataflow overlap), averaged over the modelled iterations.
+struct HwModuleCycles {
+  std::string module;
+  double cycles = 0;
+};
+
+// The model of one core count M, averaged over the modelled iterations.
+struct HwCoreModel {
+  int cores = 0;
+  std::vector<HwModuleCycles> modules;  // weigh + update modules (raster_core: busiest core)
+  double depth_distribution_cycles = 0; // Σ over rounds of the depth distributor's fill (Table 7.2)
+  double weigh_cycles = 0;              // the weigh/sort dataflow region (round model)
+  double update_cycles = 0;             // resampling + diffusion
+  double iteration_cycles = 0;          // weigh + update
+  double first_iteration_cycles = 0;    // post-process (if run) + init + the first iteration
+  double average_iteration_cycles = 0;  // mean over all iterations, the first included
+  double depth_reads_shared = 0;        // depth pixels read per iteration, with window sharing
+  double depth_reads_unshared = 0;      // … without (Σ window areas)
+};
+
+struct HwProfile {
+  int num_particles = 0, num_vertices = 0, num_faces = 0, iterations = 0, modelled_iterations = 0;
+  double clock_mhz = 200;
+  double postprocess_cycles = 0;        // 0 when no raw pyramid was given
+  double init_cycles = 0;               // initialisation dataflow region
+  std::vector<HwModuleCycles> init_modules;
+  double init_reads = 0, init_reads_linear = 0;          // per draw, with / without tracker
+  double resample_reads = 0, resample_reads_linear = 0;  // per draw
+  double faces_total = 0, faces_front = 0;               // summed over all weighings
+  double mean_window_area = 0;          // pixels, over all weighed particles
+  std::vector<HwCoreModel> models;      // one per HwProfileOptions::cores
+  EstimateResult result;                // the run itself (one restart, options as given)
+  double CyclesToMs(double cycles) const { return cycles / (clock_mhz * 1e3); }
+};
+
+// Runs the hw engine once (restarts forced to 1) and models its cycles (docs/HARDWARE.md,
+// "Cycle model"). Throws Error like EstimatePoseHw, or for invalid profile options.
+HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                    const FilterOptions& options, const HwProfileOptions& profile);
+
+}  // namespace posefilter

@@ -1,0 +1,657 @@
+// src/hw/engine.cc — the `hw` engine driver (host side of the C simulation, SPEC §7): converts
+// the inputs into the fixed-point memories of the architecture, runs the top functions of
+// src/hw/top.h iteration by iteration (the thesis's control loop) and returns an EstimateResult
+// like the float engines; ProfileHw also models the cycles (src/hw/cycle_model.h).
+//
+// Host / hardware split (docs/HARDWARE.md "Driver"):
+//   * host, float, once per run: heuristic volumes (ComputeHeuristics, as the reference
+//     engine), per-cell windows (the reference's CellWindow incl. the minimum window of one
+//     object diameter), hypothesis labels for the region cap, the inlier-threshold schedule;
+//   * hardware (C simulation of the kernels): initialisation, transformation, rasterization and
+//     scoring, weight merging, sorting, resampling, diffusion — every per-particle step.
+// The prior is a float Prior (any of the three kinds of SPEC §3); its class probabilities are
+// rounded into the prob_t memory (ρ of eq. 7.4) — the hw post-process kernel runs only in
+// ProfileHw, on a raw pyramid, for its cycles.
+// The kernels carry HLS pragmas (meaningless to g++) and loop labels (synthesis reports).
+#pragma GCC diagnostic ignored "-Wunknown-pragmas"
+#pragma GCC diagnostic ignored "-Wunused-label"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <functional>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "hw/cycle_model.h"
+#include "hw/postprocess.h"
+#include "hw/top.h"
+#include "posefilter/error.h"
+#include "posefilter/hw_engine.h"
+#include "posefilter/mesh_simplify.h"
+#include "posefilter/rng.h"
+
+namespace posefilter {
+namespace {
+
+using namespace posefilter::hw;
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Host → fixed point, rounded to nearest and saturated (the kernels' types truncate by default).
+xyz_t ToXyz(double v) { return xyz_t(ap_fixed<13, 3, AP_RND, AP_SAT>(v)); }
+depth_t ToDepth(double z) {
+  if (!(z > 0)) return depth_t(0);
+  return depth_t(ap_ufixed<12, 2, AP_RND, AP_SAT>(std::min(z, 4.0)));  // clipped to 4 m (Table 7.1)
+}
+prob_t ToProb(double p) { return prob_t(ap_ufixed<8, 0, AP_RND, AP_SAT>(std::clamp(p, 0.0, 1.0))); }
+dist_t ToDist(double m) { return dist_t(ap_ufixed<24, 4, AP_RND, AP_SAT>(m)); }
+
+// The thesis pyramid (15×20, 30×40, 60×80) is compile-time in the kernels.
+void CheckLayout(const PyramidLayout& layout) {
+  if (layout.CellCount() != kNumCells || layout.levels.size() != 3)
+    throw Error("hw engine: the prior must use the thesis pyramid (15x20, 30x40, 60x80 = 6300 cells)");
+  const int rows[3] = {15, 30, 60}, cols[3] = {20, 40, 80};
+  for (int l = 0; l < 3; ++l)
+    if (layout.levels[l].rows != rows[l] || layout.levels[l].cols != cols[l])
+      throw Error("hw engine: prior level " + std::to_string(l) + " must be " + std::to_string(rows[l]) + "x" +
+                  std::to_string(cols[l]) + " (thesis pyramid)");
+}
+
+// The mesh as the hardware stores it: ≤ kMaxVertices vertices, ≤ kMaxFaces faces (§7.1).
+Mesh HardwareMesh(const Mesh& mesh, int lod_max_faces) {
+  Mesh lod;
+  Mesh m = MeshAtLod(mesh, lod_max_faces, &lod);
+  int budget = std::min<int>(kMaxFaces, int(m.faces.size()));
+  for (int attempt = 0; attempt < 12 && (int(m.vertices.size()) > kMaxVertices || int(m.faces.size()) > kMaxFaces);
+       ++attempt) {
+    m = SimplifyMesh(mesh, budget);
+    budget = std::max(kMinSimplifyFaces, int(budget * 0.85));
+  }
+  if (int(m.vertices.size()) > kMaxVertices || int(m.faces.size()) > kMaxFaces)
+    throw Error("mesh '" + mesh.name + "': cannot be reduced to the hw engine's 1024 vertices / 2048 faces");
+  for (const auto& v : m.vertices)
+    for (int k = 0; k < 3; ++k)
+      if (!(std::fabs(v[k]) < 4.0))
+        throw Error("mesh '" + mesh.name + "': a vertex lies outside the hw engine's +-4 m (fixed<13,3>)");
+  return m;
+}
+
+// The reference engine's window of a cell (particle_filter.cc CellWindow): the box centred,
+// each side ≥ min_side and ≤ max_px, shifted into the image.
+Window CellWindowHw(const Box& box, double min_side, int max_px, int image_w, int image_h) {
+  const int w = std::clamp(int(std::lround(std::max(box.w, min_side))), 1, std::min(max_px, image_w));
+  const int h = std::clamp(int(std::lround(std::max(box.h, min_side))), 1, std::min(max_px, image_h));
+  Window win;
+  win.u0 = std::clamp(int(std::lround(box.cx - 0.5 * w)), 0, image_w - w);
+  win.v0 = std::clamp(int(std::lround(box.cy - 0.5 * h)), 0, image_h - h);
+  win.width = w;
+  win.height = h;
+  return win;
+}
+
+Pose6 SampleToPose(const Sample& s) {
+  Pose6 p;
+  p.x = s.x.to_double();
+  p.y = s.y.to_double();
+  p.z = s.z.to_double();
+  p.roll = s.roll.to_double();
+  p.pitch = s.pitch.to_double();
+  p.yaw = s.yaw.to_double();
+  return p;
+}
+
+// The hardware's memories and parameters for one (scene, mesh, prior, class, options).
+struct HwMemories {
+  depth_t depth[kImageHeight * kImageWidth];
+  xyz_t vmem[3][kMaxVertices];
+  face_t tri_mem[kMaxFaces];
+  prob_t init_prob[kNumCells][1];     // CDF input (power-of-two scaled, see Load)
+  class_sum_t init_sum;
+  prob_t class_prob[kNumCells];       // ρ of eq. 7.4 (unscaled)
+  HeuristicVolume volumes[kNumCells];
+  Window cell_windows[kNumCells];
+  hypothesis_t hypothesis[kNumCells];
+  cdf_t cdf_mem[kNumCells];
+  RasterCoreBank banks[kMaxRasterCores];
+  Sample samples[2][kMaxParticles];   // ping-pong sample memories
+  weight_t sorted_w[kMaxParticles];
+  particle_index_t sorted_idx[kMaxParticles];
+  RasterCoreOutput stats[kMaxParticles];
+};
+
+// Per modelled iteration: what ProfileHw accumulates.
+struct IterationProfile {
+  CycleTrace weigh, update;           // traces of the real tops (M = run cores)
+  std::vector<ParticleWork> work;     // per particle (one-particle raster core calls)
+  std::vector<Window> windows;        // per particle
+};
+
+class HwRunner {
+ public:
+  HwRunner(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& opt)
+      : scene_(scene), prior_(prior), cls_(cls), opt_(opt), mem_(new HwMemories) {
+    Load(mesh);
+  }
+
+  int num_vertices() const { return num_vertices_; }
+  int num_faces() const { return cfg_.num_faces; }
+  HwMemories& mem() { return *mem_; }
+  const WeighConfig& config() const { return cfg_; }
+  std::string mesh_name;
+
+  // One run (initialisation to convergence). `on_iteration` (may be empty) is called after
+  // each weighing with the iteration index and whether a trace was requested for it.
+  using Hook = std::function<void(int it, int cur, CycleTrace* weigh, CycleTrace* update, bool last)>;
+  EstimateResult Run(Rng& rng, const ProgressFn& progress, CycleTrace* init_trace, const std::function<bool(int)>& trace_it,
+                     const Hook& hook) {
+    EstimateResult res;
+    HwMemories& m = *mem_;
+    const int N = opt_.num_particles;
+    // Seeds of every LFSR of the run from the host's stream (zero → the LFSR's default).
+    InitGenerators gen;
+    gen.sampling.Seed(unsigned(rng.NextU64()));
+    gen.z.Seed(unsigned(rng.NextU64()));
+    gen.roll.Seed(unsigned(rng.NextU64()));
+    gen.pitch.Seed(unsigned(rng.NextU64()));
+    gen.yaw.Seed(unsigned(rng.NextU64()));
+    Lfsr18 resample_rng(unsigned(rng.NextU64()));
+    DiffusionRng diffusion_rng(std::uint32_t(rng.NextU64()));
+    InitOptions iopt;  // tracker on, LFSR leap on (docs/HARDWARE.md)
+    InitReport report;
+    if (init_trace) init_trace->Clear();
+    HwInitTop(m.init_prob, m.init_sum, m.volumes, m.cdf_mem, gen, iopt, m.samples[0], N, report, init_trace);
+    res.stats.init_cdf_reads = std::int64_t(report.counters.reads.to_uint64());
+    res.stats.init_cdf_reads_linear = std::int64_t(report.counters.reads_linear.to_uint64());
+
+    // Coarse-to-fine inlier threshold (host schedule, as the reference engine).
+    const int anneal_its = opt_.anneal_start_m > opt_.inlier.thr1_m
+                               ? int(std::lround(opt_.anneal_fraction * opt_.max_iterations)) : 0;
+    int cur = 0;
+    Sample best{};
+    double best_w = 0;
+    CycleTrace* weigh_trace = nullptr;
+    CycleTrace* update_trace = nullptr;
+    std::unique_ptr<CycleTrace> wt, ut;
+    if (trace_it) {
+      wt.reset(new CycleTrace);
+      ut.reset(new CycleTrace);
+    }
+    for (int it = 0; it < opt_.max_iterations; ++it) {
+      const auto t_iter = Clock::now();
+      double thr = opt_.inlier.thr1_m;
+      if (it < anneal_its) thr = opt_.anneal_start_m * std::pow(opt_.inlier.thr1_m / opt_.anneal_start_m, double(it) / anneal_its);
+      SetThreshold(thr);
+      const bool traced = trace_it && trace_it(it);
+      weigh_trace = traced ? wt.get() : nullptr;
+      update_trace = traced ? ut.get() : nullptr;
+      if (weigh_trace) weigh_trace->Clear();
+      if (update_trace) update_trace->Clear();
+      DepthDistributionCounts dd;
+      HwWeighTop(N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem, m.banks, m.sorted_w,
+                 m.sorted_idx, m.stats, &dd, weigh_trace);
+      for (int p = 0; p < N; ++p) {
+        res.stats.faces_total += m.stats[p].faces_total.to_int();
+        res.stats.faces_front += m.stats[p].faces_front.to_int();
+        res.stats.fragments += std::int64_t(m.stats[p].n_raster.to_uint64());
+      }
+      res.stats.weighings += N;
+      best = m.samples[cur][m.sorted_idx[0].to_int()];
+      best_w = m.sorted_w[0].to_double();
+      res.best_weight_history.push_back(best_w);
+      res.iterations = it + 1;
+      if (it >= anneal_its && best_w >= opt_.confidence) res.converged = true;
+      const bool last = res.converged || it + 1 == opt_.max_iterations;
+      if (!last) {
+        ResampleCounters rc;
+        HwUpdateTop(m.sorted_w, m.sorted_idx, m.samples[cur], m.hypothesis, rprm_, resample_rng, dprm_, m.volumes,
+                    diffusion_rng, m.samples[1 - cur], &rc, update_trace);
+        res.stats.resample_cdf_reads += rc.cdf_reads;
+        res.stats.resample_cdf_reads_linear += rc.cdf_reads_linear;
+      }
+      if (hook) hook(it, cur, weigh_trace, update_trace, last);
+      if (!last) cur = 1 - cur;
+      res.iteration_ms.push_back(MsSince(t_iter));
+      if (progress) progress(it, best_w);
+      if (last) break;
+    }
+    res.pose_base = SampleToPose(best);
+    res.T_cam_obj = scene_.camera.base_to_camera * PoseToTransform(res.pose_base);
+    res.weight = best_w;
+    res.cell = best.cell.to_int();
+    return res;
+  }
+
+  void SetThreshold(double thr) {
+    cfg_.raster.thr1 = ToDist(thr);
+    cfg_.raster.inv_thr1 = inv_thr_t(ap_ufixed<20, 12, AP_RND, AP_SAT>(1.0 / cfg_.raster.thr1.to_double()));
+    cfg_.raster.hard_thr = ToDist(opt_.inlier.hard_thr_m * thr / opt_.inlier.thr1_m);
+    std::string why;
+    if (!RasterParamsAreValid(cfg_.raster, &why)) throw Error("hw engine: inlier threshold: " + why);
+  }
+
+ private:
+  void Load(const Mesh& mesh_in) {
+    HwMemories& m = *mem_;
+    const FilterOptions& o = opt_;
+    std::string why;
+    if (!o.IsValid(&why)) throw Error("invalid filter option: " + why);
+    if (o.num_particles > kMaxParticles)
+      throw Error("hw engine: num_particles " + std::to_string(o.num_particles) + " exceeds the hardware's 510");
+    if (o.max_window_px > kMaxWindow)
+      throw Error("hw engine: max_window_px " + std::to_string(o.max_window_px) + " exceeds the hardware's 200");
+    if (o.near_m < 1.0 / 64) throw Error("hw engine: near_m must be >= 1/64 m (1/W format)");
+    if (!mesh_in.IsValid(&why)) throw Error("mesh '" + mesh_in.name + "': " + why);
+    ValidateScene(scene_, "scene");
+    const Camera& cam = scene_.camera;
+    if (cam.width > kImageWidth || cam.height > kImageHeight)
+      throw Error("hw engine: image " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                  " exceeds the hardware's 640x480");
+    if (cls_ < 0 || cls_ >= int(prior_.classes.size())) throw Error("class index out of range for the prior");
+    if (prior_.layout.image_width != cam.width || prior_.layout.image_height != cam.height)
+      throw Error("prior was made for a different image size than the camera's");
+    CheckLayout(prior_.layout);
+
+    // Model memory (Listing 7.1).
+    const Mesh mesh = HardwareMesh(mesh_in, o.lod_max_faces);
+    mesh_name = mesh_in.name;
+    num_vertices_ = int(mesh.vertices.size());
+    for (int i = 0; i < num_vertices_; ++i)
+      for (int k = 0; k < 3; ++k) m.vmem[k][i] = ToXyz(mesh.vertices[i][k]);
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+      m.tri_mem[f] = PackFace(mesh.faces[f][0], mesh.faces[f][1], mesh.faces[f][2]);
+    cfg_.num_faces = int(mesh.faces.size());
+    cfg_.num_cores = kMaxRasterCores;  // results do not depend on M (tested)
+    cfg_.img_width = cam.width;
+
+    // Depth memory: clipped to 4 m, rounded to ufixed<12,2> (Table 7.1).
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u) m.depth[v * cam.width + u] = ToDepth(scene_.depth.at(u, v));
+
+    // Camera: P (intrinsics) and C (eq. 6.9).
+    auto intr = [](double v) { return intr_t(ap_ufixed<28, 12, AP_RND, AP_SAT>(v)); };
+    if (!(cam.fx < 4095 && cam.fy < 4095 && cam.cx >= 0 && cam.cx < 4095 && cam.cy >= 0 && cam.cy < 4095))
+      throw Error("hw engine: camera intrinsics must lie in [0, 4095) px (ufixed<28,12>)");
+    cfg_.cam.fx = intr(cam.fx);
+    cfg_.cam.fy = intr(cam.fy);
+    cfg_.cam.cx = intr(cam.cx);
+    cfg_.cam.cy = intr(cam.cy);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c)
+        cfg_.cam.rot[3 * r + c] = trig_t(ap_fixed<18, 2, AP_RND, AP_SAT>(cam.base_to_camera.linear()(r, c)));
+      const double t = cam.base_to_camera.translation()[r];
+      if (!(std::fabs(t) < 8)) throw Error("hw engine: camera translation must lie within +-8 m (fixed<24,4>)");
+      cfg_.cam.trans[r] = ctrans_t(ap_fixed<24, 4, AP_RND, AP_SAT>(t));
+    }
+
+    // Raster and merger parameters.
+    RasterParams& rp = cfg_.raster;
+    rp = DefaultRasterParams();
+    rp.zbuffer = o.zbuffer ? 1 : 0;
+    rp.hard = o.inlier.hard ? 1 : 0;
+    rp.align_band = ToDist(o.align_band_m);
+    rp.edge_band = ToDist(o.edge_band_m);
+    rp.near_plane = ToDist(o.near_m);
+    SetThreshold(o.inlier.thr1_m);
+    WeightParams& wp = cfg_.weight;
+    auto coef = [](double v) { return coef_t(ap_ufixed<16, 1, AP_RND, AP_SAT>(v)); };
+    wp.alpha = coef(o.alpha);
+    wp.beta = coef(o.beta);
+    wp.gamma = coef(std::max(0.0, 1.0 - wp.alpha.to_double() - wp.beta.to_double()));
+    wp.delta = coef(o.zbuffer ? o.delta : 0.0);  // edge samples exist only in z-buffer mode
+    wp.occlusion_aware = o.occlusion_aware ? 1 : 0;
+    if (!WeightParamsAreValid(wp, &why)) throw Error("hw engine: weight coefficients: " + why);
+
+    // Per-cell memories: heuristic volumes, windows, probabilities, hypotheses.
+    const double diameter = mesh_in.Diameter();
+    HeuristicOptions hopt = o.heuristics;
+    if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
+    const std::vector<Volume> volumes = ComputeHeuristics(scene_.depth, cam, prior_.boxes, hopt);
+    double max_p = 0;
+    std::map<std::array<long, 4>, int> ids;
+    for (int c = 0; c < kNumCells; ++c) {
+      const Volume& vol = volumes[c];
+      HeuristicVolume& hv = m.volumes[c];
+      bool valid = vol.valid;
+      for (int k = 0; k < 3 && valid; ++k) valid = std::fabs(vol.min[k]) < 4 && std::fabs(vol.max[k]) < 4;
+      if (valid) {
+        hv.x_min = ToXyz(vol.min.x());
+        hv.y_min = ToXyz(vol.min.y());
+        hv.z_min = ToXyz(vol.min.z());
+        hv.x_max = ToXyz(vol.max.x());
+        hv.y_max = ToXyz(vol.max.y());
+        hv.z_max = ToXyz(vol.max.z());
+      } else {  // inverted: "no volume" for the diffusion's cell moves
+        hv.x_min = hv.y_min = hv.z_min = ToXyz(1);
+        hv.x_max = hv.y_max = hv.z_max = ToXyz(0);
+      }
+      const double z_cam = vol.valid ? (cam.base_to_camera * vol.Centre()).z() : 1.0;
+      const double min_side = o.min_window_diameters * diameter * cam.fx / std::max(z_cam, o.near_m);
+      m.cell_windows[c] = CellWindowHw(prior_.boxes[c], min_side, o.max_window_px, cam.width, cam.height);
+      const double p = valid ? prior_.Prob(c, cls_) : 0.0;
+      m.class_prob[c] = ToProb(prior_.Prob(c, cls_));
+      max_p = std::max(max_p, p);
+      // Hypothesis labels (region cap): cells with mass whose decoded boxes agree share one;
+      // 8-bit labels (kMaxHypotheses), label 0 = every cell without mass / beyond 255 boxes.
+      int label = 0;
+      if (p > 0) {
+        const Box& b = prior_.boxes[c];
+        const std::array<long, 4> key = {std::lround(b.cx), std::lround(b.cy), std::lround(b.w), std::lround(b.h)};
+        auto it = ids.find(key);
+        if (it == ids.end() && int(ids.size()) < kMaxHypotheses - 1) it = ids.emplace(key, int(ids.size()) + 1).first;
+        label = it == ids.end() ? 0 : it->second;
+      }
+      m.hypothesis[c] = label;
+    }
+    if (!(max_p > 0))
+      throw Error("hw engine: no prior cell of class '" + prior_.classes[cls_] + "' has both probability mass and valid depth");
+    // CDF input: the probabilities scaled by 2^k so the largest is in [1/2, 1) — eq. 7.3 is
+    // scale-invariant, and small probabilities (a uniform prior's 1/6300) survive prob_t.
+    const double scale = std::ldexp(1.0, -int(std::floor(std::log2(max_p))) - 1);
+    class_sum_t sum = 0;
+    for (int c = 0; c < kNumCells; ++c) {
+      const double p = (m.volumes[c].x_min <= m.volumes[c].x_max) ? prior_.Prob(c, cls_) : 0.0;
+      m.init_prob[c][0] = ToProb(p * scale);
+      sum = sum + m.init_prob[c][0];
+    }
+    m.init_sum = sum;
+
+    // Resampling (§7.5.4) and diffusion (§7.6) parameters.
+    rprm_.num_particles = o.num_particles;
+    rprm_.pool_size = std::min(o.num_particles,
+                               std::max(std::max(o.num_elite, 1), int(std::lround(o.resample_pool * o.num_particles))));
+    rprm_.num_elite = std::min(o.num_elite, rprm_.pool_size);
+    rprm_.region_cap = o.region_cap < 1 ? std::max(1, int(std::ceil(o.region_cap * rprm_.pool_size))) : 0;
+    std::string cwhy;
+    if (!rprm_.IsValid(&cwhy)) throw Error("hw engine: resampling: " + cwhy);
+    double prob[kNumHwMoves] = {};
+    for (int k = 0; k < kNumThesisMoves; ++k) prob[k] = o.move_probabilities[k];
+    prob[kHwQuarterRoll] = o.move_probabilities[int(Move::kQuarterTurn)];
+    // align-depth and ICP moves are not modelled: their probability is spread over the rest
+    // by the normalisation below.
+    if (!SetMoveProbabilities(&dprm_, prob, &cwhy))
+      throw Error("hw engine: move probabilities: " + cwhy + " (the hw engine models moves 0-12 and the quarter turn)");
+    auto sigma = [](double v, const char* name) {
+      if (!(v < 4)) throw Error(std::string("hw engine: ") + name + " must be < 4 (ufixed<18,2>)");
+      return sigma_t(ap_ufixed<18, 2, AP_RND, AP_SAT>(v));
+    };
+    dprm_.sigma_t0 = sigma(o.sigma_t0_m, "sigma_t0_m");
+    dprm_.sigma_r0 = sigma(o.sigma_r0_rad, "sigma_r0_rad");
+    dprm_.min_fraction = weight_t(ap_ufixed<18, 1, AP_RND, AP_SAT>(o.min_sigma_fraction));
+    if (!dprm_.IsValid(&cwhy)) throw Error("hw engine: diffusion: " + cwhy);
+  }
+
+  const SceneInput& scene_;
+  const Prior& prior_;
+  int cls_;
+  FilterOptions opt_;
+  std::unique_ptr<HwMemories> mem_;
+  WeighConfig cfg_{};
+  ResampleParams rprm_;
+  DiffusionParams dprm_{};
+  int num_vertices_ = 0;
+};
+
+// Merges run r into the best-so-far result as EstimatePose does with restarts.
+void MergeRun(EstimateResult* best, EstimateResult&& r, bool first) {
+  FilterStats total = best->stats;
+  total += r.stats;
+  const int iterations = best->iterations + r.iterations;
+  std::vector<double> history = best->best_weight_history, times = best->iteration_ms;
+  history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
+  times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
+  const bool converged = best->converged || r.converged;
+  if (first || r.weight > best->weight) *best = std::move(r);
+  best->stats = total;
+  best->iterations = iterations;
+  best->best_weight_history = std::move(history);
+  best->iteration_ms = std::move(times);
+  best->converged = best->converged || converged;
+}
+
+}  // namespace
+
+EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                              const FilterOptions& options, const ProgressFn& progress) {
+  const auto t_start = Clock::now();
+  HwRunner runner(scene, mesh, prior, cls, options);
+  Rng rng(options.seed);
+  EstimateResult best;
+  for (int run = 0; run < options.restarts; ++run) {
+    Rng run_rng = options.restarts == 1 ? rng : rng.Split();
+    const int offset = run * options.max_iterations;
+    const double best_w = best.weight;
+    const ProgressFn run_progress = progress ? ProgressFn([&, offset, best_w](int it, double w) {
+      progress(offset + it, std::max(w, best_w));
+    }) : ProgressFn();
+    MergeRun(&best, runner.Run(run_rng, run_progress, nullptr, nullptr, nullptr), run == 0);
+  }
+  best.obj = mesh.name;
+  best.time_ms = MsSince(t_start);
+  return best;
+}
+
+bool HwProfileOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (cores.empty()) return fail("cores must not be empty");
+  for (int c : cores)
+    if (c < 1 || c > kMaxRasterCores) return fail("cores must each be in [1, 10]");
+  if (!(clock_mhz > 0 && std::isfinite(clock_mhz))) return fail("clock_mhz must be > 0");
+  if (profile_every < 1) return fail("profile_every must be >= 1");
+  return true;
+}
+
+namespace {
+
+// Post-process cycles on a raw pyramid, padded to the thesis's 21 classes (missing classes get
+// the most negative logit, so their probabilities are ≈ 0 and the cycles are the thesis's).
+double PostProcessCycles(const std::vector<float>& raw, const PyramidLayout& layout) {
+  const int nc = layout.num_classes;
+  if (raw.size() != std::size_t(kNumCells) * (nc + 5))
+    throw Error("hw-report: raw pyramid holds " + std::to_string(raw.size()) + " values, expected " +
+                std::to_string(std::size_t(kNumCells) * (nc + 5)));
+  std::vector<float> padded(std::size_t(kNumCells) * (kNumClasses + 5), -32.0f);
+  for (int c = 0; c < kNumCells; ++c) {
+    for (int j = 0; j < std::min(nc, kNumClasses); ++j) padded[std::size_t(c) * 26 + j] = raw[std::size_t(c) * (nc + 5) + j];
+    for (int k = 0; k < 5; ++k) padded[std::size_t(c) * 26 + 21 + k] = raw[std::size_t(c) * (nc + 5) + nc + k];
+  }
+  PyramidLayout l21 = layout;
+  l21.num_classes = kNumClasses;
+  const PostProcessParams prm = PostProcessParamsFor(l21, 200);
+  hls::stream<raw_t> in("pp_raw");
+  RawPyramidToStream(padded, kNumClasses, in);
+  struct PpOut {
+    prob_t prob[kNumCells][kNumClasses];
+    CellBox boxes[kNumCells];
+    Window windows[kNumCells];
+    class_sum_t sums[kNumClasses];
+    CycleTrace trace;
+  };
+  std::unique_ptr<PpOut> o(new PpOut);
+  PostProcess<kNumClasses>(in, prm, o->prob, o->boxes, o->windows, o->sums, &o->trace);
+  return double(ModuleTotal(o->trace, ""));
+}
+
+}  // namespace
+
+HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& options,
+                    const HwProfileOptions& popt) {
+  std::string why;
+  if (!popt.IsValid(&why)) throw Error("hw-report: invalid profile option: " + why);
+  FilterOptions opt = options;
+  opt.restarts = 1;
+  HwRunner runner(scene, mesh, prior, cls, opt);
+  HwMemories& m = runner.mem();
+  const int N = opt.num_particles;
+  HwProfile prof;
+  prof.num_particles = N;
+  prof.num_vertices = runner.num_vertices();
+  prof.num_faces = runner.num_faces();
+  prof.clock_mhz = popt.clock_mhz;
+  if (!popt.raw_pyramid.empty()) prof.postprocess_cycles = PostProcessCycles(popt.raw_pyramid, prior.layout);
+
+  const int K = int(popt.cores.size());
+  std::vector<HwCoreModel> acc(K);
+  std::vector<std::map<std::string, double>> module_acc(K);
+  std::vector<std::vector<std::string>> module_order(K);
+  std::vector<double> iteration_cycles_sum(K, 0.0), first_iteration(K, 0.0);
+  int modelled = 0, iterations = 0;
+  double window_area = 0;
+  std::unique_ptr<CycleTrace> one(new CycleTrace);
+  std::unique_ptr<CycleTrace> vm_trace(new CycleTrace);
+  std::unique_ptr<RasterCoreBank> bank1(new RasterCoreBank[kMaxRasterCores]);
+  double last_model_iteration[16] = {};
+
+  auto hook = [&](int it, int cur, CycleTrace* weigh, CycleTrace* update, bool last) {
+    ++iterations;
+    if (!weigh) {  // not modelled: count the last modelled iteration's cycles for the average
+      for (int k = 0; k < K; ++k) iteration_cycles_sum[k] += last_model_iteration[k];
+      return;
+    }
+    ++modelled;
+    const Sample* samples = m.samples[cur];
+    // Per particle: the raster core's work, from a one-particle run of the same top.
+    std::vector<ParticleWork> work(N);
+    std::vector<Window> windows(N);
+    WeighConfig cfg1 = runner.config();
+    cfg1.num_cores = 1;
+    for (int p = 0; p < N; ++p) {
+      Sample s1[kMaxParticles];
+      s1[0] = samples[p];
+      weight_t w1[kMaxParticles];
+      particle_index_t i1[kMaxParticles];
+      RasterCoreOutput st1[kMaxParticles];
+      DepthDistributionCounts dd1;
+      one->Clear();
+      HwWeighTop(1, cfg1, s1, m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem, bank1.get(), w1, i1, st1, &dd1,
+                 one.get());
+      work[p] = ParticleWorkFromTrace(*one);
+      windows[p] = m.cell_windows[samples[p].cell.to_int()];
+      window_area += double(windows[p].width.to_int()) * windows[p].height.to_int();
+    }
+    // M-independent modules of the weigh region, from the real top's trace.
+    const auto weigh_modules = ModuleCycles(*weigh);
+    auto module_cycles = [&](const std::string& name) {
+      for (const auto& [mod, c] : weigh_modules)
+        if (mod == name) return double(c);
+      return 0.0;
+    };
+    const double head = double(ModuleDepth(*weigh, "sample_info") + ModuleDepth(*weigh, "ft_chain") +
+                               ModuleDepth(*weigh, "ft_distributor"));
+    // Tail after the last round: the merger's last particle (II 3 + depth), the sorter chain's
+    // latency and its drain, the glue kernels' depths.
+    const double tail = double(3 + ModuleDepth(*weigh, "weight_merger") + ModuleDepth(*weigh, "weight_split") +
+                               ModuleDepth(*weigh, "stats") + kSortCells) +
+                        double(ModuleTotal(*weigh, "sorter")) - double(LoopTrips(*weigh, "sorter", "SORT_INSERT"));
+    const double update_cycles = update ? double(ModuleTotal(*update, "resample") + ModuleTotal(*update, "diffusion")) : 0.0;
+    for (int k = 0; k < K; ++k) {
+      const int M = popt.cores[k];
+      // Depth distributor per round (its per-round cycles) and the vertex multiplier for M.
+      std::vector<std::uint64_t> round_fill;
+      double dd_cycles = 0, reads_shared = 0, reads_unshared = 0;
+      for (int first = 0; first < N; first += M) {
+        const int active = std::min(M, N - first);
+        hls::stream<Window> info[kMaxRasterCores];
+        hls::stream<depth_t> dep[kMaxRasterCores];
+        DepthDistributionCounts cnt;
+        one->Clear();
+        DistributeDepth(active, M, windows.data() + first, m.depth, runner.config().img_width, info, dep, &cnt, one.get());
+        for (int c = 0; c < active; ++c) {
+          while (!info[c].empty()) info[c].read();
+          while (!dep[c].empty()) dep[c].read();
+        }
+        round_fill.push_back(ModuleTotal(*one, "depth_distributor"));
+        dd_cycles += double(round_fill.back());
+        reads_shared += double(cnt.reads_shared.to_uint64());
+        reads_unshared += double(cnt.reads_unshared.to_uint64());
+      }
+      double vm_cycles = 0;
+      {
+        hls::stream<Vertex> vout[kMaxRasterCores];
+        vm_trace->Clear();
+        // One round suffices for the stream contents; the cycles scale with the rounds.
+        VertexMultiplier(std::min(N, M), M, runner.num_faces(), m.vmem, m.tri_mem, vout, vm_trace.get());
+        for (int c = 0; c < M; ++c)
+          while (!vout[c].empty()) vout[c].read();
+        const int rounds = (N + M - 1) / M;
+        vm_cycles = double(LoopTrips(*vm_trace, "vertex_multiplier", "VM_VERTICES")) * rounds + 5;
+      }
+      // Busiest core: Σ over its particles of fill + compute.
+      double busiest = 0;
+      for (int c = 0; c < M; ++c) {
+        double s = 0;
+        for (int p = c; p < N; p += M) s += double(work[p].fill + work[p].Compute());
+        busiest = std::max(busiest, s);
+      }
+      const double rounds_cycles = double(ComposeRounds(work, round_fill, M));
+      const double weigh_cycles = head + rounds_cycles + tail;
+      HwCoreModel& a = acc[k];
+      a.cores = M;
+      a.depth_distribution_cycles += dd_cycles;
+      a.weigh_cycles += weigh_cycles;
+      a.update_cycles += update_cycles;
+      a.iteration_cycles += weigh_cycles + update_cycles;
+      a.depth_reads_shared += reads_shared;
+      a.depth_reads_unshared += reads_unshared;
+      const double iter = weigh_cycles + update_cycles;
+      last_model_iteration[k] = iter;
+      iteration_cycles_sum[k] += iter;
+      if (it == 0) first_iteration[k] = iter;
+      auto add = [&](const std::string& name, double c) {
+        if (!module_acc[k].count(name)) module_order[k].push_back(name);
+        module_acc[k][name] += c;
+      };
+      for (const auto& [mod, c] : weigh_modules) {
+        if (mod == "raster_core") add(mod, busiest);
+        else if (mod == "depth_distributor") add(mod, dd_cycles);
+        else if (mod == "vertex_multiplier") add(mod, vm_cycles);
+        else add(mod, module_cycles(mod));
+      }
+      if (update)
+        for (const auto& [mod, c] : ModuleCycles(*update)) add(mod, double(c));
+    }
+    (void)last;
+  };
+  auto trace_it = [&](int it) { return it == 0 || it % popt.profile_every == 0; };
+  std::unique_ptr<CycleTrace> init_trace(new CycleTrace);
+  Rng rng(opt.seed);
+  prof.result = runner.Run(rng, nullptr, init_trace.get(), trace_it, hook);
+  prof.result.obj = mesh.name;
+  prof.iterations = iterations;
+  prof.modelled_iterations = modelled;
+  prof.init_cycles = double(DataflowLatency(*init_trace));
+  for (const auto& [mod, c] : ModuleCycles(*init_trace)) prof.init_modules.push_back({mod, double(c)});
+  const FilterStats& st = prof.result.stats;
+  prof.init_reads = double(st.init_cdf_reads) / N;
+  prof.init_reads_linear = double(st.init_cdf_reads_linear) / N;
+  const double draws = double(std::max(1, iterations - 1)) * (N - std::min(opt.num_elite, N));
+  prof.resample_reads = double(st.resample_cdf_reads) / draws;
+  prof.resample_reads_linear = double(st.resample_cdf_reads_linear) / draws;
+  prof.faces_total = double(st.faces_total);
+  prof.faces_front = double(st.faces_front);
+  prof.mean_window_area = modelled > 0 ? window_area / (double(modelled) * N) : 0;
+  for (int k = 0; k < K; ++k) {
+    HwCoreModel a = acc[k];
+    const double d = std::max(1, modelled);
+    a.depth_distribution_cycles /= d;
+    a.weigh_cycles /= d;
+    a.update_cycles /= d;
+    a.iteration_cycles /= d;
+    a.depth_reads_shared /= d;
+    a.depth_reads_unshared /= d;
+    a.first_iteration_cycles = prof.postprocess_cycles + prof.init_cycles + first_iteration[k];
+    a.average_iteration_cycles =
+        (iteration_cycles_sum[k] + prof.postprocess_cycles + prof.init_cycles) / std::max(1, iterations);
+    for (const auto& name : module_order[k]) a.modules.push_back({name, module_acc[k][name] / d});
+    prof.models.push_back(a);
+  }
+  return prof;
+}
+
+}  // namespace posefilter

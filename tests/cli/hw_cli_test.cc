@@ -1,0 +1,81 @@
+// End-to-end tests of the hw engine through the built `posefilter` binary: `hw-report` (table
+// and --json, input errors) and `--engine hw` accepted by the filter commands.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "test_util.h"
+
+namespace posefilter {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_util::FreshTempPath;
+using testing_util::ReadFile;
+using testing_util::RunCli;
+using testing_util::RunResult;
+
+class HwCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = FreshTempPath("hw_cli_test");
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(HwCliTest, HwReportPrintsTheTableAndWritesJson) {
+  const fs::path json = dir_ / "report.json";
+  const RunResult r = RunCli({"hw-report", "--target", "box", "--iterations", "2", "--particles", "30", "--cores", "1,5",
+                              "--json", json.string()},
+                             dir_ / "report");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("depth distribution"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("faces / rendered faces"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("M = 5 cores"), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(ReadFile(json));
+  EXPECT_EQ(j["particles"], 30);
+  EXPECT_EQ(j["iterations"], 2);
+  ASSERT_EQ(j["models"].size(), 2u);
+  EXPECT_EQ(j["models"][0]["cores"], 1);
+  EXPECT_EQ(j["models"][1]["thesis"]["average_iteration_ms"], 120.0);
+  EXPECT_TRUE(j["models"][0]["thesis"]["first_iteration_ms"].get<double>() < 0);  // not reported
+  // One core never shares a depth pixel; five cores share some (windows overlap).
+  EXPECT_EQ(j["models"][0]["depth_reads_shared"], j["models"][0]["depth_reads_unshared"]);
+  EXPECT_LT(j["models"][1]["depth_reads_shared"].get<double>(), j["models"][1]["depth_reads_unshared"].get<double>());
+  EXPECT_GT(j["models"][0]["average_iteration_ms"].get<double>(), j["models"][1]["average_iteration_ms"].get<double>());
+  EXPECT_GT(j["faces_ratio"].get<double>(), 1.0);
+  EXPECT_FALSE(j["models"][1]["modules"].empty());
+}
+
+TEST_F(HwCliTest, HwReportRejectsBadOptions) {
+  RunResult r = RunCli({"hw-report", "--cores", "11", "--iterations", "1"}, dir_ / "bad_cores");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("cores"), std::string::npos) << r.err;
+  r = RunCli({"hw-report", "--engine", "reference", "--iterations", "1"}, dir_ / "bad_engine");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--engine"), std::string::npos) << r.err;
+  r = RunCli({"hw-report", "--particles", "600", "--iterations", "1"}, dir_ / "bad_particles");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("510"), std::string::npos) << r.err;
+  r = RunCli({"hw-report", "--profile-every", "0", "--iterations", "1"}, dir_ / "bad_every");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("profile_every"), std::string::npos) << r.err;
+}
+
+TEST_F(HwCliTest, SuiteRunsTheHwEngine) {
+  const RunResult r = RunCli({"suite", "--count", "1", "--targets", "box", "--engine", "hw", "--particles", "64",
+                              "--iterations", "3", "--restarts", "1"},
+                             dir_ / "suite");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("recall"), std::string::npos) << r.out;
+  const RunResult bad = RunCli({"suite", "--count", "1", "--engine", "fpga"}, dir_ / "suite_bad");
+  EXPECT_EQ(bad.code, 2);  // CLI11 usage error: not one of the engines
+}
+
+}  // namespace
+}  // namespace posefilter
