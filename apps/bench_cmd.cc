@@ -28,6 +28,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <numeric>
@@ -225,7 +226,13 @@ int RunBench(int argc, char** argv) {
     // ---- Results.
     const double base_ms = Median(runs[0].ms_per_iteration);
     bool agree = true;
-    for (const auto& r : runs) agree = agree && r.check_fragments == runs[0].check_fragments;
+    // The float engines must count the same fragments exactly; the hw engine's fixed-point
+    // model (model on a 1 mm grid, 16-bit sines) moves outlines by under a pixel: within 2 %.
+    for (const auto& r : runs) {
+      const double tol = (r.engine == "hw" || runs[0].engine == "hw") ? 0.02 : 0.0;
+      agree = agree && std::fabs(double(r.check_fragments - runs[0].check_fragments)) <=
+                           tol * double(runs[0].check_fragments);
+    }
     std::printf("%-10s %12s %12s %12s %12s %13s %10s %12s %9s\n", "engine", "ms/iter(med)", "ms/iter(min)",
                 "cpu-ms/iter", "particles/s", "Mfragments/s", "faces/wgh", "rendered/wgh", "speedup");
     nlohmann::json rows = nlohmann::json::array();

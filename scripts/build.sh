@@ -4,3 +4,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --preset release >/dev/null
 cmake --build --preset release
+
+# `import posefilter` without pip: a posefilter.pth in the user site-packages of each Python 3
+# on this machine (Debian's /usr/bin/python3 and the first python3 on PATH) points at the module
+# the build made in build/release/python. Rewritten on every build; delete it to undo.
+if [ -d build/release/python/posefilter ]; then
+  for py in /usr/bin/python3 "$(command -v python3 || true)"; do
+    [ -x "$py" ] || continue
+    site=$("$py" -c 'import site; print(site.getusersitepackages())' 2>/dev/null) || continue
+    mkdir -p "$site" && echo "$PWD/build/release/python" > "$site/posefilter.pth"
+  done
+fi
