@@ -5,11 +5,12 @@
 //   1. vertex pass: transform + project + snap, 8 vertices per step (bit-identical float ops);
 //   2. face pass: gather, back-face cull, window test, setup of edge functions, 8 faces per
 //      step; front faces in the window are compacted into a triangle list;
-//   3. raster: per triangle, a branch-free 4×4-pixel stamp when its box fits, else rows of 8
-//      pixel centres; double edge functions holding exact
+//   3. raster: per triangle, a branch-free 4×4-pixel stamp when its box fits, several rows per
+//      vector for narrow boxes, else rows of 8 pixel centres; double edge functions holding exact
 //      integers; z-buffer mode keeps the max of 1/z per pixel (a window-sized buffer in the
 //      workspace), z-buffer-free mode scores every fragment on the spot;
-//   4. z-buffer mode: one scoring pass over the covered part of the window.
+//   4. z-buffer mode: one scoring pass over the covered part of the window (contiguous loads
+//      of scene depth and normals per pixel run, no gathers).
 // Runtime dispatch: one implementation source (cpu_kernel_impl.inc) compiled three times —
 // portable (baseline x86-64 / any target), AVX2, AVX-512 — picked by what the CPU supports.
 // docs/PERFORMANCE.md ("The cpu engine's kernel") has the design notes and the exactness arguments.

@@ -307,6 +307,49 @@ TEST_P(CpuKernelTarget, TinyTrianglesAtTheWindowsBottomRightMatch) {
   EXPECT_GT(edges_, 500);
 }
 
+TEST_P(CpuKernelTarget, TallAndWideSliversMatch) {
+  // Slivers in every box shape the raster distinguishes: 1–2 and 3–4 px wide and 5–60 px tall
+  // (several rows per vector), 9–16 px wide (two row pieces), at sub-pixel positions and
+  // depths 0.6–1.4 m, overlapping, each listed in both windings (one is culled), with
+  // windows that clip them on every side.
+  Rng rng(77);
+  const Camera cam = PinholeCamera(525, 525);
+  for (int scene = 0; scene < 4; ++scene) {
+    Mesh m;
+    m.name = "slivers";
+    auto vertex = [&](double u, double v, double z) {
+      // Object frame = camera frame shifted 1 m along the optical axis (T below).
+      m.vertices.emplace_back(float((u - cam.cx) * z / cam.fx), float((v - cam.cy) * z / cam.fy), float(z - 1.0));
+      return std::uint32_t(m.vertices.size() - 1);
+    };
+    for (int t = 0; t < 300; ++t) {
+      const int shape = t % 3;
+      const double w = shape == 0 ? rng.Uniform(0.3, 2.0) : shape == 1 ? rng.Uniform(2.0, 4.0) : rng.Uniform(8.0, 16.0);
+      const double h = shape == 2 ? rng.Uniform(1.0, 6.0) : rng.Uniform(5.0, 60.0);
+      const double u0 = rng.Uniform(260, 380), v0 = rng.Uniform(180, 300), z = rng.Uniform(0.6, 1.4);
+      const std::uint32_t a = vertex(u0, v0, z), b = vertex(u0 + w * rng.Uniform(0, 1), v0 + h, z * rng.Uniform(0.95, 1.05)),
+                          c = vertex(u0 + w, v0 + h * rng.Uniform(0, 1), z);
+      m.faces.push_back({a, b, c});
+      m.faces.push_back({a, c, b});
+    }
+    const Eigen::Isometry3d T = testing_util::At(0, 0, 1);
+    const DepthImage depth = MakeScene(m, T, cam, rng);
+    const std::vector<float> normals = ComputeSceneNormals(depth, cam);
+    for (const PixelRect& w : {PixelRect{0, 0, 640, 480}, PixelRect{300, 220, 41, 37}, PixelRect{255, 175, 23, 130},
+                               PixelRect{330, 200, 60, 3}}) {
+      ScoreKernelParams k = MakeKernelParams(m, T, cam);
+      k.window = w;
+      k.depth = depth.data.data();
+      k.depth_width = depth.width;
+      k.depth_height = depth.height;
+      k.scene_normals = normals.data();
+      Check(k, "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
+    }
+  }
+  EXPECT_GT(fragments_, 20000);
+  EXPECT_GT(icp_, 1000);
+}
+
 INSTANTIATE_TEST_SUITE_P(CpuKernel, CpuKernelTarget,
                          ::testing::Values(CpuTarget::kPortable, CpuTarget::kAvx2, CpuTarget::kAvx512),
                          [](const ::testing::TestParamInfo<CpuTarget>& i) {
