@@ -17,7 +17,8 @@
 // repeat 2, ...), so a load change on a shared machine hits all of them alike. Before the timed
 // repeats each engine makes a one-iteration check run, which also warms the caches: it weighs
 // the initial particle set — the same poses for every engine, since the initial draw uses no
-// weights — so every correct engine must count the same fragments (N_raster) there.
+// weights — so every correct float engine must count the same fragments (N_raster) there
+// (the hw engine draws its own particles with the thesis's LFSRs and is not compared).
 // Throughput: particles/s = weighings / timed seconds, fragments/s = fragments / timed seconds,
 // both summed over all repeats.
 // CPU time: the process's CPU time (all threads) is read at the end of each iteration (the
@@ -226,12 +227,15 @@ int RunBench(int argc, char** argv) {
     // ---- Results.
     const double base_ms = Median(runs[0].ms_per_iteration);
     bool agree = true;
-    // The float engines must count the same fragments exactly; the hw engine's fixed-point
-    // model (model on a 1 mm grid, 16-bit sines) moves outlines by under a pixel: within 2 %.
+    // The float engines draw the same particles and must count the same fragments exactly.
+    // The hw engine draws its own (the thesis's LFSRs, fixed-point samples), so its check run
+    // weighs other poses: it is left out of the comparison (its agreement with the float
+    // weighing of the same pose is tested in tests/hw).
+    const EngineRun* first_float = nullptr;
     for (const auto& r : runs) {
-      const double tol = (r.engine == "hw" || runs[0].engine == "hw") ? 0.02 : 0.0;
-      agree = agree && std::fabs(double(r.check_fragments - runs[0].check_fragments)) <=
-                           tol * double(runs[0].check_fragments);
+      if (r.engine == "hw") continue;
+      if (first_float == nullptr) first_float = &r;
+      agree = agree && r.check_fragments == first_float->check_fragments;
     }
     std::printf("%-10s %12s %12s %12s %12s %13s %10s %12s %9s\n", "engine", "ms/iter(med)", "ms/iter(min)",
                 "cpu-ms/iter", "particles/s", "Mfragments/s", "faces/wgh", "rendered/wgh", "speedup");
@@ -270,7 +274,7 @@ int RunBench(int argc, char** argv) {
                       {"check_weight", r.check_weight}});
     }
     std::printf("speedup = median ms/iteration of %s / that of the engine, same run. check run (initial set, same "
-                "poses for all): fragments %s\n",
+                "poses for all float engines; hw draws its own): fragments %s\n",
                 engines[0].c_str(), agree ? "agree" : "DIFFER");
     if (json_out.is_open()) {
       const nlohmann::json doc = {

@@ -134,7 +134,8 @@ TEST(BenchCli, TinyRunWritesTableAndJson) {
     EXPECT_GT(e.at("fragments").get<std::int64_t>(), 0);
     EXPECT_GT(e.at("check_fragments").get<std::int64_t>(), 0);
     EXPECT_LT(e.at("check_fragments").get<std::int64_t>(), e.at("fragments").get<std::int64_t>());
-    EXPECT_EQ(e.at("check_fragments"), rows[0].at("check_fragments"));  // engines agree
+    if (engines[i] != "hw")  // the float engines weigh the same initial set: exactly equal
+      EXPECT_EQ(e.at("check_fragments"), rows[0].at("check_fragments"));
     EXPECT_GT(e.at("particles_per_s").get<double>(), 0);
     EXPECT_GT(e.at("fragments_per_s").get<double>(), e.at("particles_per_s").get<double>());
     EXPECT_EQ(e.at("faces_per_weighing"), 2048.0);
