@@ -11,9 +11,10 @@
 //
 // Differences from the reference engine's options (all documented in docs/HARDWARE.md):
 // num_particles ≤ 510, max_window_px ≤ 200, a 640×480-or-smaller image and the thesis's
-// 6300-cell pyramid are required (Error otherwise); the float-only extensions rotation_cap,
-// init_oversample, the align-depth / ICP moves and the final polish are not modelled (the
-// quarter-turn move only about the object's x axis).
+// 6300-cell pyramid are required (Error otherwise). Modelled in fixed point: annealing,
+// occlusion-aware N_raster, the edge penalty, grown windows, region and rotation caps, the
+// align-depth move and a σ floor of one LSB. Not modelled (float-only): init_oversample, the
+// ICP move and the final polish; the quarter-turn move only about the object's x axis.
 #pragma once
 
 #include <cstdint>

@@ -13,8 +13,16 @@
 //         axis. With T = Tr·Rz(yaw)·Ry(pitch)·Rx(roll), R·Rx(±π/2) = Rz·Ry·Rx(roll ± π/2): a
 //         pure angle add. Quarter turns about the object's y/z axes (the reference engine's
 //         kQuarterTurn) need a rotation-matrix → Euler decomposition and are NOT modelled; nor
-//         are the reference's align-depth and ICP moves (they need per-particle measurements
-//         the hw weight path does not produce).
+//         is the reference's ICP move (it needs a 6×6 solve per particle).
+//   14    ours, optional (probability 0 = thesis): align depth — shift the position along the
+//         camera's viewing ray through the object origin so its depth changes by the mean depth
+//         difference Δ = mean(z_s − z_r) the raster core measured for this particle at the last
+//         weighing (depth_diff_sum / depth_diff_count, the side-band word of the sample memory,
+//         computed by the top's CollectStats). Like the reference's kAlignDepth
+//         (src/filter/diffusion.cc): c = C·p + t (camera frame), p' = p + Cᵀ(Δ·c/c_z). Since
+//         Cᵀc = p − o with o = −Cᵀt the camera centre in the base frame, the kernel computes
+//         v = p − o, c_z = (row 2 of C)·v, k = Δ/c_z (one divider), p' = p + k·v: 6 multiplies and
+//         one division; nothing happens when c_z ≤ kMinAlignCzRaw (behind/at the camera).
 // Cell moves shift the position by the difference of the two cells' heuristic-volume centres
 // and change the cell (like the reference engine); a target off the grid or with an invalid
 // volume (ours: a volume is valid iff min ≤ max on all three axes — the driver writes an
@@ -22,7 +30,11 @@
 // Spread (§7.6, linear decay): σ_t = d·σ_t0, σ_r = d·σ_r0, d = max(1 − w_best, min_fraction)
 // (min_fraction = 0 is the thesis's pure linear decay; ours: a floor, like the reference).
 // Quantization: the noise is rounded to the sample's LSB (xyz 2^-10 m, angles 2^-8 rad), so a
-// σ below ~half an LSB moves most particles by 0 — Table 7.1's resolution. Translations
+// σ below ~half an LSB moves most particles by 0 — Table 7.1's resolution. Ours, optional
+// (sigma_floor_lsb = 1; 0 = thesis): σ_t and σ_r are raised to at least one LSB of their output
+// format (2^-10 m, 2^-8 rad) after the decay, so late diffusion keeps moving: the reference's
+// floor 0.05·σ_t0 = 0.5 mm is about half an xyz_t LSB and would otherwise leave ≈ 2/3 of the
+// translation draws at 0. One compare and a mux per σ. Translations
 // saturate at ±4 m; rotation noise is clamped to ±π, then every angle is wrapped to (−π, π]
 // with π = 804·2^-8 (two conditional ±2π steps: exact for any angle_t input).
 // The first num_elite particles are copied unchanged.
@@ -61,12 +73,24 @@ enum HwMove {
   kHwNeighbourCell,
   kHwOtherLevel,
   kHwQuarterRoll,  // ours
+  kHwAlignDepth,   // ours
   kNumHwMoves
 };
 constexpr int kNumThesisMoves = 13;
 
 // ours (not in Table 7.1): a diffusion σ, metres or radians, ufixed<18,2> (0 … 4, LSB 2^-16).
 typedef ap_ufixed<18, 2> sigma_t;
+
+// ours (not in Table 7.1): the per-particle mean depth difference Δ = mean(z_s − z_r) of the
+// sample memory's side-band, metres, fixed<18,3> (±4 m, LSB 2^-15 m ≈ 0.03 mm; |Δ| ≤ the
+// raster core's align_band in practice).
+typedef ap_fixed<18, 3> depth_off_t;
+// ours: a coefficient of the camera rotation C (row 2, for c_z), fixed<18,2> (LSB 2^-16), and
+// the camera centre o in the base frame, metres, fixed<15,5> (±16 m; LSB 2^-10 m = xyz_t's).
+typedef ap_fixed<18, 2> ray_coef_t;
+typedef ap_fixed<15, 5> cam_pos_t;
+// Smallest camera depth c_z (raw 2^-10 m) at which the align-depth move acts: 16 mm.
+constexpr int kMinAlignCzRaw = 16;
 
 // Angle constants in angle_t raw units (2^-8 rad).
 constexpr int kPiRaw = 804;      // round(π·256)
@@ -79,11 +103,16 @@ struct DiffusionParams {
   // Cumulative move thresholds on a 15-bit LFSR word v ∈ [1, 32767]: the move is the first m
   // with v ≤ move_thr[m]. Non-decreasing, move_thr[kNumHwMoves − 1] = 32767 (equal
   // neighbours = probability 0). Set with SetMoveProbabilities on the host.
-  ap_uint<15> move_thr[kNumHwMoves] = {2521,  5041,  7562,  10082, 12603, 15123, 17644,
-                                       20164, 22685, 25205, 27726, 30246, 32767, 32767};
+  ap_uint<15> move_thr[kNumHwMoves] = {2521,  5041,  7562,  10082, 12603, 15123, 17644, 20164,
+                                       22685, 25205, 27726, 30246, 32767, 32767, 32767};
   sigma_t sigma_t0 = sigma_t(0.01);       // translation σ at w_best = 0, metres, [0, 4)
   sigma_t sigma_r0 = sigma_t(0.2);        // rotation σ at w_best = 0, radians, [0, 4)
   weight_t min_fraction = weight_t(0.0);  // floor of the decay d, [0, 1] (0 = thesis)
+  ap_uint<1> sigma_floor_lsb = 0;         // ours: 1 = σ_t ≥ 2^-10 m, σ_r ≥ 2^-8 rad (0 = thesis)
+  // ours, align-depth move geometry (SetAlignDepthCamera): row 2 of C (base → camera) and the
+  // camera centre o = −Cᵀt in the base frame. All 0 (the default) = the move never acts.
+  ray_coef_t cam_row_z[3] = {ray_coef_t(0), ray_coef_t(0), ray_coef_t(0)};
+  cam_pos_t cam_origin[3] = {cam_pos_t(0), cam_pos_t(0), cam_pos_t(0)};
 #ifndef __SYNTHESIS__
   // Host-side check (the driver turns a false into posefilter::Error naming *why).
   bool IsValid(std::string* why) const {
@@ -125,6 +154,20 @@ inline bool SetMoveProbabilities(DiffusionParams* p, const double prob[kNumHwMov
 }
 // The thesis configuration (= the defaults of DiffusionParams).
 inline DiffusionParams ThesisDiffusionParams() { return DiffusionParams{}; }
+// The align-depth geometry from the base→camera extrinsic C (rot row-major, trans metres).
+// False, with *why, when the camera centre lies outside ±16 m (cam_pos_t) or a value is not
+// finite.
+inline bool SetAlignDepthCamera(DiffusionParams* p, const double rot[9], const double trans[3], std::string* why) {
+  for (int k = 0; k < 3; ++k) {
+    double o = 0;
+    for (int r = 0; r < 3; ++r) o -= rot[3 * r + k] * trans[r];  // o = −Cᵀt
+    if (!(o > -15.99 && o < 15.99)) return *why = "the camera centre must lie within +-16 m (fixed<15,5>)", false;
+    p->cam_origin[k] = cam_pos_t(ap_fixed<15, 5, AP_RND, AP_SAT>(o));
+    if (!(rot[6 + k] >= -1.01 && rot[6 + k] <= 1.01)) return *why = "camera rotation entries must lie in [-1, 1]", false;
+    p->cam_row_z[k] = ray_coef_t(ap_fixed<18, 2, AP_RND, AP_SAT>(rot[6 + k]));
+  }
+  return true;
+}
 #endif
 
 // What one particle's move consumes from the random sources (drawn every clock).
@@ -287,15 +330,56 @@ inline ap_uint<18> DecayRaw(weight_t w_best, weight_t min_fraction) {
   return ap_uint<18>(d);
 }
 
+// The align-depth shift of one position (raw 2^-10 m per axis) for a depth offset off:
+// v = p − o, c_z = row_z·v, k = off/c_z, shift = k·v (see the header). Returns false (no
+// shift) when c_z ≤ kMinAlignCzRaw.
+inline bool AlignDepthShift(const Sample& s, depth_off_t off, const DiffusionParams& p, ap_int<24> shift[3]) {
+#pragma HLS INLINE
+  // v raw 2^-10 m (|v| < 20 m: 16 bits + sign).
+  const ap_int<18> v[3] = {ap_int<18>(RawOf(s.x)) - ap_int<18>(RawOf(p.cam_origin[0])),
+                           ap_int<18>(RawOf(s.y)) - ap_int<18>(RawOf(p.cam_origin[1])),
+                           ap_int<18>(RawOf(s.z)) - ap_int<18>(RawOf(p.cam_origin[2]))};
+  // c_z raw 2^-26 (coef 2^-16 × v 2^-10) → 2^-10, rounded.
+  ap_int<40> cz26 = 0;
+ALIGN_CZ:
+  for (int k = 0; k < 3; ++k) {
+#pragma HLS UNROLL
+    cz26 += ap_int<40>(RawOf(p.cam_row_z[k])) * ap_int<40>(v[k]);
+  }
+  const ap_int<40> cz = (cz26 + (ap_int<40>(1) << 15)) >> 16;
+  shift[0] = shift[1] = shift[2] = 0;
+  if (cz <= kMinAlignCzRaw) return false;
+  // k raw 2^-20: (off raw 2^-15 << 15) / c_z raw 2^-10 (one signed divider; |k| < 2^13).
+  const ap_int<48> num = ap_int<48>(RawOf(off)) << 15;
+  const ap_int<48> k20 = num / ap_int<48>(cz);
+ALIGN_SHIFT:
+  for (int k = 0; k < 3; ++k) {
+#pragma HLS UNROLL
+    // k·v: 2^-20 × 2^-10 = 2^-30 → 2^-10, rounded half up; clamped like ScaledNoise.
+    const ap_int<66> prod = k20 * v[k];
+    ap_int<66> t = (prod + (ap_int<66>(1) << 19)) >> 20;
+    if (t > ap_int<66>(4000000)) t = 4000000;
+    if (t < ap_int<66>(-4000000)) t = -4000000;
+    shift[k] = ap_int<24>(t);
+  }
+  return true;
+}
+
 // One move on one sample (pure function of its inputs: what the pipeline does per clock).
+// off: the sample's side-band depth offset (read only by the align-depth move).
 inline Sample ApplyMove(const Sample& s, const MoveDraw& d, weight_t w_best, const DiffusionParams& p,
-                        const HeuristicVolume volumes[kNumCells]) {
+                        const HeuristicVolume volumes[kNumCells], depth_off_t off = depth_off_t(0)) {
 #pragma HLS INLINE
   using namespace diffusion_detail;
   const ap_uint<18> decay = DecayRaw(w_best, p.min_fraction);
   // σ raw at 2^-16: decay (2^-17) × σ0 (2^-16) >> 17.
-  const ap_uint<19> st = (ap_uint<36>(decay) * ap_uint<36>(RawOf(p.sigma_t0))) >> 17;
-  const ap_uint<19> sr = (ap_uint<36>(decay) * ap_uint<36>(RawOf(p.sigma_r0))) >> 17;
+  ap_uint<19> st = (ap_uint<36>(decay) * ap_uint<36>(RawOf(p.sigma_t0))) >> 17;
+  ap_uint<19> sr = (ap_uint<36>(decay) * ap_uint<36>(RawOf(p.sigma_r0))) >> 17;
+  // Ours (optional): σ at least one output LSB — 2^-10 m = 64 and 2^-8 rad = 256 raw 2^-16.
+  if (p.sigma_floor_lsb == 1) {
+    if (st < 64) st = 64;
+    if (sr < 256) sr = 256;
+  }
   Sample o = s;
   int rot[3] = {0, 0, 0};  // angle deltas, raw 2^-8
   switch (d.move) {
@@ -319,6 +403,15 @@ inline Sample ApplyMove(const Sample& s, const MoveDraw& d, weight_t w_best, con
     case kHwFlipPitch: rot[1] = kPiRaw; break;
     case kHwFlipYaw: rot[2] = kPiRaw; break;
     case kHwQuarterRoll: rot[0] = d.aux[4] ? kHalfPiRaw : -kHalfPiRaw; break;
+    case kHwAlignDepth: {
+      ap_int<24> sh[3];
+      if (AlignDepthShift(s, off, p, sh)) {
+        o.x = AddXyz(s.x, sh[0]);
+        o.y = AddXyz(s.y, sh[1]);
+        o.z = AddXyz(s.z, sh[2]);
+      }
+      break;
+    }
     case kHwNeighbourCell:
     case kHwOtherLevel: {
       const int t = MoveTargetCell(s.cell, d.move, d.aux, volumes);
@@ -353,12 +446,17 @@ inline Sample ApplyMove(const Sample& s, const MoveDraw& d, weight_t w_best, con
 // Pipeline depth of one particle (cycles): sample BRAM read (2), move decode + target cell
 // (2), volume reads (2), σ multiply (2), noise multiply (2), add/saturate/wrap (1), write (1);
 // the Box–Muller units run ahead (free-running) and add their latency once at the start.
-constexpr int kDiffusionDepth = 12 + kBoxMullerDepth;
+// Ours: the align-depth path runs in parallel with the σ/noise path and is longer — v and c_z
+// (3), a pipelined 48/40-bit divider (≈ 1 cycle per quotient bit: 33 for |k| < 2^13 at 2^-20),
+// k·v (2) — so it sets the depth: 2 + 2 + 3 + 33 + 2 + 1 + 1 = 44 (II stays 1).
+constexpr int kDiffusionDepth = 44 + kBoxMullerDepth;
 
 // The module: out_mem[j] = move(in_mem[selected[j]]) for j ≥ num_elite, a plain copy for
 // j < num_elite; n ≤ kMaxParticles particles, II = 1. w_best: the best weight of the set
-// just weighed (sorter output [0]).
-inline void Diffuse(const Sample in_mem[kMaxParticles], const particle_index_t selected[kMaxParticles], int n,
+// just weighed (sorter output [0]). in_off: the sample memory's side-band (per-particle
+// depth offsets of the set just weighed, same indices as in_mem).
+inline void Diffuse(const Sample in_mem[kMaxParticles], const depth_off_t in_off[kMaxParticles],
+                    const particle_index_t selected[kMaxParticles], int n,
                     int num_elite, weight_t w_best, const DiffusionParams& params,
                     const HeuristicVolume volumes[kNumCells], DiffusionRng& rng,
                     Sample out_mem[kMaxParticles] HW_TRACE_PARAM) {
@@ -369,8 +467,9 @@ DIFFUSION_SAMPLES:
 #pragma HLS PIPELINE II = 1
 #pragma HLS LOOP_TRIPCOUNT min = 1 max = 510
     const Sample s = in_mem[selected[j].to_int()];
+    const depth_off_t off = in_off[selected[j].to_int()];
     const MoveDraw d = rng.Draw(params);  // the sources advance every clock
-    out_mem[j] = (j < num_elite) ? s : ApplyMove(s, d, w_best, params, volumes);
+    out_mem[j] = (j < num_elite) ? s : ApplyMove(s, d, w_best, params, volumes, off);
     ++trips;
   }
   HW_TRACE("diffusion", "DIFFUSION_SAMPLES", trips, 1, kDiffusionDepth);

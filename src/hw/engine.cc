@@ -121,6 +121,7 @@ struct HwMemories {
   weight_t sorted_w[kMaxParticles];
   particle_index_t sorted_idx[kMaxParticles];
   RasterCoreOutput stats[kMaxParticles];
+  depth_off_t offsets[kMaxParticles];  // side-band of the set just weighed: mean z_s − z_r
 };
 
 // Per modelled iteration: what ProfileHw accumulates.
@@ -192,7 +193,7 @@ class HwRunner {
       if (update_trace) update_trace->Clear();
       DepthDistributionCounts dd;
       HwWeighTop(N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem, m.banks, m.sorted_w,
-                 m.sorted_idx, m.stats, &dd, weigh_trace);
+                 m.sorted_idx, m.stats, m.offsets, &dd, weigh_trace);
       for (int p = 0; p < N; ++p) {
         res.stats.faces_total += m.stats[p].faces_total.to_int();
         res.stats.faces_front += m.stats[p].faces_front.to_int();
@@ -207,7 +208,7 @@ class HwRunner {
       const bool last = res.converged || it + 1 == opt_.max_iterations;
       if (!last) {
         ResampleCounters rc;
-        HwUpdateTop(m.sorted_w, m.sorted_idx, m.samples[cur], m.hypothesis, rprm_, resample_rng, dprm_, m.volumes,
+        HwUpdateTop(m.sorted_w, m.sorted_idx, m.samples[cur], m.offsets, m.hypothesis, rprm_, resample_rng, dprm_, m.volumes,
                     diffusion_rng, m.samples[1 - cur], &rc, update_trace);
         res.stats.resample_cdf_reads += rc.cdf_reads;
         res.stats.resample_cdf_reads_linear += rc.cdf_reads_linear;
@@ -266,6 +267,21 @@ class HwRunner {
     cfg_.num_faces = int(mesh.faces.size());
     cfg_.num_cores = kMaxRasterCores;  // results do not depend on M (tested)
     cfg_.img_width = cam.width;
+    cfg_.img_height = cam.height;
+    // Per-particle window growth (ours, as the reference's grow_window): the hardware mesh's
+    // bounding box (of the quantized vertices, so it contains every vertex exactly).
+    cfg_.grow_window = o.grow_window ? 1 : 0;
+    cfg_.max_window = o.max_window_px;
+    {
+      double lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30};
+      for (int i = 0; i < num_vertices_; ++i)
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], m.vmem[k][i].to_double());
+          hi[k] = std::max(hi[k], m.vmem[k][i].to_double());
+        }
+      for (int c = 0; c < 8; ++c)
+        for (int k = 0; k < 3; ++k) cfg_.bbox[c][k] = ToXyz((c >> k) & 1 ? hi[k] : lo[k]);
+    }
 
     // Depth memory: clipped to 4 m, rounded to ufixed<12,2> (Table 7.1).
     for (int v = 0; v < cam.height; ++v)
@@ -365,15 +381,27 @@ class HwRunner {
                                std::max(std::max(o.num_elite, 1), int(std::lround(o.resample_pool * o.num_particles))));
     rprm_.num_elite = std::min(o.num_elite, rprm_.pool_size);
     rprm_.region_cap = o.region_cap < 1 ? std::max(1, int(std::ceil(o.region_cap * rprm_.pool_size))) : 0;
+    // Ours: the reference's rotation cap (niching per hypothesis and orientation bin); 1 = off.
+    rprm_.rotation_cap = o.rotation_cap < 1 ? std::max(1, int(std::ceil(o.rotation_cap * rprm_.pool_size))) : 0;
     std::string cwhy;
     if (!rprm_.IsValid(&cwhy)) throw Error("hw engine: resampling: " + cwhy);
     double prob[kNumHwMoves] = {};
     for (int k = 0; k < kNumThesisMoves; ++k) prob[k] = o.move_probabilities[k];
     prob[kHwQuarterRoll] = o.move_probabilities[int(Move::kQuarterTurn)];
-    // align-depth and ICP moves are not modelled: their probability is spread over the rest
-    // by the normalisation below.
+    prob[kHwAlignDepth] = o.move_probabilities[int(Move::kAlignDepth)];
+    // The ICP move is not modelled: its probability is spread over the rest by the
+    // normalisation below.
     if (!SetMoveProbabilities(&dprm_, prob, &cwhy))
-      throw Error("hw engine: move probabilities: " + cwhy + " (the hw engine models moves 0-12 and the quarter turn)");
+      throw Error("hw engine: move probabilities: " + cwhy +
+                  " (the hw engine models moves 0-12, the quarter turn and align depth)");
+    {
+      double rot[9], trans[3];
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) rot[3 * r + c] = cam.base_to_camera.linear()(r, c);
+        trans[r] = cam.base_to_camera.translation()[r];
+      }
+      if (!SetAlignDepthCamera(&dprm_, rot, trans, &cwhy)) throw Error("hw engine: align-depth move: " + cwhy);
+    }
     auto sigma = [](double v, const char* name) {
       if (!(v < 4)) throw Error(std::string("hw engine: ") + name + " must be < 4 (ufixed<18,2>)");
       return sigma_t(ap_ufixed<18, 2, AP_RND, AP_SAT>(v));
@@ -381,6 +409,9 @@ class HwRunner {
     dprm_.sigma_t0 = sigma(o.sigma_t0_m, "sigma_t0_m");
     dprm_.sigma_r0 = sigma(o.sigma_r0_rad, "sigma_r0_rad");
     dprm_.min_fraction = weight_t(ap_ufixed<18, 1, AP_RND, AP_SAT>(o.min_sigma_fraction));
+    // σ floor of one LSB (ours) whenever the options ask for a σ floor at all: the reference's
+    // 0.05·1 cm = 0.5 mm is half an xyz_t LSB. min_sigma_fraction = 0 → the thesis's decay.
+    dprm_.sigma_floor_lsb = o.min_sigma_fraction > 0 ? 1 : 0;
     if (!dprm_.IsValid(&cwhy)) throw Error("hw engine: diffusion: " + cwhy);
   }
 
@@ -521,18 +552,21 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
     std::vector<Window> windows(N);
     WeighConfig cfg1 = runner.config();
     cfg1.num_cores = 1;
+    ft_t pc[kFtElements];
+    ProjectionTimesCamera(cfg1.cam, pc);
     for (int p = 0; p < N; ++p) {
       Sample s1[kMaxParticles];
       s1[0] = samples[p];
       weight_t w1[kMaxParticles];
       particle_index_t i1[kMaxParticles];
       RasterCoreOutput st1[kMaxParticles];
+      depth_off_t off1[kMaxParticles];
       DepthDistributionCounts dd1;
       one->Clear();
-      HwWeighTop(1, cfg1, s1, m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem, bank1.get(), w1, i1, st1, &dd1,
+      HwWeighTop(1, cfg1, s1, m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem, bank1.get(), w1, i1, st1, off1, &dd1,
                  one.get());
       work[p] = ParticleWorkFromTrace(*one);
-      windows[p] = m.cell_windows[samples[p].cell.to_int()];
+      windows[p] = ParticleWindowHw(samples[p], m.cell_windows[samples[p].cell.to_int()], cfg1, pc);
       window_area += double(windows[p].width.to_int()) * windows[p].height.to_int();
     }
     // M-independent modules of the weigh region, from the real top's trace.

@@ -6,7 +6,14 @@
 //     sorting cells sets how many are kept). Optional (ours, runtime; region_cap = 0 is the
 //     thesis): at most region_cap pool entries per hypothesis (a per-cell label the driver
 //     loads, e.g. the detection a cell's box came from) — the reference engine's region_cap
-//     niching, one counter memory and a compare.
+//     niching, one counter memory and a compare. Optional (ours, runtime; rotation_cap = 0
+//     is the thesis): at most rotation_cap pool entries per (hypothesis, orientation bin) —
+//     the reference engine's rotation_cap (particle_filter.cc RotationBin: which signed base
+//     axis the object's z axis points along most × which of the 4 remaining signed axes its x
+//     axis points along most = the 24 rotations of a cube). The bin is computed from the
+//     sample's angles in the pool loop: 3 SinCos (fx_math), 6 multiplies for R's columns 0
+//     and 2 (R = Rz·Ry·Rx, eq. 7.6–7.7), |·| compares; a 24-bank counter memory (one bank per
+//     bin, cleared with the hypothesis counters in 256 clocks).
 //  2. Elitism: out[0 .. num_elite−1] = the head of the pool, unchanged (diffusion copies them).
 //  3. CDF of the pool weights (eq. 7.3 on the weights): exact running sum, one reciprocal of
 //     the total (fx_math Reciprocal on the leading-one-normalised total), c_i = S_i·(1/S) in
@@ -53,6 +60,8 @@ struct ResampleParams {
   int num_elite = 10;                 // best entries copied unchanged, 0 … pool_size
   int pool_size = kMaxParticles;      // sorted entries the draws choose from, 1 … N (thesis: N)
   int region_cap = 0;                 // ours: max pool entries per hypothesis; 0 = off (thesis)
+  int rotation_cap = 0;               // ours: max pool entries per (hypothesis, orientation
+                                      // bin); 0 = off (thesis)
 #ifndef __SYNTHESIS__
   // Host-side check (the driver turns a false into posefilter::Error naming *why).
   bool IsValid(std::string* why) const {
@@ -60,6 +69,7 @@ struct ResampleParams {
     if (pool_size < 1 || pool_size > num_particles) return *why = "pool_size must be in [1, num_particles]", false;
     if (num_elite < 0 || num_elite > pool_size) return *why = "num_elite must be in [0, pool_size]", false;
     if (region_cap < 0) return *why = "region_cap must be >= 0 (0 = off)", false;
+    if (rotation_cap < 0) return *why = "rotation_cap must be >= 0 (0 = off)", false;
     return true;
   }
 #endif
@@ -71,6 +81,46 @@ struct ResampleCounters {
   uint32_t cdf_reads_linear = 0;  // what scans from index 0 would have read
   uint32_t pool = 0;              // entries in the pool (after the region cap)
 };
+
+constexpr int kRotationBins = 24;  // ours: orientation bins of the rotation cap
+
+// Orientation bin (0 … 23) of a sample's angles, as the reference's RotationBin: za = the axis
+// of the largest |R(·,2)| (first on ties), zs = its sign; xa = the axis ≠ za of the largest
+// |R(·,0)|, xs = its sign; bin = (2·za + zs)·4 + 2·slot(xa) + xs, slot = xa minus 1 if xa > za.
+// R(·,0) = (cy·cp, sy·cp, −sp), R(·,2) = (cy·sp·cr + sy·sr, sy·sp·cr − cy·sr, cp·cr) with
+// c/s of roll (r), pitch (p), yaw (y); products in 2^-32, compared raw.
+inline int RotationBinHw(const Sample& s) {
+#pragma HLS INLINE
+  ap_fixed<18, 2> sr, cr, sp, cp, sy, cy;
+  SinCos(s.roll, &sr, &cr);
+  SinCos(s.pitch, &sp, &cp);
+  SinCos(s.yaw, &sy, &cy);
+  typedef ap_int<40> wide_t;  // 2^-32 (products) or 2^-48 (triple products, shifted to 2^-32)
+  const wide_t spcr = wide_t(RawOf(sp)) * wide_t(RawOf(cr));  // 2^-32
+  const wide_t col0[3] = {wide_t(RawOf(cy)) * wide_t(RawOf(cp)), wide_t(RawOf(sy)) * wide_t(RawOf(cp)),
+                          -(wide_t(RawOf(sp)) << 16)};
+  const wide_t col2[3] = {((wide_t(RawOf(cy)) * (spcr >> 16)) >> 0) + wide_t(RawOf(sy)) * wide_t(RawOf(sr)),
+                          ((wide_t(RawOf(sy)) * (spcr >> 16)) >> 0) - wide_t(RawOf(cy)) * wide_t(RawOf(sr)),
+                          wide_t(RawOf(cp)) * wide_t(RawOf(cr))};
+  wide_t a2[3], a0[3];
+ROT_BIN_ABS:
+  for (int k = 0; k < 3; ++k) {
+#pragma HLS UNROLL
+    a2[k] = col2[k] < 0 ? wide_t(-col2[k]) : col2[k];
+    a0[k] = col0[k] < 0 ? wide_t(-col0[k]) : col0[k];
+  }
+  int za = 0;
+  if (a2[1] > a2[za]) za = 1;
+  if (a2[2] > a2[za]) za = 2;
+  int xa = za == 0 ? 1 : 0;
+  for (int k = 0; k < 3; ++k) {
+#pragma HLS UNROLL
+    if (k != za && a0[k] > a0[xa]) xa = k;
+  }
+  const int zs = col2[za] < 0 ? 1 : 0, xs = col0[xa] < 0 ? 1 : 0;
+  const int slot = xa > za ? xa - 1 : xa;
+  return (za * 2 + zs) * 4 + slot * 2 + xs;
+}
 
 // out_idx[j]: the relative sample-memory index of the j-th particle of the next set; the
 // first num_elite are the elite (unchanged), the rest are the draws (to be diffused).
@@ -86,13 +136,20 @@ inline void Resample(const weight_t sorted_w[kMaxParticles], const particle_inde
   particle_index_t pool_idx[kMaxParticles];
   weight_t pool_w[kMaxParticles];
   ap_uint<10> per_hyp[kMaxHypotheses];
+  ap_uint<10> per_niche[kRotationBins][kMaxHypotheses];
+#pragma HLS ARRAY_PARTITION variable = per_niche complete dim = 1
   int pool = 0;
-  const bool capped = params.region_cap > 0;
+  const bool rot_capped = params.rotation_cap > 0;
+  const bool capped = params.region_cap > 0 || rot_capped;
   if (capped) {
   RESAMPLE_CAP_CLEAR:
     for (int h = 0; h < kMaxHypotheses; ++h) {
 #pragma HLS PIPELINE II = 1
       per_hyp[h] = 0;
+      for (int b = 0; b < kRotationBins; ++b) {
+#pragma HLS UNROLL
+        per_niche[b][h] = 0;
+      }
     }
     HW_TRACE("resample", "RESAMPLE_CAP_CLEAR", kMaxHypotheses, 1, 1);
   }
@@ -104,11 +161,14 @@ RESAMPLE_POOL:
     ++examined;
     bool take = true;
     if (capped) {
-      const hypothesis_t h = hypothesis[samples[sorted_idx[j]].cell];
-      if (per_hyp[h] >= ap_uint<10>(params.region_cap)) {
-        take = false;
-      } else {
+      const Sample& s = samples[sorted_idx[j]];
+      const hypothesis_t h = hypothesis[s.cell];
+      const int bin = rot_capped ? RotationBinHw(s) : 0;
+      if (params.region_cap > 0 && per_hyp[h] >= ap_uint<10>(params.region_cap)) take = false;
+      if (rot_capped && per_niche[bin][h] >= ap_uint<10>(params.rotation_cap)) take = false;
+      if (take) {
         per_hyp[h] = per_hyp[h] + 1;
+        per_niche[bin][h] = per_niche[bin][h] + 1;
       }
     }
     if (take) {
@@ -118,8 +178,11 @@ RESAMPLE_POOL:
     }
   }
   // II: 1 without the cap; with it the counter read-modify-write needs 2 clocks (BRAM read
-  // latency 1, no forwarding), depth 4 (index read, sample read, label read, counter).
-  HW_TRACE("resample", "RESAMPLE_POOL", examined, capped ? 2 : 1, capped ? 4 : 2);
+  // latency 1, no forwarding), depth 4 (index read, sample read, label read, counter). The
+  // rotation bin (ours) runs beside the label read: SinCos (kSinCosDepth) + 2 multiply stages
+  // (col2's triple product) + compares/encode (2) before the counter stage.
+  HW_TRACE("resample", "RESAMPLE_POOL", examined, capped ? 2 : 1,
+           rot_capped ? 4 + kSinCosDepth + 4 : (capped ? 4 : 2));
 
   // ---- 2. Elite ----
   const int elite = params.num_elite < pool ? params.num_elite : pool;

@@ -262,6 +262,7 @@ TEST(HwRandomDiffusion, ModuleIsDeterministicPerSeedAndKeepsTheElite) {
   FillVolumes(vol);
   static Sample in[kMaxParticles], a[kMaxParticles], b[kMaxParticles], c[kMaxParticles];
   particle_index_t sel[kMaxParticles];
+  static depth_off_t zero_off[kMaxParticles];  // zero-initialised side-band
   for (int i = 0; i < kMaxParticles; ++i) {
     in[i] = MakeSample(0.001 * i, -0.3, 0.8, 0.01 * (i % 300), -0.5, 1.0, 300 + i);
     sel[i] = (i * 7) % kMaxParticles;
@@ -269,9 +270,9 @@ TEST(HwRandomDiffusion, ModuleIsDeterministicPerSeedAndKeepsTheElite) {
   DiffusionParams p = ThesisDiffusionParams();
   DiffusionRng r1(123), r2(123), r3(124);
   CycleTrace trace;
-  Diffuse(in, sel, kMaxParticles, 10, weight_t(0.3), p, vol, r1, a, &trace);
-  Diffuse(in, sel, kMaxParticles, 10, weight_t(0.3), p, vol, r2, b, nullptr);
-  Diffuse(in, sel, kMaxParticles, 10, weight_t(0.3), p, vol, r3, c, nullptr);
+  Diffuse(in, zero_off, sel, kMaxParticles, 10, weight_t(0.3), p, vol, r1, a, &trace);
+  Diffuse(in, zero_off, sel, kMaxParticles, 10, weight_t(0.3), p, vol, r2, b, nullptr);
+  Diffuse(in, zero_off, sel, kMaxParticles, 10, weight_t(0.3), p, vol, r3, c, nullptr);
   int differ_seed = 0, moved = 0;
   for (int j = 0; j < kMaxParticles; ++j) {
     ASSERT_TRUE(SameSample(a[j], b[j])) << j;
@@ -327,6 +328,160 @@ TEST(HwRandomDiffusion, ParamsValidation) {
   p.min_fraction = weight_t(1.5);
   EXPECT_FALSE(p.IsValid(&why));
   EXPECT_NE(why.find("min_fraction"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace posefilter::hw
+
+// ---- Ours: σ floor of one LSB, align-depth move (issue 4 accuracy work) ----
+namespace posefilter::hw {
+namespace {
+
+// Late diffusion: σ_t = 0.05·1 cm = 0.5 mm ≈ 0.51 LSB. A draw z = 0.9 gives 0.46 LSB: rounded to
+// 0 without the floor; with it σ_t = 1 LSB and the move is round(0.9) = 1 LSB. Rotations: σ_r0
+// = 0.02 → 1 mrad ≈ 0.26 LSB, raised to 1 LSB.
+TEST(HwRandomDiffusion, SigmaFloorKeepsLateMovesAtOneLsb) {
+  static HeuristicVolume vol[kNumCells];
+  FillVolumes(vol);
+  const Sample s = MakeSample(0.25, -0.5, 1.25, 0.5, -1.0, 2.0, 700);
+  MoveDraw d{};
+  d.z[0] = d.z[1] = d.z[2] = gauss_t(0.9);
+  const weight_t w(0.99);
+  DiffusionParams off = OnlyMove(kHwTranslateAll, 0.01, 0.02, 0.05);
+  DiffusionParams on = off;
+  on.sigma_floor_lsb = 1;
+  d.move = kHwTranslateAll;
+  EXPECT_TRUE(SameSample(ApplyMove(s, d, w, off, vol), s));
+  Sample o = ApplyMove(s, d, w, on, vol);
+  EXPECT_NEAR(o.x.to_double() - s.x.to_double(), kXyzLsb, 1e-12);
+  EXPECT_NEAR(o.z.to_double() - s.z.to_double(), kXyzLsb, 1e-12);
+  d.move = kHwRotateAll;
+  EXPECT_TRUE(SameSample(ApplyMove(s, d, w, off, vol), s));
+  o = ApplyMove(s, d, w, on, vol);
+  EXPECT_NEAR(o.yaw.to_double() - s.yaw.to_double(), kAngLsb, 1e-12);
+  // A σ above the floor is untouched by it: 1 cm at w = 0 and z = 0.9 → 9.2 LSB either way.
+  d.move = kHwTranslateX;
+  EXPECT_TRUE(SameSample(ApplyMove(s, d, weight_t(0), off, vol), ApplyMove(s, d, weight_t(0), on, vol)));
+  // Statistics with the module's Gaussians: the floor gives a spread of ≈ 1 LSB (the rounding
+  // of N(0, 1 LSB) to integers has std √(1 + 1/12) ≈ 1.04 LSB), without it ≈ 0.56 LSB.
+  DiffusionRng rng(5);
+  double s_on = 0, s_off = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    MoveDraw r = rng.Draw(on);
+    r.move = kHwTranslateX;
+    const double a = (ApplyMove(s, r, w, on, vol).x.to_double() - s.x.to_double()) / kXyzLsb;
+    const double b = (ApplyMove(s, r, w, off, vol).x.to_double() - s.x.to_double()) / kXyzLsb;
+    s_on += a * a;
+    s_off += b * b;
+  }
+  EXPECT_NEAR(std::sqrt(s_on / n), 1.04, 0.06);
+  EXPECT_LT(std::sqrt(s_off / n), 0.7);
+}
+
+// A camera looking along a tilted direction: C = Rx(a)·Rz(b), t = (0.1, −0.2, 0.9).
+struct TestCamera {
+  double rot[9], trans[3] = {0.1, -0.2, 0.9};
+  TestCamera() {
+    const double a = 2.3, b = 0.4;
+    const double rx[9] = {1, 0, 0, 0, std::cos(a), -std::sin(a), 0, std::sin(a), std::cos(a)};
+    const double rz[9] = {std::cos(b), -std::sin(b), 0, std::sin(b), std::cos(b), 0, 0, 0, 1};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        rot[3 * r + c] = 0;
+        for (int k = 0; k < 3; ++k) rot[3 * r + c] += rx[3 * r + k] * rz[3 * k + c];
+      }
+  }
+  void ToCamera(const double p[3], double c[3]) const {
+    for (int r = 0; r < 3; ++r) c[r] = rot[3 * r] * p[0] + rot[3 * r + 1] * p[1] + rot[3 * r + 2] * p[2] + trans[r];
+  }
+};
+
+// Against src/filter/diffusion.cc's kAlignDepth in double: p' = p + Cᵀ(Δ·c/c_z). Tolerance per
+// axis: the final rounding to xyz_t (½ LSB) + C quantized to 2^-17 (≤ 3·2^-17·|v| in c_z) + o
+// rounded to 2^-11 (× |k| ≤ 0.2) — well below 1 LSB for |Δ| ≤ 0.1 m and c_z ≥ 0.5 m; the
+// depth then changes by Δ and the projection stays put (both to the same tolerance).
+TEST(HwRandomDiffusion, AlignDepthMatchesTheFloatMoveAlongTheViewingRay) {
+  static HeuristicVolume vol[kNumCells];
+  FillVolumes(vol);
+  const TestCamera cam;
+  DiffusionParams p = OnlyMove(kHwAlignDepth);
+  std::string why;
+  ASSERT_TRUE(SetAlignDepthCamera(&p, cam.rot, cam.trans, &why)) << why;
+  MoveDraw d{};
+  d.move = kHwAlignDepth;
+  Lfsr15 lfsr(77);
+  int tested = 0;
+  for (int i = 0; i < 400; ++i) {
+    const double u[4] = {lfsr.Draw().to_int() / 32768.0, lfsr.Draw().to_int() / 32768.0,
+                         lfsr.Draw().to_int() / 32768.0, lfsr.Draw().to_int() / 32768.0};
+    const Sample s = MakeSample(-0.8 + 1.6 * u[0], -0.8 + 1.6 * u[1], -0.8 + 1.6 * u[2], 0.1, 0.2, 0.3, 400);
+    const depth_off_t off = depth_off_t(ap_fixed<18, 3, AP_RND, AP_SAT>(-0.1 + 0.2 * u[3]));
+    const double q[3] = {s.x.to_double(), s.y.to_double(), s.z.to_double()};
+    double c[3];
+    cam.ToCamera(q, c);
+    const Sample o = ApplyMove(s, d, weight_t(0.5), p, vol, off);
+    EXPECT_TRUE(o.roll == s.roll && o.pitch == s.pitch && o.yaw == s.yaw && o.cell == s.cell);
+    if (c[2] < 0.5) {
+      if (c[2] <= 0) EXPECT_TRUE(SameSample(o, s)) << "behind the camera: no move";
+      continue;
+    }
+    ++tested;
+    const double k = off.to_double() / c[2];
+    const double out[3] = {o.x.to_double(), o.y.to_double(), o.z.to_double()};
+    for (int a = 0; a < 3; ++a) {
+      double ref = q[a];
+      for (int r = 0; r < 3; ++r) ref += cam.rot[3 * r + a] * k * c[r];  // Cᵀ(k·c)
+      EXPECT_NEAR(out[a], ref, 0.75 * kXyzLsb) << "axis " << a << " sample " << i;
+    }
+    double c2[3];
+    cam.ToCamera(out, c2);
+    EXPECT_NEAR(c2[2] - c[2], off.to_double(), 1.5 * kXyzLsb) << i;
+    EXPECT_NEAR(c2[0] / c2[2], c[0] / c[2], 2.0 * kXyzLsb / c[2]) << i;
+    EXPECT_NEAR(c2[1] / c2[2], c[1] / c[2], 2.0 * kXyzLsb / c[2]) << i;
+  }
+  EXPECT_GT(tested, 100);
+  // Δ = 0 or the thesis default geometry (all 0): no move.
+  const Sample s = MakeSample(0.1, 0.2, 0.3, 0, 0, 0, 400);
+  EXPECT_TRUE(SameSample(ApplyMove(s, d, weight_t(0), p, vol, depth_off_t(0)), s));
+  EXPECT_TRUE(SameSample(ApplyMove(s, d, weight_t(0), OnlyMove(kHwAlignDepth), vol, depth_off_t(0.05)), s));
+  // A camera centre beyond fixed<15,5> is refused on the host.
+  const double far[3] = {20, 20, 20};  // |o| = 34.6 m: some axis beyond 16 m
+  EXPECT_FALSE(SetAlignDepthCamera(&p, cam.rot, far, &why));
+  EXPECT_NE(why.find("16 m"), std::string::npos);
+}
+
+// The module reads each draw's side-band word at the same index as its sample.
+TEST(HwRandomDiffusion, ModuleReadsTheSideBandOfTheSelectedSample) {
+  static HeuristicVolume vol[kNumCells];
+  FillVolumes(vol);
+  const TestCamera cam;
+  DiffusionParams p = OnlyMove(kHwAlignDepth);
+  std::string why;
+  ASSERT_TRUE(SetAlignDepthCamera(&p, cam.rot, cam.trans, &why)) << why;
+  static Sample in[kMaxParticles], out[kMaxParticles];
+  static depth_off_t off[kMaxParticles];
+  particle_index_t sel[kMaxParticles];
+  // A point in front of the camera: c = C·p + t with p = Cᵀ((0, 0, 1) − t) has c_z = 1 m.
+  double pc[3] = {0, 0, 0};
+  for (int a = 0; a < 3; ++a)
+    for (int r = 0; r < 3; ++r) pc[a] += cam.rot[3 * r + a] * ((r == 2 ? 1.0 : 0.0) - cam.trans[r]);
+  for (int i = 0; i < kMaxParticles; ++i) {
+    in[i] = MakeSample(pc[0], pc[1], pc[2], 0, 0, 0, 400);
+    off[i] = depth_off_t(i % 2 ? 0.02 : 0.0);  // odd particles measured a 2 cm misalignment
+    sel[i] = (i * 3 + 1) % kMaxParticles;
+  }
+  DiffusionRng rng(9);
+  Diffuse(in, off, sel, kMaxParticles, 4, weight_t(0.5), p, vol, rng, out, nullptr);
+  for (int j = 0; j < kMaxParticles; ++j) {
+    const bool should_move = j >= 4 && sel[j].to_int() % 2 == 1;
+    EXPECT_EQ(!SameSample(out[j], in[0]), should_move) << j;
+    if (should_move) {
+      double q[3] = {out[j].x.to_double(), out[j].y.to_double(), out[j].z.to_double()}, c[3];
+      cam.ToCamera(q, c);
+      EXPECT_NEAR(c[2], 1.02, 2 * kXyzLsb) << j;
+    }
+  }
 }
 
 }  // namespace

@@ -280,3 +280,106 @@ TEST(HwRandomResample, ParamsValidationNamesTheConstraint) {
 
 }  // namespace
 }  // namespace posefilter::hw
+
+// ---- Ours: the rotation cap (issue 4 accuracy work) ----
+namespace posefilter::hw {
+namespace {
+
+constexpr int kHalfPiRawForTest = 402;  // round(π/2·256), angle_t raw
+
+// The reference's RotationBin (src/filter/particle_filter.cc), in double, on R = Rz·Ry·Rx.
+// *margin: the smallest gap of the decisions (argmax and sign) — near-ties are skipped, where
+// the 2^-16 SinCos error may legitimately pick the other bin.
+int FloatRotationBin(double roll, double pitch, double yaw, double* margin) {
+  const double cr = std::cos(roll), sr = std::sin(roll), cp = std::cos(pitch), sp = std::sin(pitch);
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  const double col0[3] = {cy * cp, sy * cp, -sp};
+  const double col2[3] = {cy * sp * cr + sy * sr, sy * sp * cr - cy * sr, cp * cr};
+  auto signed_axis = [&](const double* v, int exclude, int* axis, int* sign) {
+    int best = exclude == 0 ? 1 : 0;
+    for (int a = 0; a < 3; ++a)
+      if (a != exclude && std::fabs(v[a]) > std::fabs(v[best])) best = a;
+    for (int a = 0; a < 3; ++a)
+      if (a != exclude && a != best) *margin = std::min(*margin, std::fabs(v[best]) - std::fabs(v[a]));
+    *margin = std::min(*margin, std::fabs(v[best]));
+    *axis = best;
+    *sign = v[best] < 0 ? 1 : 0;
+  };
+  *margin = 1e9;
+  int za, zs, xa, xs;
+  signed_axis(col2, -1, &za, &zs);
+  signed_axis(col0, za, &xa, &xs);
+  const int slot = xa > za ? xa - 1 : xa;
+  return (za * 2 + zs) * 4 + slot * 2 + xs;
+}
+
+TEST(HwRandomResample, RotationBinMatchesTheReferenceBins) {
+  Rng rng(31);
+  int compared = 0;
+  bool seen[kRotationBins] = {};
+  for (int i = 0; i < 4000; ++i) {
+    Sample s{};
+    s.roll = FixedFromRaw<12, 4>(ap_int<12>(int(rng.UniformInt(1608)) - 803));
+    s.pitch = FixedFromRaw<12, 4>(ap_int<12>(int(rng.UniformInt(1608)) - 803));
+    s.yaw = FixedFromRaw<12, 4>(ap_int<12>(int(rng.UniformInt(1608)) - 803));
+    double margin;
+    const int ref = FloatRotationBin(s.roll.to_double(), s.pitch.to_double(), s.yaw.to_double(), &margin);
+    if (margin < 1e-3) continue;  // SinCos error ≤ 2^-16 per factor: ≤ 1e-4 per entry
+    ++compared;
+    const int hw = RotationBinHw(s);
+    ASSERT_EQ(hw, ref) << "angles " << s.roll.to_double() << " " << s.pitch.to_double() << " " << s.yaw.to_double();
+    seen[hw] = true;
+  }
+  EXPECT_GT(compared, 3500);
+  for (int b = 0; b < kRotationBins; ++b) EXPECT_TRUE(seen[b]) << "bin " << b << " never reached";
+}
+
+// Three orientations (identity, yaw +π/2, pitch +π/2 — three different bins) in rank blocks
+// 0..14, 15..29, 30..; one hypothesis. A rotation cap of 5 admits ranks 0..4, 15..19, 30..34.
+TEST(HwRandomResample, RotationCapLimitsEachOrientationNiche) {
+  Rng rng(13);
+  std::vector<uint32_t> raw(kMaxParticles);
+  for (auto& r : raw) r = 100 + uint32_t(rng.UniformInt(100000));
+  Input in;
+  Build(raw, &in);
+  const std::vector<int> rank = RankOf(in);
+  for (int k = 0; k < kMaxParticles; ++k) {
+    Sample& s = in.samples[in.idx[k].to_int()];
+    s.cell = 5;
+    if (k >= 15 && k < 30) s.yaw = FixedFromRaw<12, 4>(ap_int<12>(kHalfPiRawForTest));
+    if (k >= 30) s.pitch = FixedFromRaw<12, 4>(ap_int<12>(kHalfPiRawForTest));
+  }
+  in.hyp[5] = 3;
+  const int b0 = RotationBinHw(in.samples[in.idx[0].to_int()]), b1 = RotationBinHw(in.samples[in.idx[15].to_int()]),
+            b2 = RotationBinHw(in.samples[in.idx[30].to_int()]);
+  ASSERT_TRUE(b0 != b1 && b1 != b2 && b0 != b2);
+  ResampleParams p;
+  p.pool_size = 20;
+  p.num_elite = 15;
+  p.rotation_cap = 5;
+  Lfsr18 lfsr(4);
+  particle_index_t out[kMaxParticles];
+  ResampleCounters cnt;
+  Resample(in.w, in.idx, in.samples, in.hyp, p, lfsr, out, &cnt, nullptr, nullptr);
+  EXPECT_EQ(cnt.pool, 15u);
+  const int expect_ranks[15] = {0, 1, 2, 3, 4, 15, 16, 17, 18, 19, 30, 31, 32, 33, 34};
+  for (int j = 0; j < 15; ++j) EXPECT_EQ(rank[out[j].to_int()], expect_ranks[j]) << j;  // the elite = the pool
+  for (int j = 0; j < kMaxParticles; ++j) {
+    const int r = rank[out[j].to_int()];
+    ASSERT_TRUE(r < 5 || (r >= 15 && r < 20) || (r >= 30 && r < 35)) << r;
+  }
+  // Off (0): the pool is the best 20 again.
+  p.rotation_cap = 0;
+  cnt = ResampleCounters{};
+  Resample(in.w, in.idx, in.samples, in.hyp, p, lfsr, out, &cnt, nullptr, nullptr);
+  EXPECT_EQ(cnt.pool, 20u);
+  for (int j = 0; j < kMaxParticles; ++j) ASSERT_LT(rank[out[j].to_int()], 20);
+  // Validation names the option.
+  p.rotation_cap = -1;
+  std::string why;
+  EXPECT_FALSE(p.IsValid(&why));
+  EXPECT_NE(why.find("rotation_cap"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace posefilter::hw

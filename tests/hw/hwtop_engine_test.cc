@@ -130,6 +130,7 @@ struct WeighOutput {
   std::vector<double> sorted_w;
   std::vector<int> sorted_idx;
   std::vector<long> n_raster, n_depth;
+  std::vector<double> offsets;  // side-band, particle order
   DepthDistributionCounts dd;
   std::unique_ptr<CycleTrace> trace{new CycleTrace};
 };
@@ -139,9 +140,15 @@ void Weigh(SmallProblem& sp, int cores, WeighOutput* out) {
   weight_t w[kMaxParticles];
   particle_index_t idx[kMaxParticles];
   RasterCoreOutput stats[kMaxParticles];
+  depth_off_t offsets[kMaxParticles];
   HwWeighTop(sp.n, sp.cfg, sp.samples, sp.cell_windows, sp.class_prob, sp.depth.get(), sp.vmem, sp.tri_mem,
-             sp.banks.get(), w, idx, stats, &out->dd, out->trace.get());
+             sp.banks.get(), w, idx, stats, offsets, &out->dd, out->trace.get());
   for (int p = 0; p < sp.n; ++p) {
+    // The side-band: each particle's mean z_s − z_r, to depth_off_t's LSB (2^-15 m) + rounding.
+    const long cnt = long(stats[p].depth_diff_count.to_uint64());
+    const double mean = cnt > 0 ? stats[p].depth_diff_sum.to_double() / double(cnt) : 0.0;
+    EXPECT_NEAR(offsets[p].to_double(), mean, 1.0 / 32768) << p;
+    out->offsets.push_back(offsets[p].to_double());
     out->sorted_w.push_back(w[p].to_double());
     out->sorted_idx.push_back(idx[p].to_int());
     out->n_raster.push_back(long(stats[p].n_raster.to_uint64()));
@@ -160,6 +167,10 @@ TEST(HwTopWeigh, ResultsDoNotDependOnTheCoreCountAndTheSetIsSorted) {
   EXPECT_EQ(one.sorted_w, ten.sorted_w);
   EXPECT_EQ(one.sorted_idx, ten.sorted_idx);
   EXPECT_EQ(one.n_raster, ten.n_raster);
+  EXPECT_EQ(one.offsets, ten.offsets);
+  int nonzero_offsets = 0;
+  for (double d : one.offsets) nonzero_offsets += d != 0;
+  EXPECT_GT(nonzero_offsets, 0);  // particles that render the object measure a misalignment
   for (int p = 1; p < sp->n; ++p) EXPECT_GE(one.sorted_w[p - 1], one.sorted_w[p]);
   // Particles near the truth render the object: some weight well above the ρ-only floor.
   EXPECT_GT(one.sorted_w[0], 0.5);
@@ -317,10 +328,10 @@ TEST(HwTopEngineErrors, InputsTheHardwareCannotTake) {
   o = SmallHwOptions();
   o.engine = "fpga";
   expect_error(o, "engine");
-  // A move set with only the float-only moves (align depth, ICP) has nothing to model.
+  // A move set with only the float-only move (ICP) has nothing to model.
   o = SmallHwOptions();
   o.move_probabilities.fill(0.0);
-  o.move_probabilities[int(Move::kAlignDepth)] = 1;
+  o.move_probabilities[int(Move::kIcpStep)] = 1;
   expect_error(o, "move probabilities");
 
   // An image larger than the hardware's depth memory.
