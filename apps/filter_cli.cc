@@ -97,6 +97,7 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("lod_max_faces"), o->lod_max_faces, "level of detail: render the mesh simplified to at most this many faces (0 = full mesh)");
   add(OptionOf("polish_steps"), o->polish_steps, "final polish: ICP steps per polished candidate (0 = off)");
   app.add_flag("!--no-polish-turns", o->polish_turns, "final polish: do not try the 23 cube turns of each seed");
+  app.add_flag("!--no-polish-pivots", o->polish_pivots, "final polish: turn about the box centre only (no edge/corner pivots)");
   add(OptionOf("polish_seeds"), o->polish_seeds, "final polish: niche leaders per run used as seeds");
   add(OptionOf("polish_climbers"), o->polish_climbers, "final polish: candidates refined by pattern search");
   app.add_flag("!--no-grow-window", o->grow_window, "weigh each particle in its cell's window only (thesis)");

@@ -113,6 +113,10 @@ struct FilterOptions {
   // 0 = off (the thesis: the filter's best particle is the answer).
   int polish_steps = 8;
   bool polish_turns = true;          // include the 23 turned copies (false: refine only)
+  // Also turn about the bounding box's edges and corners (9 pivots per turn), weigh every
+  // copy once, and polish only the best polish_keep copies.
+  bool polish_pivots = true;
+  int polish_keep = 48;
   // Seeds per run: the best particle of each (hypothesis, orientation) niche of the run's
   // final set, best first. With turns, each seed costs 24 × (polish_steps + 1) weighings.
   int polish_seeds = 1;

@@ -248,6 +248,7 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (polish_steps < 0 || polish_steps > 100) return fail("polish_steps must be in [0, 100]");
   if (polish_seeds < 1 || polish_seeds > 1000) return fail("polish_seeds must be in [1, 1000]");
   if (polish_climbers < 0 || polish_climbers > 1000) return fail("polish_climbers must be in [0, 1000]");
+  if (polish_keep < 1 || polish_keep > 100000) return fail("polish_keep must be in [1, 100000]");
   if (tracker_bins < 1 || tracker_bins > 4096) return fail("tracker_bins must be in [1, 4096]");
   if (!(sigma_t0_m >= 0 && std::isfinite(sigma_t0_m))) return fail("sigma_t0_m must be >= 0");
   if (!(sigma_r0_rad >= 0 && std::isfinite(sigma_r0_rad))) return fail("sigma_r0_rad must be >= 0");
@@ -509,18 +510,38 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   const Eigen::Vector3d centre = 0.5 * (ctx.bbox_corners[0] + ctx.bbox_corners[7]);
   std::vector<Eigen::Matrix3d> turns = CubeRotations();
   if (!o.polish_turns) turns.resize(1);
+  // Pivots: a turn about the centre, and (polish_pivots) the same turn followed by the shift
+  // that puts a corner of the turned bounding box where that corner of the seed's box was —
+  // a turn about an edge or corner, as when an object tips over onto another face. Half
+  // extents e and, turned, e' = |R|·e; corner σ ∈ {±1}³ moves the centre by σ∘(e − e'),
+  // seed's object frame. Turns that keep the box (e' = e) need no shift.
+  const Eigen::Vector3d half = 0.5 * (ctx.bbox_corners[7] - ctx.bbox_corners[0]);
   std::vector<Particle> cands;
-  cands.reserve(seeds.size() * turns.size());
   for (const Particle& s : seeds)
     for (const Eigen::Matrix3d& R : turns) {
-      Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
-      turn.linear() = R;
-      turn.translation() = centre - R * centre;
-      Particle p = s;
-      p.pose = TransformToPose(PoseToTransform(s.pose) * turn);
-      p.scored = false;
-      cands.push_back(p);
+      const Eigen::Vector3d diff = half - R.cwiseAbs() * half;
+      const int pivots = o.polish_pivots && diff.norm() > 1e-6 ? 9 : 1;
+      for (int k = 0; k < pivots; ++k) {
+        Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+        turn.linear() = R;
+        turn.translation() = centre - R * centre;
+        if (k > 0) {
+          const Eigen::Vector3d sigma((k - 1) & 1 ? 1.0 : -1.0, (k - 1) & 2 ? 1.0 : -1.0, (k - 1) & 4 ? 1.0 : -1.0);
+          turn.translation() += sigma.cwiseProduct(diff);
+        }
+        Particle p = s;
+        p.pose = TransformToPose(PoseToTransform(s.pose) * turn);
+        p.scored = false;
+        cands.push_back(p);
+      }
     }
+  // With pivots, weigh every copy once and polish only the best polish_keep of them.
+  if (o.polish_pivots && int(cands.size()) > o.polish_keep) {
+    WeighAll(ctx, cands, stats);
+    std::partial_sort(cands.begin(), cands.begin() + o.polish_keep, cands.end(),
+                      [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
+    cands.resize(o.polish_keep);
+  }
   const filter::DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o);
   Rng unused(0);  // the ICP move draws no random numbers
   std::vector<Particle> path_best(cands.size());  // best weighed state of each candidate
