@@ -29,32 +29,6 @@ double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-
-
-// Counts valid depth pixels in any rectangle in O(1) (summed-area table of the valid mask).
-class ValidDepthCounter {
- public:
-  explicit ValidDepthCounter(const DepthImage& d) : w_(d.width + 1), sat_(std::size_t(d.width + 1) * (d.height + 1), 0) {
-    for (int v = 0; v < d.height; ++v) {
-      long row = 0;
-      for (int u = 0; u < d.width; ++u) {
-        row += d.at(u, v) > 0 ? 1 : 0;
-        sat_[std::size_t(v + 1) * w_ + (u + 1)] = sat_[std::size_t(v) * w_ + (u + 1)] + row;
-      }
-    }
-  }
-  const std::vector<long>& table() const { return sat_; }
-  long Count(const PixelRect& r) const {
-    auto at = [&](int u, int v) { return sat_[std::size_t(v) * w_ + u]; };
-    return at(r.u0 + r.width, r.v0 + r.height) - at(r.u0, r.v0 + r.height) -
-           at(r.u0 + r.width, r.v0) + at(r.u0, r.v0);
-  }
-
- private:
-  int w_;
-  std::vector<long> sat_;
-};
-
 // The particle's window (§7.5.3, SPEC §6.2): the cell's box centred on the box centre, each
 // side at least min_side (the object's projected diameter, so a box smaller than the object
 // cannot truncate its rendering) and at most max_px, then shifted ("saturated") to lie inside
@@ -95,19 +69,12 @@ struct Context {
   const FilterOptions& opt;
   std::vector<Volume> volumes;       // heuristic volume per cell (base frame)
   std::vector<PixelRect> windows;    // window per cell
-  std::vector<long> n_depth;         // valid depth pixels per window
   InlierParams inlier;               // this iteration's inlier thresholds (annealed)
   std::vector<float> normals;        // scene normals, 3 per pixel, camera frame (0 = none)
   std::vector<int> hypothesis;       // niching: cells sharing one decoded box share an id
   int hypothesis_count = 0;
-  std::vector<long> valid_sat;       // summed-area table of valid depth, (W+1)×(H+1)
+  render::ValidDepthSat valid_depth;  // N_depth of any window in O(1) (summed-area table)
   std::array<Eigen::Vector3d, 8> bbox_corners;  // the model's bounding box, object frame, m
-  // Valid depth pixels in a rectangle, O(1).
-  long CountValid(const PixelRect& r) const {
-    const int w = scene.depth.width + 1;
-    auto at = [&](int u, int v) { return valid_sat[std::size_t(v) * w + u]; };
-    return at(r.u0 + r.width, r.v0 + r.height) - at(r.u0, r.v0 + r.height) - at(r.u0 + r.width, r.v0) + at(r.u0, r.v0);
-  }
 };
 
 // The window a particle is weighed in (ours, FilterOptions::grow_window): its cell's window
@@ -178,7 +145,7 @@ double Weigh(const Context& ctx, const Particle& p, render::CpuWorkspace* ws, Sc
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
   const double r_raster = n_raster > 0 ? std::min(1.0, I / double(n_raster)) : 0.0;
-  const long nd = ctx.CountValid(k.window);
+  const long nd = long(ctx.valid_depth.Count(k.window));
   const double r_depth = nd > 0 ? std::min(1.0, I / double(nd)) : 0.0;
   const double rho = ctx.prior.Prob(p.cell, ctx.cls);
   const double r_edge = out->n_edge > 0 ? double(out->n_edge_continued) / double(out->n_edge) : 0.0;
@@ -297,31 +264,22 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera), {}, 0};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera), {}, 0, {}, {}};
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
   ctx.volumes = ComputeHeuristics(scene.depth, scene.camera, prior.boxes, hopt);
   const int cells = prior.layout.CellCount();
-  const ValidDepthCounter counter(scene.depth);
-  ctx.valid_sat = counter.table();
-  {
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = Eigen::Vector3d::Constant(-1e30);
-    for (const auto& v : mesh.vertices) {
-      lo = lo.cwiseMin(v.cast<double>());
-      hi = hi.cwiseMax(v.cast<double>());
-    }
-    for (int i = 0; i < 8; ++i)
-      ctx.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  }
+  ctx.valid_depth = render::ValidDepthSat(scene.depth.data.data(), scene.depth.width, scene.depth.height);
+  const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
+  for (int i = 0; i < 8; ++i)
+    ctx.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
   ctx.windows.resize(cells);
-  ctx.n_depth.resize(cells);
   for (int c = 0; c < cells; ++c) {
     // The object's diameter in pixels at the depth of the cell's volume centre.
     const double z_cam = ctx.volumes[c].valid ? (scene.camera.base_to_camera * ctx.volumes[c].Centre()).z() : 1.0;
     const double min_side = options.min_window_diameters * diameter * scene.camera.fx / std::max(z_cam, options.near_m);
     ctx.windows[c] = CellWindow(prior.boxes[c], min_side, options.max_window_px, scene.camera.width, scene.camera.height);
-    ctx.n_depth[c] = counter.Count(ctx.windows[c]);
   }
   // Hypotheses for niching: cells whose decoded boxes agree to the pixel share one (all the
   // cells a detection covers carry its box; a cell no detection reaches keeps its anchor).
