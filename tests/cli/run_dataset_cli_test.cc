@@ -20,24 +20,9 @@ using testing_util::ReadFile;
 using testing_util::RunCli;
 using testing_util::RunResult;
 
-class RunDatasetCliTest : public testing_util::ScratchDirTest {
+class RunDatasetCliTest : public testing_util::TinyBopTest {
  protected:
-  RunDatasetCliTest() : ScratchDirTest("run_dataset") {}
-  static void SetUpTestSuite() {
-    base_dir_ = new fs::path(testing_util::FreshTempPath("run_dataset_base"));
-    tiny_ = new testing_util::TinyBop(testing_util::MakeTinyBop(*base_dir_, 3));
-  }
-  static void TearDownTestSuite() {
-    std::error_code ec;
-    fs::remove_all(*base_dir_, ec);
-    delete tiny_;
-    delete base_dir_;
-  }
-  std::string Copy() {
-    const fs::path dst = dir() / "ds";
-    fs::copy(*base_dir_, dst, fs::copy_options::recursive);
-    return dst.string();
-  }
+  RunDatasetCliTest() : TinyBopTest("run_dataset") {}
   // run-dataset with a tiny filter budget plus `extra`.
   RunResult Run(const std::string& dataset, const std::string& csv, const std::vector<std::string>& extra,
                 const std::string& capture = "run") {
@@ -46,11 +31,7 @@ class RunDatasetCliTest : public testing_util::ScratchDirTest {
     args.insert(args.end(), extra.begin(), extra.end());
     return RunCli(args, dir() / capture);
   }
-  static fs::path* base_dir_;
-  static testing_util::TinyBop* tiny_;
 };
-fs::path* RunDatasetCliTest::base_dir_ = nullptr;
-testing_util::TinyBop* RunDatasetCliTest::tiny_ = nullptr;
 
 // Rows of a CSV without the time column (which differs between runs).
 std::vector<std::string> RowsWithoutTime(const std::string& csv_text) {

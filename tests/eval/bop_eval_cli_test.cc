@@ -21,30 +21,16 @@ using testing_util::ReadFile;
 using testing_util::RunCli;
 using testing_util::RunResult;
 
-class BopEvalCliTest : public testing_util::ScratchDirTest {
+class BopEvalCliTest : public testing_util::TinyBopTest {
  protected:
-  BopEvalCliTest() : ScratchDirTest("bop_eval_cli") {}
-  static void SetUpTestSuite() {
-    base_dir_ = new fs::path(testing_util::FreshTempPath("bop_eval_cli_base"));
-    tiny_ = new testing_util::TinyBop(testing_util::MakeTinyBop(*base_dir_, 3));
-  }
-  static void TearDownTestSuite() {
-    std::error_code ec;
-    fs::remove_all(*base_dir_, ec);
-    delete tiny_;
-    delete base_dir_;
-  }
+  BopEvalCliTest() : TinyBopTest("bop_eval_cli") {}
   RunResult Eval(const std::vector<std::string>& extra, const std::string& capture = "eval") {
     std::vector<std::string> args = {"eval", "--dataset", tiny_->root, "--quiet"};
     args.insert(args.end(), extra.begin(), extra.end());
     return RunCli(args, dir() / capture);
   }
   static nlohmann::json ReadJson(const std::string& path) { return nlohmann::json::parse(ReadFile(path)); }
-  static fs::path* base_dir_;
-  static testing_util::TinyBop* tiny_;
 };
-fs::path* BopEvalCliTest::base_dir_ = nullptr;
-testing_util::TinyBop* BopEvalCliTest::tiny_ = nullptr;
 
 TEST_F(BopEvalCliTest, GroundTruthCsvScoresOne) {
   const std::string csv = Path("gt.csv"), json = Path("e.json");

@@ -26,30 +26,10 @@ using testing_util::TinyBop;
 using testing_util::WriteFile;
 
 // One tiny dataset per test binary run, copied per test that changes it.
-class BopIoTest : public testing_util::ScratchDirTest {
+class BopIoTest : public testing_util::TinyBopTest {
  protected:
-  BopIoTest() : ScratchDirTest("bop_io") {}
-  static void SetUpTestSuite() {
-    base_dir_ = new fs::path(testing_util::FreshTempPath("bop_io_base"));
-    tiny_ = new TinyBop(testing_util::MakeTinyBop(*base_dir_, 3));
-  }
-  static void TearDownTestSuite() {
-    std::error_code ec;
-    fs::remove_all(*base_dir_, ec);
-    delete tiny_;
-    delete base_dir_;
-  }
-  // A private copy of the dataset.
-  std::string Copy() {
-    const fs::path dst = dir() / "ds";
-    fs::copy(*base_dir_, dst, fs::copy_options::recursive);
-    return dst.string();
-  }
-  static fs::path* base_dir_;
-  static TinyBop* tiny_;
+  BopIoTest() : TinyBopTest("bop_io") {}
 };
-fs::path* BopIoTest::base_dir_ = nullptr;
-TinyBop* BopIoTest::tiny_ = nullptr;
 
 // Replaces the first occurrence of `from` in the file by `to`; fails the test if absent.
 void Patch(const fs::path& file, const std::string& from, const std::string& to) {

@@ -16,6 +16,7 @@
 
 #include "posefilter/bop.h"
 #include "posefilter/synth.h"
+#include "test_util.h"
 
 namespace posefilter::testing_util {
 
@@ -92,5 +93,33 @@ inline std::vector<BopResult> GtResults(const TinyBop& t) {
     }
   return rows;
 }
+
+// A fixture whose suite shares one tiny 3-image dataset, built once in a per-suite temporary
+// folder and removed after the suite; tests that modify it work on Copy().
+class TinyBopTest : public ScratchDirTest {
+ protected:
+  explicit TinyBopTest(const std::string& tag) : ScratchDirTest(tag) {}
+  static void SetUpTestSuite() {
+    const std::string suite = ::testing::UnitTest::GetInstance()->current_test_suite()->name();
+    base_dir_ = new std::filesystem::path(FreshTempPath("tiny_bop_" + suite));
+    tiny_ = new TinyBop(MakeTinyBop(*base_dir_, 3));
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    std::filesystem::remove_all(*base_dir_, ec);
+    delete tiny_;
+    delete base_dir_;
+    tiny_ = nullptr;
+    base_dir_ = nullptr;
+  }
+  // A private copy of the dataset in this test's scratch folder.
+  std::string Copy() {
+    const std::filesystem::path dst = dir() / "ds";
+    std::filesystem::copy(*base_dir_, dst, std::filesystem::copy_options::recursive);
+    return dst.string();
+  }
+  inline static std::filesystem::path* base_dir_ = nullptr;
+  inline static TinyBop* tiny_ = nullptr;
+};
 
 }  // namespace posefilter::testing_util
