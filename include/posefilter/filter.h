@@ -106,7 +106,7 @@ struct FilterOptions {
                                                       0.02, 0.02, 0.02, 0.05, 0.05, 0.1, 0.04, 0.05};
   double align_band_m = 0.05;        // depth differences used by the align-depth move, metres
   HeuristicOptions heuristics;       // depth_extension_m is set to the object's radius if 0
-  int restarts = 3;                  // ours: independent runs, the best weight wins (time × restarts)
+  int restarts = 4;                  // ours: independent runs, the best weight wins (time × restarts)
   // Final polish (ours): the best pose of every run, and each of those turned about the
   // model's bounding-box centre by the 23 other rotations of a cube, is refined by this many
   // point-to-plane ICP steps at the final inlier threshold; the best weight seen wins.

@@ -6,7 +6,7 @@ import pytest
 import posefilter as pf
 
 # A small filter budget (a fraction of a second per estimate on one core): enough for the easy
-# synthetic scenes below, far below the defaults (510 particles x 17 iterations x 3 restarts).
+# synthetic scenes below, far below the defaults (510 particles x 17 iterations x 4 restarts).
 SMALL = dict(num_particles=150, max_iterations=8, restarts=2, polish_steps=4, threads=2)
 # Tests that compare calls with each other need no accuracy: the smallest budget.
 TINY = dict(num_particles=40, max_iterations=3, restarts=1, polish_steps=0, threads=2)
