@@ -13,8 +13,11 @@
 // num_particles ≤ 510, max_window_px ≤ 200, a 640×480-or-smaller image and the thesis's
 // 6300-cell pyramid are required (Error otherwise). Modelled in fixed point: annealing,
 // occlusion-aware N_raster, the edge penalty, grown windows, region and rotation caps, the
-// align-depth move and a σ floor of one LSB. Not modelled (float-only): init_oversample, the
-// ICP move and the final polish; the quarter-turn move only about the object's x axis.
+// align-depth move and a σ floor of one LSB. Not modelled (float-only): init_oversample and
+// the ICP move; the quarter-turn move only about the object's x axis. The final polish
+// (polish_steps > 0, the default) runs on the host after the hardware runs, in float with the
+// cpu engine's weighing, from each run's best particle; the result's weight is then that float
+// weight. polish_steps = 0 returns the hardware's own answer and weight.
 #pragma once
 
 #include <cstdint>

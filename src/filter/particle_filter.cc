@@ -12,6 +12,7 @@
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
 #include "filter/online_sorter.h"
+#include "filter/run_merge.h"
 #include "render/cpu_kernel.h"
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
@@ -575,6 +576,44 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
 
 }  // namespace
 
+namespace filter {
+
+void MergeRun(EstimateResult* best, EstimateResult&& r, bool first) {
+  FilterStats total = best->stats;
+  total += r.stats;
+  const int iterations = best->iterations + r.iterations;
+  std::vector<double> history = best->best_weight_history, times = best->iteration_ms;
+  history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
+  times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
+  const bool converged = best->converged || r.converged;
+  if (first || r.weight > best->weight) *best = std::move(r);
+  best->stats = total;
+  best->iterations = iterations;
+  best->best_weight_history = std::move(history);
+  best->iteration_ms = std::move(times);
+  best->converged = converged;
+}
+
+PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                         const FilterOptions& options, const std::vector<PolishSeed>& seeds, FilterStats* stats) {
+  if (seeds.empty()) throw Error("polish: no seed pose");
+  FilterOptions o = options;
+  o.engine = "cpu";  // the host's float weighing
+  Mesh lod;
+  Context ctx = BuildContext(scene, MeshAtLod(mesh, o.lod_max_faces, &lod), prior, cls, o);
+  std::vector<Particle> ps(seeds.size());
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    if (seeds[i].cell < 0 || seeds[i].cell >= prior.layout.CellCount()) throw Error("polish: seed cell index out of range");
+    ps[i].pose = seeds[i].pose;
+    ps[i].cell = seeds[i].cell;
+  }
+  FilterStats local;
+  const Particle best = Polish(ctx, ps, stats ? stats : &local);
+  return {best.pose, best.cell, best.weight};
+}
+
+}  // namespace filter
+
 EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                             const FilterOptions& options, const ProgressFn& progress) {
   if (options.engine == "hw") return EstimatePoseHw(scene, mesh, prior, cls, options, progress);  // src/hw/engine.cc
@@ -596,18 +635,7 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
     const ProgressFn run_progress = progress ? ProgressFn([&](int it, double w) {
       progress(offset + it, std::max(w, best.weight));
     }) : ProgressFn();
-    EstimateResult r = RunFilter(ctx, cell_mass, run_rng, run_progress, &run_bests);
-    FilterStats total = best.stats;
-    total += r.stats;
-    const int iterations = best.iterations + r.iterations;
-    std::vector<double> history = best.best_weight_history, times = best.iteration_ms;
-    history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
-    times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
-    if (run == 0 || r.weight > best.weight) best = std::move(r);
-    best.stats = total;
-    best.iterations = iterations;
-    best.best_weight_history = std::move(history);
-    best.iteration_ms = std::move(times);
+    filter::MergeRun(&best, RunFilter(ctx, cell_mass, run_rng, run_progress, &run_bests), run == 0);
   }
   if (options.polish_steps > 0) {
     const Particle p = Polish(ctx, run_bests, &best.stats);

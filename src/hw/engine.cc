@@ -8,7 +8,9 @@
 //     engine), per-cell windows (the reference's CellWindow incl. the minimum window of one
 //     object diameter), hypothesis labels for the region cap, the inlier-threshold schedule;
 //   * hardware (C simulation of the kernels): initialisation, transformation, rasterization and
-//     scoring, weight merging, sorting, resampling, diffusion — every per-particle step.
+//     scoring, weight merging, sorting, resampling, diffusion — every per-particle step;
+//   * host, float, after the runs (polish_steps > 0): the final polish of the runs' best
+//     particles (filter::PolishPoses, the float engines' polish with the cpu weighing).
 // The prior is a float Prior (any of the three kinds of SPEC §3); its class probabilities are
 // rounded into the prob_t memory (ρ of eq. 7.4) — the hw post-process kernel runs only in
 // ProfileHw, on a raw pyramid, for its cycles.
@@ -24,7 +26,9 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <vector>
 
+#include "filter/run_merge.h"
 #include "hw/cycle_model.h"
 #include "hw/postprocess.h"
 #include "hw/top.h"
@@ -426,23 +430,6 @@ class HwRunner {
   int num_vertices_ = 0;
 };
 
-// Merges run r into the best-so-far result as EstimatePose does with restarts.
-void MergeRun(EstimateResult* best, EstimateResult&& r, bool first) {
-  FilterStats total = best->stats;
-  total += r.stats;
-  const int iterations = best->iterations + r.iterations;
-  std::vector<double> history = best->best_weight_history, times = best->iteration_ms;
-  history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
-  times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
-  const bool converged = best->converged || r.converged;
-  if (first || r.weight > best->weight) *best = std::move(r);
-  best->stats = total;
-  best->iterations = iterations;
-  best->best_weight_history = std::move(history);
-  best->iteration_ms = std::move(times);
-  best->converged = best->converged || converged;
-}
-
 }  // namespace
 
 EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
@@ -451,6 +438,7 @@ EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const P
   HwRunner runner(scene, mesh, prior, cls, options);
   Rng rng(options.seed);
   EstimateResult best;
+  std::vector<filter::PolishSeed> seeds;  // each run's best particle
   for (int run = 0; run < options.restarts; ++run) {
     Rng run_rng = options.restarts == 1 ? rng : rng.Split();
     const int offset = run * options.max_iterations;
@@ -458,7 +446,19 @@ EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const P
     const ProgressFn run_progress = progress ? ProgressFn([&, offset, best_w](int it, double w) {
       progress(offset + it, std::max(w, best_w));
     }) : ProgressFn();
-    MergeRun(&best, runner.Run(run_rng, run_progress, nullptr, nullptr, nullptr), run == 0);
+    EstimateResult r = runner.Run(run_rng, run_progress, nullptr, nullptr, nullptr);
+    seeds.push_back({r.pose_base, r.cell});
+    filter::MergeRun(&best, std::move(r), run == 0);
+  }
+  // Host side (ours, not hardware): the final polish of the runs' best particles with the
+  // float weighing, as the float engines end (polish_steps = 0: the hardware's own answer).
+  if (options.polish_steps > 0) {
+    const filter::PolishResult p = filter::PolishPoses(scene, mesh, prior, cls, options, seeds, &best.stats);
+    best.pose_base = p.pose;
+    best.T_cam_obj = scene.camera.base_to_camera * PoseToTransform(p.pose);
+    best.cell = p.cell;
+    best.weight = p.weight;
+    best.converged = best.converged || p.weight >= options.confidence;
   }
   best.obj = mesh.name;
   best.time_ms = MsSince(t_start);

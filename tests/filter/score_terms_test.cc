@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "filter/diffusion.h"
+#include "filter/run_merge.h"
+#include "posefilter/error.h"
 #include "posefilter/filter.h"
 #include "posefilter/metrics.h"
 #include "posefilter/render.h"
@@ -169,6 +171,40 @@ TEST(PolishTest, NeverLowersTheWeightAndIsDeterministic) {
   const EstimateResult again = EstimatePose(in, sc.target, prior, cls, o);
   EXPECT_EQ(again.weight, polished.weight);
   EXPECT_TRUE(again.T_cam_obj.isApprox(polished.T_cam_obj, 0.0));
+}
+
+// PolishPoses (the polish the hw engine's host side runs on the hardware's answers): a seed
+// tipped a quarter turn about the box's edge and shifted 1 cm comes back to the true pose;
+// bad seed lists are errors.
+TEST(PolishTest, PolishPosesBringsATippedSeedBack) {
+  const SynthScene sc = Clean("box", 5);
+  const Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
+  const int cls = prior.ClassIndex("box");
+  const SceneInput in{sc.depth, sc.camera};
+  FilterOptions o;
+  o.engine = "reference";  // PolishPoses weighs with the cpu engine whatever this says
+  const Eigen::Isometry3d T_gt = sc.gt[0].T_cam_obj;
+  Eigen::Isometry3d tip = Eigen::Isometry3d::Identity();
+  tip.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  Eigen::Isometry3d T_seed = T_gt * tip;
+  T_seed.translation() += Eigen::Vector3d(0.01, 0, 0);
+  const Pose6 seed = TransformToPose(sc.camera.base_to_camera.inverse() * T_seed);
+  // The cell whose box the detection decoded: the most probable one.
+  int cell = 0;
+  for (int c = 0; c < prior.layout.CellCount(); ++c)
+    if (prior.Prob(c, cls) > prior.Prob(cell, cls)) cell = c;
+  ASSERT_FALSE(ComputePoseErrors(SamplePoints(sc.target), sc.target.Diameter(), T_seed, T_gt).adds_ok);
+  const std::vector<double> w0 = WeighPoses(in, sc.target, prior, cls, o, {{seed, cell}});
+  FilterStats stats;
+  const filter::PolishResult r = filter::PolishPoses(in, sc.target, prior, cls, o, {{seed, cell}}, &stats);
+  EXPECT_GT(r.weight, w0[0]);
+  EXPECT_GT(stats.weighings, 24);
+  const Eigen::Isometry3d T = sc.camera.base_to_camera * PoseToTransform(r.pose);
+  const PoseErrors e = ComputePoseErrors(SamplePoints(sc.target), sc.target.Diameter(), T, T_gt);
+  EXPECT_TRUE(e.adds_ok) << "ADD-S " << 1000 * e.adds << " mm";
+  EXPECT_THROW(filter::PolishPoses(in, sc.target, prior, cls, o, {}, &stats), Error);
+  EXPECT_THROW(filter::PolishPoses(in, sc.target, prior, cls, o, {{seed, -1}}, &stats), Error);
+  EXPECT_THROW(filter::PolishPoses(in, sc.target, prior, cls, o, {{seed, prior.layout.CellCount()}}, &stats), Error);
 }
 
 }  // namespace

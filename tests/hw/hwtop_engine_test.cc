@@ -221,6 +221,7 @@ FilterOptions SmallHwOptions() {
   o.num_particles = 96;
   o.max_iterations = 3;
   o.restarts = 1;
+  o.polish_steps = 0;  // the hardware's own answer (no host-side float polish)
   return o;
 }
 
@@ -246,6 +247,29 @@ TEST(HwTopEngine, DispatchIsDeterministicAndTheWeightMatchesTheFloatWeighing) {
   const std::vector<double> ref = WeighPoses(f.input(), f.scene.target, f.prior, f.cls, o, {{a.pose_base, a.cell}});
   EXPECT_NEAR(a.weight, ref[0], 0.05);
   EXPECT_GT(a.weight, 0.3);
+}
+
+TEST(HwTopEngine, HostPolishStartsFromTheRunsBestAndReportsTheFloatWeight) {
+  const SceneFixture f = MakeScene("box", 2);
+  FilterOptions o = SmallHwOptions();
+  const EstimateResult raw = EstimatePose(f.input(), f.scene.target, f.prior, f.cls, o);
+  o.polish_steps = 4;
+  o.polish_climbers = 2;
+  const EstimateResult pol = EstimatePose(f.input(), f.scene.target, f.prior, f.cls, o);
+  // The same hardware runs (the polish draws no random numbers), then more weighings.
+  EXPECT_EQ(pol.best_weight_history, raw.best_weight_history);
+  EXPECT_GT(pol.stats.weighings, raw.stats.weighings);
+  // The answer's weight is the float weighing of the answer, and no worse than the float
+  // weighing of the hardware's own answer (the polish weighs its seed too).
+  FilterOptions f_opt = o;
+  f_opt.engine = "cpu";
+  const std::vector<double> w = WeighPoses(f.input(), f.scene.target, f.prior, f.cls, f_opt,
+                                           {{pol.pose_base, pol.cell}, {raw.pose_base, raw.cell}});
+  EXPECT_NEAR(pol.weight, w[0], 1e-9);
+  EXPECT_GE(pol.weight, w[1] - 1e-9);
+  const EstimateResult again = EstimatePose(f.input(), f.scene.target, f.prior, f.cls, o);
+  EXPECT_EQ(again.weight, pol.weight);
+  EXPECT_EQ(again.pose_base.yaw, pol.pose_base.yaw);
 }
 
 TEST(HwTopEngine, LargeMeshIsReducedToTheHardwareBound) {
