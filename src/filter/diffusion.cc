@@ -155,8 +155,4 @@ void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_
   p->scored = false;
 }
 
-void Diffuse(const DiffusionContext& ctx, Particle* p, double best_weight, Rng& rng) {
-  ApplyMove(ctx, ctx.PickMove(rng.Uniform()), p, best_weight, rng);
-}
-
 }  // namespace posefilter::filter

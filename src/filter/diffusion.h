@@ -24,8 +24,11 @@ struct Particle {
   // weighing, metres (0 when none): what kAlignDepth shifts by.
   double depth_offset = 0;
   // The point-to-plane ICP step solved at the last weighing: (ω rad, τ m), camera frame.
+  // Only weighings that asked for it solve it (icp_known); the filter asks lazily, for the
+  // parents whose children drew the kIcpStep move.
   std::array<double, 6> icp_step{};
   bool icp_valid = false;
+  bool icp_known = false;
 };
 
 // Solves the (damped) 6×6 ICP normal equations of a kernel result; false when too few
@@ -55,8 +58,5 @@ int MoveCell(const DiffusionContext& ctx, int cell, Move move, Rng& rng);
 // it along the camera ray through its origin so its depth changes by depth_offset. Angles are
 // wrapped to (−π, π]; the particle is marked unscored.
 void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_weight, Rng& rng);
-
-// PickMove(rng.Uniform()) then ApplyMove.
-void Diffuse(const DiffusionContext& ctx, Particle* p, double best_weight, Rng& rng);
 
 }  // namespace posefilter::filter

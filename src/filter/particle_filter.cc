@@ -126,8 +126,10 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   return p;
 }
 
-// Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory.
-double Weigh(const Context& ctx, const Particle& p, render::CpuWorkspace* ws, ScoreKernelResult* out) {
+// Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory. With
+// `icp`, the kernel also sums the ICP normal equations (scene normals passed); the weight
+// does not depend on it.
+double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
   const Camera& cam = ctx.scene.camera;
   const Eigen::Isometry3d T = cam.base_to_camera * PoseToTransform(p.pose);  // FT without P
   ScoreKernelParams k = MakeKernelParams(ctx.mesh, T, cam);
@@ -140,7 +142,7 @@ double Weigh(const Context& ctx, const Particle& p, render::CpuWorkspace* ws, Sc
   k.zbuffer = ctx.opt.zbuffer;
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
-  k.scene_normals = ctx.normals.data();
+  k.scene_normals = icp ? ctx.normals.data() : nullptr;
   *out = ctx.opt.engine == "cpu" ? render::ScoreCpu(k, ws) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
@@ -153,8 +155,9 @@ double Weigh(const Context& ctx, const Particle& p, render::CpuWorkspace* ws, Sc
   return std::max(0.0, ctx.opt.alpha * r_raster + ctx.opt.beta * r_depth + ctx.opt.gamma * rho - ctx.opt.delta * r_edge);
 }
 
-// Weighs every particle not yet scored (threads over particles; each owns a workspace).
-void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats) {
+// Weighs every particle not yet scored (threads over particles; each owns a workspace);
+// `icp`: also solve each one's ICP step (the kIcpStep move's input).
+void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats, bool icp = false) {
   const int n = int(ps.size());
   std::int64_t faces_total = 0, faces_front = 0, fragments = 0, weighings = 0;
   const int threads = ctx.opt.threads > 0 ? ctx.opt.threads : omp_get_max_threads();
@@ -165,9 +168,10 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats)
     for (int i = 0; i < n; ++i) {
       if (ps[i].scored) continue;
       ScoreKernelResult r;
-      ps[i].weight = Weigh(ctx, ps[i], &ws, &r);
+      ps[i].weight = Weigh(ctx, ps[i], icp, &ws, &r);
       ps[i].depth_offset = r.depth_diff_count > 0 ? r.depth_diff_sum / double(r.depth_diff_count) : 0.0;
-      ps[i].icp_valid = filter::SolveIcpStep(r, &ps[i].icp_step);
+      ps[i].icp_valid = icp && filter::SolveIcpStep(r, &ps[i].icp_step);
+      ps[i].icp_known = icp;
       ps[i].scored = true;
       faces_total += r.faces_total;
       faces_front += r.faces_front;
@@ -420,10 +424,35 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     filter::CdfSampler resampler(pool_w, options.tracker_bins);
     const int elite = std::min<int>(options.num_elite, int(pool.size()));
     for (int j = 0; j < elite; ++j) next[j] = current[ranked[pool[j]].index];
+    // 6. Diffuse. A child that drew the ICP move waits until its parent's ICP step is known:
+    // the parents in question are weighed once more with the ICP sums (same weight), then
+    // the move is applied. The move draws no random numbers, so the streams are unchanged.
+    std::map<int, std::vector<int>> icp_children;  // parent index in `current` → children j
     for (int j = elite; j < N; ++j) {
-      next[j] = current[ranked[pool[resampler.Sample(1.0 - rng.Uniform())]].index];
-      // 6. Diffuse.
-      filter::Diffuse(diffusion, &next[j], best.weight, rng);
+      const int parent = ranked[pool[resampler.Sample(1.0 - rng.Uniform())]].index;
+      next[j] = current[parent];
+      const Move move = diffusion.PickMove(rng.Uniform());
+      if (move == Move::kIcpStep && !next[j].icp_known) {
+        icp_children[parent].push_back(j);
+        continue;
+      }
+      filter::ApplyMove(diffusion, move, &next[j], best.weight, rng);
+    }
+    if (!icp_children.empty()) {
+      std::vector<Particle> parents;
+      for (const auto& [parent, children] : icp_children) {
+        parents.push_back(current[parent]);
+        parents.back().scored = false;
+      }
+      WeighAll(ctx, parents, &res.stats, /*icp=*/true);
+      int k = 0;
+      for (const auto& [parent, children] : icp_children) {
+        for (int j : children) {
+          next[j] = parents[k];
+          filter::ApplyMove(diffusion, Move::kIcpStep, &next[j], best.weight, rng);
+        }
+        ++k;
+      }
     }
     res.stats.resample_cdf_reads += resampler.reads();
     res.stats.resample_cdf_reads_linear += resampler.reads_linear();
@@ -496,7 +525,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
     }
   // With pivots, weigh every copy once and polish only the best polish_keep of them.
   if (o.polish_pivots && int(cands.size()) > o.polish_keep) {
-    WeighAll(ctx, cands, stats);
+    WeighAll(ctx, cands, stats, /*icp=*/true);
     std::partial_sort(cands.begin(), cands.begin() + o.polish_keep, cands.end(),
                       [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
     cands.resize(o.polish_keep);
@@ -506,7 +535,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   std::vector<Particle> path_best(cands.size());  // best weighed state of each candidate
   for (auto& p : path_best) p.weight = -1;
   for (int step = 0; step <= o.polish_steps; ++step) {
-    WeighAll(ctx, cands, stats);
+    WeighAll(ctx, cands, stats, /*icp=*/true);
     for (std::size_t i = 0; i < cands.size(); ++i)
       if (cands[i].weight > path_best[i].weight) path_best[i] = cands[i];
     if (step == o.polish_steps) break;

@@ -173,14 +173,50 @@ TEST(PolishTest, NeverLowersTheWeightAndIsDeterministic) {
   EXPECT_TRUE(again.T_cam_obj.isApprox(polished.T_cam_obj, 0.0));
 }
 
+// A clean box scene with its post-processed prior, ready for EstimatePose / PolishPoses.
+struct CleanBox {
+  explicit CleanBox(std::uint64_t seed)
+      : sc(Clean("box", seed)), prior(PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes)),
+        cls(prior.ClassIndex("box")), in{sc.depth, sc.camera} {}
+  SynthScene sc;
+  Prior prior;
+  int cls;
+  SceneInput in;
+};
+
+// The ICP move is solved lazily: a child that drew it waits while its parent is weighed once
+// more with the ICP sums. With the ICP move alone, every child after the first iteration is
+// moved (hence weighed: a child left unmoved would keep its parent's weight unweighed) and
+// each parent with such children is weighed twice; the run stays deterministic.
+TEST(LazyIcpTest, IcpOnlyDiffusionReweighsParentsAndMovesChildren) {
+  const auto& [sc, prior, cls, in] = CleanBox(6);
+  FilterOptions o;
+  o.num_particles = 60;
+  o.max_iterations = 5;
+  o.restarts = 1;
+  o.polish_steps = 0;
+  o.anneal_start_m = 0;
+  o.confidence = 1;
+  o.move_probabilities.fill(0.0);
+  o.move_probabilities[int(Move::kIcpStep)] = 1;
+  const EstimateResult a = EstimatePose(in, sc.target, prior, cls, o);
+  const int children = (o.max_iterations - 1) * (o.num_particles - o.num_elite);
+  EXPECT_GT(a.stats.weighings, o.num_particles + children);  // + the parents weighed again
+  const EstimateResult b = EstimatePose(in, sc.target, prior, cls, o);
+  EXPECT_EQ(a.best_weight_history, b.best_weight_history);
+  EXPECT_EQ(a.stats.weighings, b.stats.weighings);
+  // Without any ICP move nothing is weighed twice: exactly N + children weighings.
+  o.move_probabilities.fill(0.0);
+  o.move_probabilities[int(Move::kTranslateAll)] = 1;
+  const EstimateResult c = EstimatePose(in, sc.target, prior, cls, o);
+  EXPECT_EQ(c.stats.weighings, o.num_particles + children);
+}
+
 // PolishPoses (the polish the hw engine's host side runs on the hardware's answers): a seed
 // tipped a quarter turn about the box's edge and shifted 1 cm comes back to the true pose;
 // bad seed lists are errors.
 TEST(PolishTest, PolishPosesBringsATippedSeedBack) {
-  const SynthScene sc = Clean("box", 5);
-  const Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
-  const int cls = prior.ClassIndex("box");
-  const SceneInput in{sc.depth, sc.camera};
+  const auto& [sc, prior, cls, in] = CleanBox(5);
   FilterOptions o;
   o.engine = "reference";  // PolishPoses weighs with the cpu engine whatever this says
   const Eigen::Isometry3d T_gt = sc.gt[0].T_cam_obj;
