@@ -16,8 +16,8 @@
 // uncorrelated consecutive draws (Box–Muller, diffusion, resampling) use Leap with
 // kLfsr18Leap / kLfsr15Leap; modules that copy the thesis 1:1 use Next().
 //
-// Plain structs: no heap, no static state (each module owns its generators, seeds are
-// runtime inputs).
+// One plain struct template, two instances: no heap, no static state (each module owns its
+// generators, seeds are runtime inputs).
 #pragma once
 
 #include "hw/hw_types.h"
@@ -40,80 +40,53 @@ constexpr int kLfsr15Leap = 16;
 constexpr unsigned kLfsr18Period = 262143;
 constexpr unsigned kLfsr15Period = 32767;
 
-// 18-bit LFSR, p(x) = 1 + x^11 + x^18 (§5.1, Fig. 5.2, Listing 5.1).
-struct Lfsr18 {
-  ap_uint<18> state;
+// A W-bit Fibonacci LFSR with taps at bits 0 and kTap (Listing 5.1 lines 9–13 for W = 18,
+// Listing 7.6 lines 5–9 for W = 15): each step shifts right and the XOR of the two taps enters
+// at bit W−1. kSeed replaces a zero seed; kLeap is the step count of Draw().
+template <int W, int kTap, unsigned kSeed, int kLeap>
+struct FibonacciLfsr {
+  ap_uint<W> state;
 
-  explicit Lfsr18(unsigned seed = kLfsr18DefaultSeed) { Seed(seed); }
-  // Loads a seed (low 18 bits); zero is replaced by kLfsr18DefaultSeed (Listing 5.1 line 3).
+  explicit FibonacciLfsr(unsigned seed = kSeed) { Seed(seed); }
+  // Loads a seed (low W bits); zero is replaced by kSeed (Listing 5.1 line 3).
   void Seed(unsigned seed) {
-    ap_uint<18> s = seed & 0x3FFFFu;
-    state = (s == 0) ? ap_uint<18>(kLfsr18DefaultSeed) : s;
+    ap_uint<W> s = seed & ((1u << W) - 1u);
+    state = (s == 0) ? ap_uint<W>(kSeed) : s;
   }
-  // One shift (Listing 5.1 lines 9–13): new bit = b_18 ^ b_11 enters at bit 17.
+  // One shift: new bit = bit 0 ^ bit kTap enters at bit W−1.
   void Step() {
 #pragma HLS INLINE
-    ap_uint<1> b18 = state[0];
-    ap_uint<1> b11 = state[7];
-    ap_uint<1> fb = b18 ^ b11;
+    ap_uint<1> out = state[0];
+    ap_uint<1> tap = state[kTap];
+    ap_uint<1> fb = out ^ tap;
     state = state >> 1;
-    state[17] = fb;
+    state[W - 1] = fb;
   }
   // One step, then the new state (the thesis's output).
-  ap_uint<18> Next() {
+  ap_uint<W> Next() {
 #pragma HLS INLINE
     Step();
     return state;
   }
   // K steps in one call (unrolled XOR network in hardware), then the new state.
   template <int K>
-  ap_uint<18> Leap() {
+  ap_uint<W> Leap() {
 #pragma HLS INLINE
-  LFSR18_LEAP:
+  LFSR_LEAP:
     for (int k = 0; k < K; ++k) {
 #pragma HLS UNROLL
       Step();
     }
     return state;
   }
-  // The default leap (kLfsr18Leap steps): the draw our kernels use.
-  ap_uint<18> Draw() { return Leap<kLfsr18Leap>(); }
+  // The default leap (kLeap steps): the draw our kernels use.
+  ap_uint<W> Draw() { return Leap<kLeap>(); }
 };
 
-// 15-bit LFSR, taps 15 and 14 (Listing 7.6 lines 5–9).
-struct Lfsr15 {
-  ap_uint<15> state;
-
-  explicit Lfsr15(unsigned seed = kLfsr15DefaultSeed) { Seed(seed); }
-  void Seed(unsigned seed) {
-    ap_uint<15> s = seed & 0x7FFFu;
-    state = (s == 0) ? ap_uint<15>(kLfsr15DefaultSeed) : s;
-  }
-  void Step() {
-#pragma HLS INLINE
-    ap_uint<1> b15 = state[0];
-    ap_uint<1> b14 = state[1];
-    ap_uint<1> fb = b15 ^ b14;
-    state = state >> 1;
-    state[14] = fb;
-  }
-  ap_uint<15> Next() {
-#pragma HLS INLINE
-    Step();
-    return state;
-  }
-  template <int K>
-  ap_uint<15> Leap() {
-#pragma HLS INLINE
-  LFSR15_LEAP:
-    for (int k = 0; k < K; ++k) {
-#pragma HLS UNROLL
-      Step();
-    }
-    return state;
-  }
-  ap_uint<15> Draw() { return Leap<kLfsr15Leap>(); }
-};
+// 18-bit LFSR, p(x) = 1 + x^11 + x^18 (§5.1, Fig. 5.2, Listing 5.1): taps 18 and 11 = bits 0, 7.
+using Lfsr18 = FibonacciLfsr<18, 7, kLfsr18DefaultSeed, kLfsr18Leap>;
+// 15-bit LFSR, taps 15 and 14 = bits 0, 1 (Listing 7.6 lines 5–9).
+using Lfsr15 = FibonacciLfsr<15, 1, kLfsr15DefaultSeed, kLfsr15Leap>;
 
 // Listing 5.1 as a module: n successive LFSR18 states (one step each) written to a stream,
 // II = 1. The generator keeps its state across calls (the caller owns it).
