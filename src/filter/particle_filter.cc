@@ -12,7 +12,7 @@
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
 #include "filter/online_sorter.h"
-#include "filter/run_merge.h"
+#include "filter/driver.h"
 #include "render/cpu_kernel.h"
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
@@ -607,20 +607,40 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
 
 namespace filter {
 
-void MergeRun(EstimateResult* best, EstimateResult&& r, bool first) {
-  FilterStats total = best->stats;
-  total += r.stats;
-  const int iterations = best->iterations + r.iterations;
-  std::vector<double> history = best->best_weight_history, times = best->iteration_ms;
-  history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
-  times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
-  const bool converged = best->converged || r.converged;
-  if (first || r.weight > best->weight) *best = std::move(r);
-  best->stats = total;
-  best->iterations = iterations;
-  best->best_weight_history = std::move(history);
-  best->iteration_ms = std::move(times);
-  best->converged = converged;
+EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progress, const RunFn& run) {
+  Rng rng(options.seed);
+  EstimateResult best;
+  for (int k = 0; k < options.restarts; ++k) {
+    Rng run_rng = options.restarts == 1 ? rng : rng.Split();
+    const int offset = k * options.max_iterations;
+    const double best_w = best.weight;  // of the runs before this one
+    const ProgressFn run_progress = progress ? ProgressFn([&progress, offset, best_w](int it, double w) {
+      progress(offset + it, std::max(w, best_w));
+    }) : ProgressFn();
+    EstimateResult r = run(run_rng, run_progress);
+    FilterStats total = best.stats;
+    total += r.stats;
+    const int iterations = best.iterations + r.iterations;
+    std::vector<double> history = best.best_weight_history, times = best.iteration_ms;
+    history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
+    times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
+    const bool converged = best.converged || r.converged;
+    if (k == 0 || r.weight > best.weight) best = std::move(r);
+    best.stats = total;
+    best.iterations = iterations;
+    best.best_weight_history = std::move(history);
+    best.iteration_ms = std::move(times);
+    best.converged = converged;
+  }
+  return best;
+}
+
+void AdoptPose(EstimateResult* result, const Camera& camera, const PolishResult& p, double confidence) {
+  result->pose_base = p.pose;
+  result->T_cam_obj = camera.base_to_camera * PoseToTransform(p.pose);
+  result->cell = p.cell;
+  result->weight = p.weight;
+  result->converged = result->converged || p.weight >= confidence;
 }
 
 PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
@@ -655,26 +675,13 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
     if (ctx.volumes[c].valid) cell_mass[c] = prior.Prob(c, cls);
 
   // Independent runs (restarts), each with its own random stream; the best weight wins.
-  Rng rng(options.seed);
-  EstimateResult best;
   std::vector<Particle> run_bests;  // seeds of the final polish
-  for (int run = 0; run < options.restarts; ++run) {
-    Rng run_rng = options.restarts == 1 ? rng : rng.Split();
-    const int offset = run * options.max_iterations;
-    const ProgressFn run_progress = progress ? ProgressFn([&](int it, double w) {
-      progress(offset + it, std::max(w, best.weight));
-    }) : ProgressFn();
-    filter::MergeRun(&best, RunFilter(ctx, cell_mass, run_rng, run_progress, &run_bests), run == 0);
-  }
+  EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
+    return RunFilter(ctx, cell_mass, rng, run_progress, &run_bests);
+  });
   if (options.polish_steps > 0) {
     const Particle p = Polish(ctx, run_bests, &best.stats);
-    if (p.weight > best.weight) {
-      best.pose_base = p.pose;
-      best.T_cam_obj = scene.camera.base_to_camera * PoseToTransform(p.pose);
-      best.weight = p.weight;
-      best.cell = p.cell;
-      best.converged = best.converged || p.weight >= options.confidence;
-    }
+    if (p.weight > best.weight) filter::AdoptPose(&best, scene.camera, {p.pose, p.cell, p.weight}, options.confidence);
   }
   best.obj = mesh.name;
   best.time_ms = MsSince(t_start);

@@ -28,7 +28,7 @@
 #include <sstream>
 #include <vector>
 
-#include "filter/run_merge.h"
+#include "filter/driver.h"
 #include "hw/cycle_model.h"
 #include "hw/postprocess.h"
 #include "hw/top.h"
@@ -436,30 +436,17 @@ EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const P
                               const FilterOptions& options, const ProgressFn& progress) {
   const auto t_start = Clock::now();
   HwRunner runner(scene, mesh, prior, cls, options);
-  Rng rng(options.seed);
-  EstimateResult best;
   std::vector<filter::PolishSeed> seeds;  // each run's best particle
-  for (int run = 0; run < options.restarts; ++run) {
-    Rng run_rng = options.restarts == 1 ? rng : rng.Split();
-    const int offset = run * options.max_iterations;
-    const double best_w = best.weight;
-    const ProgressFn run_progress = progress ? ProgressFn([&, offset, best_w](int it, double w) {
-      progress(offset + it, std::max(w, best_w));
-    }) : ProgressFn();
-    EstimateResult r = runner.Run(run_rng, run_progress, nullptr, nullptr, nullptr);
+  EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
+    EstimateResult r = runner.Run(rng, run_progress, nullptr, nullptr, nullptr);
     seeds.push_back({r.pose_base, r.cell});
-    filter::MergeRun(&best, std::move(r), run == 0);
-  }
+    return r;
+  });
   // Host side (ours, not hardware): the final polish of the runs' best particles with the
   // float weighing, as the float engines end (polish_steps = 0: the hardware's own answer).
-  if (options.polish_steps > 0) {
-    const filter::PolishResult p = filter::PolishPoses(scene, mesh, prior, cls, options, seeds, &best.stats);
-    best.pose_base = p.pose;
-    best.T_cam_obj = scene.camera.base_to_camera * PoseToTransform(p.pose);
-    best.cell = p.cell;
-    best.weight = p.weight;
-    best.converged = best.converged || p.weight >= options.confidence;
-  }
+  if (options.polish_steps > 0)
+    filter::AdoptPose(&best, scene.camera, filter::PolishPoses(scene, mesh, prior, cls, options, seeds, &best.stats),
+                      options.confidence);
   best.obj = mesh.name;
   best.time_ms = MsSince(t_start);
   return best;

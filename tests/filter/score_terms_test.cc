@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "filter/diffusion.h"
-#include "filter/run_merge.h"
+#include "filter/driver.h"
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
 #include "posefilter/metrics.h"

@@ -1,19 +1,27 @@
-// Host-side steps shared by every engine's driver: merging restarts and the final polish.
+// Host-side steps shared by every engine's driver: restarts and the final polish.
 // The float engines use them in src/filter/particle_filter.cc; the hw engine's host side
 // (src/hw/engine.cc) uses them around the C-simulated hardware runs.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "posefilter/filter.h"
 #include "posefilter/pose.h"
+#include "posefilter/rng.h"
 
 namespace posefilter::filter {
 
-// Merges run `r` into the best-so-far result of the restarts: statistics and iteration
-// counts add up, the per-iteration histories are concatenated, and the run with the higher
-// weight provides the pose (`first`: `best` holds no run yet).
-void MergeRun(EstimateResult* best, EstimateResult&& r, bool first);
+// One run of an engine's filter, from initialisation to convergence, on the given random
+// stream, reporting (iteration within the run, best weight) to the given progress callback.
+using RunFn = std::function<EstimateResult(Rng& rng, const ProgressFn& progress)>;
+
+// Runs options.restarts independent runs, each on its own random stream split from
+// options.seed (one run: the seed's stream itself), and merges them: statistics and
+// iteration counts add up, the per-iteration histories are concatenated, the run with the
+// highest weight provides the pose. `progress` (may be empty) sees the iterations counted
+// over all runs and the best weight so far.
+EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progress, const RunFn& run);
 
 // A pose to polish: object → base, and the prior cell it is weighed with (its window, ρ).
 struct PolishSeed {
@@ -26,6 +34,10 @@ struct PolishResult {
   int cell = -1;
   double weight = 0;   // eq. 7.4 at the final inlier threshold, float (cpu engine) weighing
 };
+
+// Makes `p` the result's answer: pose, object → camera transform, cell and weight; the result
+// counts as converged once the weight reaches `confidence`.
+void AdoptPose(EstimateResult* result, const Camera& camera, const PolishResult& p, double confidence);
 
 // The final polish of FilterOptions (polish_steps, polish_turns, polish_pivots, polish_keep,
 // polish_climbers; ALGORITHM.md §9) of the given seeds, every weighing by the float `cpu`
