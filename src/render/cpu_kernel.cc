@@ -108,22 +108,25 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
   s.vok = Grow(&ws->vok, nv);
   s.viz = Grow(&ws->viz, nv);
   s.tri_cap = std::int64_t(cap);
-  s.tri = Grow(&ws->tri, 16 * cap);
-  s.tri_box = Grow(&ws->tri_box, 4 * cap);
+  s.tri_i = Grow(&ws->tri_i, 16 * cap);
+  s.tri_f = Grow(&ws->tri_f, 4 * cap);
+  s.fast = Grow(&ws->fast, 4 * cap);
   s.slow = Grow(&ws->slow, cap);
+  s.wide = Grow(&ws->wide, cap);
   s.zb = nullptr;
   s.zb_stride = 0;
   if (k.zbuffer) {
-    // Rows of width + 16 doubles, 8 of slack before row 0, 3 spare rows (the kernel's 4×4
-    // stamps may read and write back up to 3 rows below the window) and 32 doubles after.
-    s.zb_stride = std::int64_t(w.width) + 16;
-    s.zb = Grow(&ws->zbuffer, std::size_t(s.zb_stride) * (std::size_t(w.height) + 3) + 40) + 8;
+    // Rows of width + 48 floats (16 of slack before each row, 32 after: a row piece of 16
+    // starting at the last column), 16 floats before row 0, 4 spare rows (the kernel's 4-row
+    // vectors may read and write back up to 3 rows below the window) and 64 floats after.
+    s.zb_stride = std::int64_t(w.width) + 48;
+    s.zb = Grow(&ws->zbuffer, std::size_t(s.zb_stride) * (std::size_t(w.height) + 4) + 80) + 16;
   }
   constexpr int kFragCap = 1024;  // scored in batches that stay in L1
   s.frag_cap = kFragCap;
-  s.frag_u = Grow(&ws->frag_u, kFragCap + 8);
-  s.frag_v = Grow(&ws->frag_v, kFragCap + 8);
-  s.frag_iz = Grow(&ws->frag_iz, kFragCap + 8);
+  s.frag_u = Grow(&ws->frag_u, kFragCap + 16);
+  s.frag_v = Grow(&ws->frag_v, kFragCap + 16);
+  s.frag_iz = Grow(&ws->frag_iz, kFragCap + 16);
   std::int64_t bad = -1;
   switch (target) {
     case CpuTarget::kPortable: bad = cpu_detail::CorePortable(k, s, &r); break;

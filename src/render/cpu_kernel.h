@@ -5,10 +5,11 @@
 //   1. vertex pass: transform + project + snap, 8 vertices per step (bit-identical float ops);
 //   2. face pass: gather, back-face cull, window test, setup of edge functions, 8 faces per
 //      step; front faces in the window are compacted into a triangle list;
-//   3. raster: per triangle, a branch-free 4×4-pixel stamp when its box fits, several rows per
-//      vector for narrow boxes, else rows of 8 pixel centres; double edge functions holding exact
-//      integers; z-buffer mode keeps the max of 1/z per pixel (a window-sized buffer in the
-//      workspace), z-buffer-free mode scores every fragment on the spot;
+//   3. raster: per triangle, vectors of 16 pixel centres (AVX-512; 8 AVX2, 4 portable) laid out
+//      as 4 rows of 4, 2 rows of 8 or one row of 16 to fit its box; int32 edge functions holding
+//      exact integers (double for large triangles); float 1/z exactly as raster.h; z-buffer mode
+//      keeps the max of 1/z per pixel (a window-sized float buffer in the workspace),
+//      z-buffer-free mode scores every fragment on the spot;
 //   4. z-buffer mode: one scoring pass over the covered part of the window (contiguous loads
 //      of scene depth and normals per pixel run, no gathers).
 // Runtime dispatch: one implementation source (cpu_kernel_impl.inc) compiled three times —
@@ -41,14 +42,16 @@ struct CpuWorkspace {
   std::vector<std::int64_t> vxy;      // per vertex: packed snapped (x, y), 1/256 px, or a marker
   std::vector<std::int32_t> vexact;   // per vertex: snapped x, y (1/256 px), any magnitude
   std::vector<std::int32_t> vok;      // per vertex: 1 = passed the near-plane/off-screen test
-  std::vector<double> viz;            // per vertex: 1/z, 1/metres
-  std::vector<double> tri;            // compacted triangle setup, field-major (see impl)
-  std::vector<std::int32_t> tri_box;  // per triangle: u_lo, u_hi, v_lo, v_hi (image pixels)
-  std::vector<std::int32_t> slow;     // faces that take the exact int64 path
-  std::vector<double> zbuffer;        // window-sized max(1/z) per pixel, 0 = empty
+  std::vector<float> viz;             // per vertex: 1/z, 1/metres
+  std::vector<std::int32_t> tri_i;    // int32-raster triangle setup, field-major (see impl)
+  std::vector<float> tri_f;           //   and its float fields (1/z of the corners, 1/2Area)
+  std::vector<std::int32_t> fast;     // faces that take the int32 raster
+  std::vector<std::int32_t> slow;     // faces that take the exact int64 scalar path
+  std::vector<std::int32_t> wide;     // faces that take the double row path
+  std::vector<float> zbuffer;         // window-sized max(1/z) per pixel, 0 = empty
   std::vector<std::int32_t> frag_u;   // fragments waiting to be scored: pixel u, v, 1/z
   std::vector<std::int32_t> frag_v;
-  std::vector<double> frag_iz;
+  std::vector<float> frag_iz;
   RenderWorkspace reference;          // fallback for parameters outside the fast path's domain
 };
 
@@ -59,16 +62,18 @@ struct CoreScratch {
   std::int64_t* vxy;
   std::int32_t* vexact;
   std::int32_t* vok;
-  double* viz;
-  double* tri;
-  std::int64_t tri_cap;  // elements per field of `tri`/`tri_box` (≥ num_faces + 8)
-  std::int32_t* tri_box;
+  float* viz;
+  std::int32_t* tri_i;   // 16 fields × tri_cap
+  float* tri_f;          // 4 fields × tri_cap
+  std::int64_t tri_cap;  // elements per field (≥ num_faces + 8)
+  std::int32_t* fast;
   std::int32_t* slow;
-  double* zb;            // z-buffer row 0, column 0 (≥ 8 doubles of slack before/after rows, 3 spare rows)
-  std::int64_t zb_stride;
-  std::int32_t* frag_u;  // fragment buffer: pixel u, v (image) and 1/z, frag_cap + 8 each
+  std::int32_t* wide;
+  float* zb;             // z-buffer row 0, column 0 (≥ 16 floats of slack before and 32 after
+  std::int64_t zb_stride;//   each row, 4 spare rows)
+  std::int32_t* frag_u;  // fragment buffer: pixel u, v (image) and 1/z, frag_cap + 16 each
   std::int32_t* frag_v;
-  double* frag_iz;
+  float* frag_iz;
   int frag_cap;
 };
 // Each returns −1, or the index of a face with an out-of-range vertex index (nothing scored).

@@ -20,23 +20,23 @@ inline constexpr std::int64_t kSubpixelOne = std::int64_t(1) << kSubpixelBits;
 // keeps every edge-function product below 2^60.
 inline constexpr double kMaxScreenCoord = double(1 << 20);
 
-// A projected triangle: fixed-point screen coordinates and 1/z (1/metres) per vertex.
+// A projected triangle: fixed-point screen coordinates and 1/z (1/metres, float) per vertex.
 struct ScreenTriangle {
   std::int64_t x[3], y[3];
-  double inv_z[3];
+  float inv_z[3];
 };
 
 // Projects a camera-frame point (metres) with the pinhole model and snaps it to the subpixel
 // grid. Returns false when z < near_m or the point lands absurdly far off screen.
 inline bool ProjectAndSnap(float px, float py, float pz, const ScoreKernelParams& k,
-                           std::int64_t* sx, std::int64_t* sy, double* inv_z) {
+                           std::int64_t* sx, std::int64_t* sy, float* inv_z) {
   if (!(pz >= k.near_m)) return false;
   const float u = k.fx * px / pz + k.cx;
   const float v = k.fy * py / pz + k.cy;
   if (!(std::fabs(u) < kMaxScreenCoord && std::fabs(v) < kMaxScreenCoord)) return false;
   *sx = std::llround(double(u) * kSubpixelOne);
   *sy = std::llround(double(v) * kSubpixelOne);
-  *inv_z = 1.0 / double(pz);
+  *inv_z = 1.0f / pz;
   return true;
 }
 
@@ -64,6 +64,13 @@ inline std::int64_t TwiceArea(const ScreenTriangle& t) {
 // Rasterizes a front-facing triangle (TwiceArea > 0) inside `clip` and calls
 // fn(u, v, z) for every covered pixel centre, z the perspective-correct depth in metres
 // (barycentric λ_k = E_k / 2Area, eq. 6.21–6.22, applied to 1/z).
+//
+// Depth arithmetic is float, in exactly this order (binding for every float engine):
+//   1/z = ((float(E0)·iz0 + float(E1)·iz1) + float(E2)·iz2) · (1 / float(2Area)),  z = 1 / (1/z),
+// with iz_k = 1/z_k of the vertices (float) and float(E) the int64 edge value rounded to
+// nearest. float(E) is exact while |E| < 2^24 and rounds the same way from int32 or double,
+// which lets the SIMD kernel (cpu_kernel_impl.inc) reproduce every depth bit for bit with 16
+// float lanes. 1/z > 0 inside a triangle (the E_k are ≥ 0 and sum to 2Area > 0).
 template <class Fn>
 void RasterizeTriangle(const ScreenTriangle& t, std::int64_t area2, const PixelRect& clip, Fn&& fn) {
   const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]});
@@ -89,15 +96,15 @@ void RasterizeTriangle(const ScreenTriangle& t, std::int64_t area2, const PixelR
     row_e[k] = A[k] * (u_lo * kSubpixelOne - t.x[a]) + B[k] * (v_lo * kSubpixelOne - t.y[a]);
     min_e[k] = (A[k] > 0 || (A[k] == 0 && B[k] > 0)) ? 0 : 1;
   }
-  const double inv_area2 = 1.0 / double(area2);
+  const float inv_area2 = 1.0f / float(area2);
   for (std::int64_t v = v_lo; v <= v_hi; ++v) {
     std::int64_t e[3] = {row_e[0], row_e[1], row_e[2]};
     for (std::int64_t u = u_lo; u <= u_hi; ++u) {
       if (e[0] >= min_e[0] && e[1] >= min_e[1] && e[2] >= min_e[2]) {
         // Depth recovery: 1/z is affine in screen space, z itself is not.
-        const double inv_z = (double(e[0]) * t.inv_z[0] + double(e[1]) * t.inv_z[1] +
-                              double(e[2]) * t.inv_z[2]) * inv_area2;
-        fn(int(u), int(v), float(1.0 / inv_z));
+        const float inv_z =
+            ((float(e[0]) * t.inv_z[0] + float(e[1]) * t.inv_z[1]) + float(e[2]) * t.inv_z[2]) * inv_area2;
+        fn(int(u), int(v), 1.0f / inv_z);
       }
       for (int k = 0; k < 3; ++k) e[k] += A[k] * kSubpixelOne;  // step in x (eq. 6.20)
     }

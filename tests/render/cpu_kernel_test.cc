@@ -350,6 +350,49 @@ TEST_P(CpuKernelTarget, TallAndWideSliversMatch) {
   EXPECT_GT(icp_, 1000);
 }
 
+TEST_P(CpuKernelTarget, SliversAroundTheInt32EdgeBoundMatch) {
+  // The raster steps edge values in int32 when a triangle's box is at most 16 px wide and its
+  // bounding box (1/256 px) has wx·wy < 2^30 (cpu_kernel_impl.inc), and in double otherwise.
+  // Tall slivers 2–16 px wide whose wx·wy spans 2^28 … 2^32, clipped by the window at the top
+  // and bottom, take both paths; an int32 bound set too high overflows their edge values.
+  Rng rng(2026);
+  const Camera cam = PinholeCamera(525, 525);
+  std::int64_t below = 0, above = 0;
+  for (int scene = 0; scene < 3; ++scene) {
+    Mesh m;
+    m.name = "tall slivers";
+    auto vertex = [&](double u, double v, double z) {
+      m.vertices.emplace_back(float((u - cam.cx) * z / cam.fx), float((v - cam.cy) * z / cam.fy), float(z - 1.0));
+      return std::uint32_t(m.vertices.size() - 1);
+    };
+    for (int t = 0; t < 120; ++t) {
+      const double w = rng.Uniform(2.0, 15.5);
+      const double wxwy = std::ldexp(1.0, 28) * std::pow(16.0, rng.Uniform());  // 2^28 … 2^32
+      const double h = wxwy / (w * 256.0 * 256.0);                            // pixels
+      (wxwy < std::ldexp(1.0, 30) ? below : above) += 1;
+      const double u0 = rng.Uniform(250, 390), vc = rng.Uniform(200, 280), z = rng.Uniform(0.7, 1.3);
+      const std::uint32_t a = vertex(u0, vc - h * rng.Uniform(0.3, 0.7), z);
+      const std::uint32_t b = vertex(u0 + w * rng.Uniform(0, 1), vc + h * rng.Uniform(0.3, 0.7), z * rng.Uniform(0.97, 1.03));
+      const std::uint32_t c = vertex(u0 + w, vc + rng.Uniform(-20, 20), z);
+      m.faces.push_back({a, b, c});
+      m.faces.push_back({a, c, b});
+    }
+    const Eigen::Isometry3d T = testing_util::At(0, 0, 1);
+    const DepthImage depth = MakeScene(m, T, cam, rng);
+    for (const PixelRect& w : {PixelRect{0, 0, 640, 480}, PixelRect{240, 150, 160, 180}}) {
+      ScoreKernelParams k = MakeKernelParams(m, T, cam);
+      k.window = w;
+      k.depth = depth.data.data();
+      k.depth_width = depth.width;
+      k.depth_height = depth.height;
+      Check(k, "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
+    }
+  }
+  EXPECT_GT(below, 50);
+  EXPECT_GT(above, 50);
+  EXPECT_GT(fragments_, 20000);
+}
+
 INSTANTIATE_TEST_SUITE_P(CpuKernel, CpuKernelTarget,
                          ::testing::Values(CpuTarget::kPortable, CpuTarget::kAvx2, CpuTarget::kAvx512),
                          [](const ::testing::TestParamInfo<CpuTarget>& i) {
