@@ -101,10 +101,12 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
     return ScoreReference(k, &ws->reference);
   }
 
-  const std::size_t nv = std::size_t(k.num_vertices) + 8, cap = std::size_t(k.num_faces) + 8;
+  const std::size_t nv = std::size_t(k.num_vertices) + 16, cap = std::size_t(k.num_faces) + 16;
   cpu_detail::CoreScratch s;
-  s.vxy = Grow(&ws->vxy, nv);
-  s.vexact = Grow(&ws->vexact, 2 * nv);
+  s.vx = Grow(&ws->vx, nv);
+  s.vy = Grow(&ws->vy, nv);
+  s.vex_x = Grow(&ws->vexact, 2 * nv);
+  s.vex_y = s.vex_x + nv;
   s.vok = Grow(&ws->vok, nv);
   s.viz = Grow(&ws->viz, nv);
   s.tri_cap = std::int64_t(cap);

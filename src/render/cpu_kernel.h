@@ -2,9 +2,9 @@
 //
 // ScoreCpu computes exactly what ScoreReference computes (include/posefilter/render.h; the
 // rasterization rules there are binding), with SIMD and a fused render+inlier pipeline:
-//   1. vertex pass: transform + project + snap, 8 vertices per step (bit-identical float ops);
-//   2. face pass: gather, back-face cull, window test, setup of edge functions, 8 faces per
-//      step; front faces in the window are compacted into a triangle list;
+//   1. vertex pass: transform + project + snap, 16 vertices per step (bit-identical float ops);
+//   2. face pass: gather, back-face cull, window test, setup of edge functions, 16 faces per
+//      step in int32; front faces in the window are listed by vector shape;
 //   3. raster: per triangle, vectors of 16 pixel centres (AVX-512; 8 AVX2, 4 portable) laid out
 //      as 4 rows of 4, 2 rows of 8 or one row of 16 to fit its box; int32 edge functions holding
 //      exact integers (double for large triangles); float 1/z exactly as raster.h; z-buffer mode
@@ -39,8 +39,8 @@ CpuTarget BestCpuTarget();
 // Per-worker scratch memory of the cpu kernel (no global state): grows to the largest mesh
 // and window seen, never shrinks. One per thread; not shareable between concurrent calls.
 struct CpuWorkspace {
-  std::vector<std::int64_t> vxy;      // per vertex: packed snapped (x, y), 1/256 px, or a marker
-  std::vector<std::int32_t> vexact;   // per vertex: snapped x, y (1/256 px), any magnitude
+  std::vector<std::int32_t> vx, vy;   // per vertex: snapped x (or a marker), y, 1/256 px
+  std::vector<std::int32_t> vexact;   // per vertex: snapped x, then y (1/256 px), any magnitude
   std::vector<std::int32_t> vok;      // per vertex: 1 = passed the near-plane/off-screen test
   std::vector<float> viz;             // per vertex: 1/z, 1/metres
   std::vector<std::int32_t> tri_i;    // int32-raster triangle setup, field-major (see impl)
@@ -59,13 +59,15 @@ namespace cpu_detail {
 // Raw views of a CpuWorkspace sized for one call (filled in by cpu_kernel.cc); the variants
 // (cpu_kernel_impl.inc) allocate nothing.
 struct CoreScratch {
-  std::int64_t* vxy;
-  std::int32_t* vexact;
+  std::int32_t* vx;      // fast-path vertices: x (kBadX marks the others), y
+  std::int32_t* vy;
+  std::int32_t* vex_x;   // any vertex: exact snapped x, y
+  std::int32_t* vex_y;
   std::int32_t* vok;
   float* viz;
   std::int32_t* tri_i;   // 16 fields × tri_cap
   float* tri_f;          // 4 fields × tri_cap
-  std::int64_t tri_cap;  // elements per field (≥ num_faces + 8)
+  std::int64_t tri_cap;  // elements per field (≥ num_faces + 16)
   std::int32_t* fast;
   std::int32_t* slow;
   std::int32_t* wide;
