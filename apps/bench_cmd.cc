@@ -55,9 +55,18 @@ namespace {
 // Engine names the bench knows of; the available ones are those FilterOptions::IsValid accepts.
 const std::vector<std::string> kKnownEngines = {"reference", "cpu", "hw", "cuda"};
 
+// An engine name of the bench: a FilterOptions engine, or "cpu/<isa>" — the cpu engine with
+// its instruction set forced (FilterOptions::cpu_isa: avx512, avx2, portable).
+void ApplyEngine(const std::string& name, FilterOptions* o) {
+  const std::size_t slash = name.find('/');
+  o->engine = name.substr(0, slash);
+  o->cpu_isa = slash == std::string::npos || o->engine != "cpu" ? "auto" : name.substr(slash + 1);
+  if (slash != std::string::npos && o->engine != "cpu") o->engine = name;  // not a valid engine
+}
+
 bool EngineAvailable(const std::string& engine) {
   FilterOptions o;
-  o.engine = engine;
+  ApplyEngine(engine, &o);
   return o.IsValid(nullptr);
 }
 
@@ -116,10 +125,14 @@ int RunBench(int argc, char** argv) {
   std::string target = "torus";
   std::string json_path;
   bool quiet = false;
-  std::vector<std::string> available;
+  std::vector<std::string> available, cpu_isas;
   for (const auto& e : kKnownEngines)
     if (EngineAvailable(e)) available.push_back(e);
-  app.add_option("--engines", engines, "engines to compare, comma-separated (default: all available: " + Join(available) + ")")
+  for (const char* isa : {"portable", "avx2", "avx512"})
+    if (EngineAvailable(std::string("cpu/") + isa)) cpu_isas.push_back(isa);
+  app.add_option("--engines", engines,
+                 "engines to compare, comma-separated (default: all available: " + Join(available) +
+                     "); cpu/avx512, cpu/avx2, cpu/portable force the cpu engine's instruction set")
       ->delimiter(',');
   app.add_option("--particles", particles, "particles N, 128..8192")->capture_default_str();
   app.add_option("--iterations", iterations, "iterations per run (no early stop), 1..1000")->capture_default_str();
@@ -138,7 +151,8 @@ int RunBench(int argc, char** argv) {
     if (engines.empty()) throw Error("--engines: no engine is available");
     for (std::size_t i = 0; i < engines.size(); ++i) {
       if (!EngineAvailable(engines[i]))
-        throw Error("--engines: engine '" + engines[i] + "' is not available (available: " + Join(available) + ")");
+        throw Error("--engines: engine '" + engines[i] + "' is not available (available: " + Join(available) +
+                    "; cpu/ with one of: " + Join(cpu_isas) + ")");
       if (std::find(engines.begin(), engines.begin() + i, engines[i]) != engines.begin() + i)
         throw Error("--engines: engine '" + engines[i] + "' is listed twice");
     }
@@ -191,7 +205,7 @@ int RunBench(int argc, char** argv) {
     std::vector<double> cpu_stamps;  // process CPU ms at the end of each iteration of the last run
     auto run_once = [&](const std::string& engine, int its) {
       FilterOptions o = opt;
-      o.engine = engine;
+      ApplyEngine(engine, &o);
       o.max_iterations = its;
       cpu_stamps.clear();
       const EstimateResult r =
@@ -219,7 +233,7 @@ int RunBench(int argc, char** argv) {
         runs[e].fragments_per_repeat.push_back(r.stats.fragments);
         runs[e].best_weight = r.weight;
         if (!quiet)
-          std::fprintf(stderr, "repeat %d/%d %-10s %9.2f ms/iteration\n", rep + 1, repeats, engines[e].c_str(),
+          std::fprintf(stderr, "repeat %d/%d %-12s %9.2f ms/iteration\n", rep + 1, repeats, engines[e].c_str(),
                        ms / iterations);
       }
     }
@@ -237,7 +251,7 @@ int RunBench(int argc, char** argv) {
       if (first_float == nullptr) first_float = &r;
       agree = agree && r.check_fragments == first_float->check_fragments;
     }
-    std::printf("%-10s %12s %12s %12s %12s %13s %10s %12s %9s\n", "engine", "ms/iter(med)", "ms/iter(min)",
+    std::printf("%-12s %12s %12s %12s %12s %13s %10s %12s %9s\n", "engine", "ms/iter(med)", "ms/iter(min)",
                 "cpu-ms/iter", "particles/s", "Mfragments/s", "faces/wgh", "rendered/wgh", "speedup");
     nlohmann::json rows = nlohmann::json::array();
     for (const auto& r : runs) {
@@ -253,7 +267,7 @@ int RunBench(int argc, char** argv) {
       const double cpu_med = r.cpu_ms_per_iteration.empty() ? 0.0 : Median(r.cpu_ms_per_iteration);
       char cpu_text[32] = "-";
       if (!r.cpu_ms_per_iteration.empty()) std::snprintf(cpu_text, sizeof cpu_text, "%.2f", cpu_med);
-      std::printf("%-10s %12.2f %12.2f %12s %12.0f %13.2f %10.0f %12.1f %8.2fx\n", r.engine.c_str(), med, mn, cpu_text,
+      std::printf("%-12s %12.2f %12.2f %12s %12.0f %13.2f %10.0f %12.1f %8.2fx\n", r.engine.c_str(), med, mn, cpu_text,
                   pps, fps / 1e6, double(r.stats.faces_total) / w, double(r.stats.faces_front) / w, speedup);
       rows.push_back({{"engine", r.engine},
                       {"ms_per_iteration_median", med},

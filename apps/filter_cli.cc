@@ -28,7 +28,7 @@ constexpr FieldOption kFieldOptions[] = {
     {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"},
     {"delta", "--delta"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"},
     {"lod_max_faces", "--lod"},     {"polish_steps", "--polish-steps"},   {"polish_seeds", "--polish-seeds"},
-    {"polish_climbers", "--polish-climbers"}};
+    {"polish_climbers", "--polish-climbers"}, {"cpu_isa", "--cpu-isa"}};
 
 // The option that sets `field`; evaluated while compiling, so an unknown field does not compile.
 consteval const char* OptionOf(std::string_view field) {
@@ -75,6 +75,8 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
     return app.add_option(name, value, help)->capture_default_str();
   };
   add(OptionOf("engine"), o->engine, "scoring engine")->check(CLI::IsMember({"cpu", "reference", "hw"}));
+  add(OptionOf("cpu_isa"), o->cpu_isa,
+      "cpu engine's instruction set: auto (the best this CPU runs), avx512, avx2 or portable (same results)");
   add(OptionOf("num_particles"), o->num_particles, "number of particles N");
   add(OptionOf("max_iterations"), o->max_iterations, "maximum iterations");
   add(OptionOf("confidence"), o->confidence, "stop when the best weight reaches this");

@@ -291,6 +291,7 @@ const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
   using O = FilterOptions;
   static const std::vector<Keyword<O>> k = {
       Field("engine", &O::engine),
+      Field("cpu_isa", &O::cpu_isa),
       Field("num_particles", &O::num_particles),
       Field("max_iterations", &O::max_iterations),
       Field("confidence", &O::confidence),

@@ -48,6 +48,9 @@ inline constexpr int kNumMoves = static_cast<int>(Move::kCount);
 
 struct FilterOptions {
   std::string engine = "cpu";  // "cpu" (SIMD kernel, same results) or "reference" (float, readable)
+  // The cpu engine's instruction set: "auto" (the best this CPU and build run), or "avx512",
+  // "avx2", "portable" to force one (same results; for measuring what another machine gets).
+  std::string cpu_isa = "auto";
   int num_particles = 510;           // N (thesis design: 510; GRIP: 625)
   int max_iterations = 17;           // stop a run after this many weighings
   double confidence = 0.9;           // stop when the best weight reaches this, in (0, 1]

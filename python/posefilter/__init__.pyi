@@ -207,7 +207,7 @@ ProgressFn = Callable[[str, int, float], object]
 class Estimator:
     """The particle filter. Keywords = FilterOptions fields (include/posefilter/filter.h);
     nested ones are prefixed: inlier_thr1_m, inlier_hard, inlier_hard_thr_m, heuristics_*."""
-    def __init__(self, *, engine: str = ..., num_particles: int = ..., max_iterations: int = ...,
+    def __init__(self, *, engine: str = ..., cpu_isa: str = ..., num_particles: int = ..., max_iterations: int = ...,
                  confidence: float = ..., alpha: float = ..., beta: float = ..., gamma: float = ...,
                  delta: float = ..., edge_band_m: float = ..., inlier_thr1_m: float = ..., inlier_hard: bool = ...,
                  inlier_hard_thr_m: float = ..., anneal_start_m: float = ..., anneal_fraction: float = ...,

@@ -76,6 +76,7 @@ struct Context {
   int hypothesis_count = 0;
   render::ValidDepthSat valid_depth;  // N_depth of any window in O(1) (summed-area table)
   std::array<Eigen::Vector3d, 8> bbox_corners;  // the model's bounding box, object frame, m
+  render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
 };
 
 // The window a particle is weighed in (ours, FilterOptions::grow_window): its cell's window
@@ -143,7 +144,7 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
   k.scene_normals = icp ? ctx.normals.data() : nullptr;
-  *out = ctx.opt.engine == "cpu" ? render::ScoreCpu(k, ws) : ScoreReference(k, &ws->reference);
+  *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
@@ -194,6 +195,17 @@ bool FilterOptions::IsValid(std::string* why) const {
   };
   if (engine != "cpu" && engine != "reference" && engine != "hw")
     return fail("engine must be 'cpu', 'reference' or 'hw' (got '" + engine + "')");
+  if (cpu_isa != "auto") {
+    render::CpuTarget t;
+    if (!render::ParseCpuTarget(cpu_isa, &t))
+      return fail("cpu_isa must be 'auto', 'avx512', 'avx2' or 'portable' (got '" + cpu_isa + "')");
+    if (!render::CpuTargetSupported(t)) {
+      std::string supported;
+      for (render::CpuTarget c : render::SupportedCpuTargets())
+        supported += std::string(supported.empty() ? "" : ", ") + render::CpuTargetName(c);
+      return fail("cpu_isa '" + cpu_isa + "' is not supported by this CPU or build (supported: " + supported + ")");
+    }
+  }
   if (num_particles < 2 || num_particles > 1'000'000) return fail("num_particles must be in [2, 1000000]");
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
   if (!(confidence > 0 && confidence <= 1)) return fail("confidence must be in (0, 1]");
@@ -270,6 +282,8 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
     throw Error("prior was made for a different image size than the camera's");
 
   Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera), {}, 0, {}, {}};
+  if (options.cpu_isa == "auto" || !render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target))
+    ctx.cpu_target = render::BestCpuTarget();  // (options were validated: only "auto" gets here)
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;

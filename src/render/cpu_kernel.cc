@@ -46,6 +46,16 @@ const char* CpuTargetName(CpuTarget t) {
   return "unknown";
 }
 
+bool ParseCpuTarget(const std::string& name, CpuTarget* t) {
+  for (CpuTarget c : {CpuTarget::kPortable, CpuTarget::kAvx2, CpuTarget::kAvx512}) {
+    if (name == CpuTargetName(c)) {
+      *t = c;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool CpuTargetSupported(CpuTarget t) {
   switch (t) {
     case CpuTarget::kPortable: return true;

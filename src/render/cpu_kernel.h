@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "posefilter/render.h"
@@ -29,6 +30,8 @@ enum class CpuTarget { kPortable, kAvx2, kAvx512 };
 
 // "portable", "avx2", "avx512".
 const char* CpuTargetName(CpuTarget t);
+// The variant called `name` (as CpuTargetName spells it); false for any other name.
+bool ParseCpuTarget(const std::string& name, CpuTarget* t);
 // Whether this build contains the variant and this CPU can run it (portable: always).
 bool CpuTargetSupported(CpuTarget t);
 // The variants this machine can run, portable first.

@@ -49,6 +49,8 @@ TEST(BenchCli, BadOptionsFailWithOneLineNamingTheOption) {
       {{"--lod", "3"}, {"--lod"}},
       {{"--lod", "-1"}, {"--lod"}},
       {{"--engines", "nosuch"}, {"--engines", "nosuch"}},
+      {{"--engines", "cpu/avx9"}, {"--engines", "cpu/avx9", "portable"}},
+      {{"--engines", "reference/portable"}, {"--engines", "reference/portable"}},
       {{"--engines", "reference,reference"}, {"--engines", "twice"}},
       {{"--target", "sphere"}, {"--target"}},
       {{"--json", dir.Path("no/such/dir/out.json")}, {"--json", "no/such/dir/out.json"}},
@@ -156,6 +158,35 @@ TEST(BenchCli, TinyRunWritesTableAndJson) {
     EXPECT_GE(e.at("best_weight").get<double>(), 0);
   }
   EXPECT_DOUBLE_EQ(rows[0].at("speedup_vs_baseline").get<double>(), 1.0);
+}
+
+TEST(BenchCli, CpuInstructionSetsAreEnginesOfTheirOwnAndCountTheSameFragments) {
+  // cpu/<isa> forces the cpu engine's variant (FilterOptions::cpu_isa); every variant this
+  // machine runs (portable always) weighs the same initial set to exactly the same fragments.
+  ScratchDir dir("bench_cli");
+  std::vector<std::string> engines = {"cpu"};
+  for (const char* isa : {"portable", "avx2", "avx512"}) {
+    FilterOptions o;
+    o.cpu_isa = isa;
+    if (o.IsValid(nullptr)) engines.push_back(std::string("cpu/") + isa);
+  }
+  ASSERT_GE(engines.size(), 2u);
+  std::string list;
+  for (const auto& e : engines) list += (list.empty() ? "" : ",") + e;
+  const std::string json_path = dir.Path("isa.json");
+  const RunResult r = testing_util::RunCli({"bench", "--engines", list, "--particles", "128", "--iterations", "1",
+                                            "--repeats", "1", "--threads", "1", "--quiet", "--json", json_path},
+                                           dir.dir() / "run");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(ReadFile(json_path));
+  EXPECT_EQ(j.at("engines_agree"), true);
+  const auto& rows = j.at("engines");
+  ASSERT_EQ(rows.size(), engines.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].at("engine"), engines[i]);
+    EXPECT_EQ(rows[i].at("check_fragments"), rows[0].at("check_fragments")) << engines[i];
+    EXPECT_GT(rows[i].at("check_fragments").get<std::int64_t>(), 0);
+  }
 }
 
 TEST(BenchCli, LodAndCullingOnlyModeChangeTheWorkload) {

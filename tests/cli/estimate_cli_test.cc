@@ -278,6 +278,7 @@ TEST_F(CliTest, NonsenseOptionValues) {
                                          {{"--sigma-t", "-1"}, "--sigma-t must"},
                                          {{"--sigma-r", "-1"}, "--sigma-r must"},
                                          {{"--threads", "-1"}, "--threads must"},
+                                         {{"--cpu-isa", "avx9"}, "--cpu-isa must be 'auto', 'avx512', 'avx2' or 'portable'"},
                                          {{"--depth-scale", "-1"}, "--depth-scale"},
                                          {{"--unit-scale", "0"}, "--unit-scale"}}) {
     SCOPED_TRACE(c.opt[0] + " " + c.opt[1]);

@@ -43,6 +43,14 @@ TEST(FilterOptionsTest, IsValidNamesTheViolatedConstraint) {
   b.engine = "gpu";
   expect_bad(b, "engine");
   b = o;
+  b.cpu_isa = "avx9";
+  expect_bad(b, "cpu_isa");
+  for (const char* isa : {"auto", "portable"}) {  // every build and x86-64 CPU runs these
+    b = o;
+    b.cpu_isa = isa;
+    EXPECT_TRUE(b.IsValid(nullptr)) << isa;
+  }
+  b = o;
   b.inlier.thr1_m = -1;
   expect_bad(b, "inlier");
 }
