@@ -114,7 +114,6 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
   const std::size_t nv = std::size_t(k.num_vertices) + 16, cap = std::size_t(k.num_faces) + 16;
   cpu_detail::CoreScratch s;
   s.vx = Grow(&ws->vx, nv);
-  s.vy = Grow(&ws->vy, nv);
   s.vex_x = Grow(&ws->vexact, 2 * nv);
   s.vex_y = s.vex_x + nv;
   s.vok = Grow(&ws->vok, nv);

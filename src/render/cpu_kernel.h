@@ -42,7 +42,7 @@ CpuTarget BestCpuTarget();
 // Per-worker scratch memory of the cpu kernel (no global state): grows to the largest mesh
 // and window seen, never shrinks. One per thread; not shareable between concurrent calls.
 struct CpuWorkspace {
-  std::vector<std::int32_t> vx, vy;   // per vertex: snapped x (or a marker), y, 1/256 px
+  std::vector<std::int32_t> vx;       // per vertex: snapped x, 1/256 px, or a marker (not fast)
   std::vector<std::int32_t> vexact;   // per vertex: snapped x, then y (1/256 px), any magnitude
   std::vector<std::int32_t> vok;      // per vertex: 1 = passed the near-plane/off-screen test
   std::vector<float> viz;             // per vertex: 1/z, 1/metres
@@ -62,8 +62,7 @@ namespace cpu_detail {
 // Raw views of a CpuWorkspace sized for one call (filled in by cpu_kernel.cc); the variants
 // (cpu_kernel_impl.inc) allocate nothing.
 struct CoreScratch {
-  std::int32_t* vx;      // fast-path vertices: x (kBadX marks the others), y
-  std::int32_t* vy;
+  std::int32_t* vx;      // fast-path vertices: x (kBadX marks the others; y is vex_y)
   std::int32_t* vex_x;   // any vertex: exact snapped x, y
   std::int32_t* vex_y;
   std::int32_t* vok;
