@@ -57,11 +57,12 @@ const std::vector<std::string> kKnownEngines = {"reference", "cpu", "hw", "cuda"
 
 // An engine name of the bench: a FilterOptions engine, or "cpu/<isa>" — the cpu engine with
 // its instruction set forced (FilterOptions::cpu_isa: avx512, avx2, portable).
+// Any other name is taken whole as the engine (so "reference/avx2" is an invalid engine).
 void ApplyEngine(const std::string& name, FilterOptions* o) {
-  const std::size_t slash = name.find('/');
-  o->engine = name.substr(0, slash);
-  o->cpu_isa = slash == std::string::npos || o->engine != "cpu" ? "auto" : name.substr(slash + 1);
-  if (slash != std::string::npos && o->engine != "cpu") o->engine = name;  // not a valid engine
+  const std::string cpu = "cpu/";
+  const bool forced = name.compare(0, cpu.size(), cpu) == 0;
+  o->engine = forced ? "cpu" : name;
+  o->cpu_isa = forced ? name.substr(cpu.size()) : "auto";
 }
 
 bool EngineAvailable(const std::string& engine) {

@@ -282,8 +282,8 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
     throw Error("prior was made for a different image size than the camera's");
 
   Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera), {}, 0, {}, {}};
-  if (options.cpu_isa == "auto" || !render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target))
-    ctx.cpu_target = render::BestCpuTarget();  // (options were validated: only "auto" gets here)
+  // cpu_isa names a supported variant or is "auto" (options were validated).
+  if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
