@@ -125,6 +125,26 @@ std::vector<PixelRect> Windows(const Camera& cam, Rng& rng, const Eigen::Vector2
           clip(W - 200, H - 200, 200, 200)};         // bottom-right corner
 }
 
+// Kernel parameters for `mesh` at pose T (object → camera) in `window`, scored against
+// `depth` and, when given, its scene normals.
+ScoreKernelParams SceneParams(const Mesh& mesh, const Eigen::Isometry3d& T, const Camera& cam, const DepthImage& depth,
+                              const PixelRect& window, const std::vector<float>* normals = nullptr) {
+  ScoreKernelParams k = MakeKernelParams(mesh, T, cam);
+  k.window = window;
+  k.depth = depth.data.data();
+  k.depth_width = depth.width;
+  k.depth_height = depth.height;
+  k.scene_normals = normals ? normals->data() : nullptr;
+  return k;
+}
+
+// Appends to m a vertex that the pose At(0, 0, 1) (object frame = camera frame shifted 1 m
+// along the optical axis) puts at pixel (u, v) and depth z, metres; returns its index.
+std::uint32_t PixelVertex(Mesh* m, const Camera& cam, double u, double v, double z) {
+  m->vertices.emplace_back(float((u - cam.cx) * z / cam.fx), float((v - cam.cy) * z / cam.fy), float(z - 1.0));
+  return std::uint32_t(m->vertices.size() - 1);
+}
+
 class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
  protected:
   void SetUp() override {
@@ -172,12 +192,7 @@ TEST_P(CpuKernelTarget, MatchesReferenceOnRandomPosesMeshesAndWindows) {
                                    cam.fy * c.y() / std::max(c.z(), 0.05) + cam.cy);
       int wi = 0;
       for (const PixelRect& w : Windows(cam, rng, centre)) {
-        ScoreKernelParams k = MakeKernelParams(mesh, T, cam);
-        k.window = w;
-        k.depth = depth.data.data();
-        k.depth_width = depth.width;
-        k.depth_height = depth.height;
-        k.scene_normals = (wi % 3 == 2) ? nullptr : normals.data();
+        ScoreKernelParams k = SceneParams(mesh, T, cam, depth, w, (wi % 3 == 2) ? nullptr : &normals);
         if (wi % 4 == 1) k.inlier.hard = true;
         if (wi % 4 == 3) k.inlier.thr1_m = 0.003f;  // not a power of two
         Check(k, mesh.name + " pose " + std::to_string(p) + " window " + std::to_string(wi));
@@ -215,12 +230,7 @@ TEST_P(CpuKernelTarget, MatchesReferenceOnEdgeOnAndPixelAlignedGeometry) {
   int i = 0;
   for (const auto& [mesh, T] : cases) {
     for (PixelRect w : {PixelRect{0, 0, 640, 480}, PixelRect{260, 180, 120, 120}, PixelRect{295, 215, 1, 50}}) {
-      ScoreKernelParams k = MakeKernelParams(*mesh, T, cam);
-      k.window = w;
-      k.depth = depth.data.data();
-      k.depth_width = 640;
-      k.depth_height = 480;
-      Check(k, "case " + std::to_string(i));
+      Check(SceneParams(*mesh, T, cam, depth, w), "case " + std::to_string(i));
     }
     ++i;
   }
@@ -245,12 +255,9 @@ TEST_P(CpuKernelTarget, FarOffScreenVerticesTakeTheExactPathAndMatch) {
     m.faces.push_back(t);
   }
   for (int p = 0; p < 6; ++p) {
-    ScoreKernelParams k = MakeKernelParams(m, RandomPose(rng, 0, 0, rng.Uniform(0.8, 2.0)), cam);
-    k.window = p % 2 ? PixelRect{0, 0, 640, 480} : PixelRect{100, 50, 200, 200};
-    k.depth = depth.data.data();
-    k.depth_width = 640;
-    k.depth_height = 480;
-    Check(k, "pose " + std::to_string(p));
+    const Eigen::Isometry3d T = RandomPose(rng, 0, 0, rng.Uniform(0.8, 2.0));
+    Check(SceneParams(m, T, cam, depth, p % 2 ? PixelRect{0, 0, 640, 480} : PixelRect{100, 50, 200, 200}),
+          "pose " + std::to_string(p));
   }
   EXPECT_GT(fragments_, 10000);
 }
@@ -261,10 +268,7 @@ TEST_P(CpuKernelTarget, UnusualParametersMatchTheReference) {
   const Mesh torus = MakeTorus(0.06, 0.025, 16, 12);
   const Eigen::Isometry3d T = RandomPose(rng, 0.02, 0, 0.7);
   const DepthImage depth = MakeScene(torus, T, cam, rng);
-  ScoreKernelParams k = MakeKernelParams(torus, T, cam);
-  k.depth = depth.data.data();
-  k.depth_width = depth.width;
-  k.depth_height = depth.height;
+  ScoreKernelParams k = SceneParams(torus, T, cam, depth, PixelRect{0, 0, 640, 480});
   k.near_m = -1.0f;  // outside the fast path's domain: the kernel must fall back, not differ
   Check(k, "near_m <= 0");
   k.near_m = 0.69f;  // cuts through the object
@@ -294,13 +298,8 @@ TEST_P(CpuKernelTarget, TinyTrianglesAtTheWindowsBottomRightMatch) {
     const DepthImage depth = MakeScene(torus, T, cam, rng);
     const std::vector<float> normals = ComputeSceneNormals(depth, cam);
     for (const PixelRect& w : {PixelRect{520, 380, 120, 100}, PixelRect{560, 400, 57, 43}, PixelRect{600, 470, 40, 10}}) {
-      ScoreKernelParams k = MakeKernelParams(torus, T, cam);
-      k.window = w;
-      k.depth = depth.data.data();
-      k.depth_width = depth.width;
-      k.depth_height = depth.height;
-      k.scene_normals = normals.data();
-      Check(k, "pose " + std::to_string(p) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
+      Check(SceneParams(torus, T, cam, depth, w, &normals),
+            "pose " + std::to_string(p) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
     }
   }
   EXPECT_GT(fragments_, 5000);
@@ -317,11 +316,7 @@ TEST_P(CpuKernelTarget, TallAndWideSliversMatch) {
   for (int scene = 0; scene < 4; ++scene) {
     Mesh m;
     m.name = "slivers";
-    auto vertex = [&](double u, double v, double z) {
-      // Object frame = camera frame shifted 1 m along the optical axis (T below).
-      m.vertices.emplace_back(float((u - cam.cx) * z / cam.fx), float((v - cam.cy) * z / cam.fy), float(z - 1.0));
-      return std::uint32_t(m.vertices.size() - 1);
-    };
+    auto vertex = [&](double u, double v, double z) { return PixelVertex(&m, cam, u, v, z); };
     for (int t = 0; t < 300; ++t) {
       const int shape = t % 3;
       const double w = shape == 0 ? rng.Uniform(0.3, 2.0) : shape == 1 ? rng.Uniform(2.0, 4.0) : rng.Uniform(8.0, 16.0);
@@ -337,13 +332,8 @@ TEST_P(CpuKernelTarget, TallAndWideSliversMatch) {
     const std::vector<float> normals = ComputeSceneNormals(depth, cam);
     for (const PixelRect& w : {PixelRect{0, 0, 640, 480}, PixelRect{300, 220, 41, 37}, PixelRect{255, 175, 23, 130},
                                PixelRect{330, 200, 60, 3}}) {
-      ScoreKernelParams k = MakeKernelParams(m, T, cam);
-      k.window = w;
-      k.depth = depth.data.data();
-      k.depth_width = depth.width;
-      k.depth_height = depth.height;
-      k.scene_normals = normals.data();
-      Check(k, "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
+      Check(SceneParams(m, T, cam, depth, w, &normals),
+            "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
     }
   }
   EXPECT_GT(fragments_, 20000);
@@ -361,10 +351,7 @@ TEST_P(CpuKernelTarget, SliversAroundTheInt32EdgeBoundMatch) {
   for (int scene = 0; scene < 3; ++scene) {
     Mesh m;
     m.name = "tall slivers";
-    auto vertex = [&](double u, double v, double z) {
-      m.vertices.emplace_back(float((u - cam.cx) * z / cam.fx), float((v - cam.cy) * z / cam.fy), float(z - 1.0));
-      return std::uint32_t(m.vertices.size() - 1);
-    };
+    auto vertex = [&](double u, double v, double z) { return PixelVertex(&m, cam, u, v, z); };
     for (int t = 0; t < 120; ++t) {
       const double w = rng.Uniform(2.0, 15.5);
       const double wxwy = std::ldexp(1.0, 28) * std::pow(16.0, rng.Uniform());  // 2^28 … 2^32
@@ -380,12 +367,8 @@ TEST_P(CpuKernelTarget, SliversAroundTheInt32EdgeBoundMatch) {
     const Eigen::Isometry3d T = testing_util::At(0, 0, 1);
     const DepthImage depth = MakeScene(m, T, cam, rng);
     for (const PixelRect& w : {PixelRect{0, 0, 640, 480}, PixelRect{240, 150, 160, 180}}) {
-      ScoreKernelParams k = MakeKernelParams(m, T, cam);
-      k.window = w;
-      k.depth = depth.data.data();
-      k.depth_width = depth.width;
-      k.depth_height = depth.height;
-      Check(k, "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
+      Check(SceneParams(m, T, cam, depth, w),
+            "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
     }
   }
   EXPECT_GT(below, 50);
@@ -413,13 +396,7 @@ TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
   const Camera cam = PinholeCamera(500, 500);
   DepthImage depth(640, 480, 1.0f);
   CpuWorkspace ws;
-  auto params = [&] {
-    ScoreKernelParams k = MakeKernelParams(box, testing_util::At(0, 0, 1), cam);
-    k.depth = depth.data.data();
-    k.depth_width = 640;
-    k.depth_height = 480;
-    return k;
-  };
+  auto params = [&] { return SceneParams(box, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480}); };
   ScoreKernelParams k = params();
   k.window = PixelRect{600, 0, 50, 10};  // sticks out of the image
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"window", "640x480"});
@@ -431,10 +408,7 @@ TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"depth"});
   Mesh broken = box;
   broken.faces[5][1] = 8;  // one past the last vertex
-  k = MakeKernelParams(broken, testing_util::At(0, 0, 1), cam);
-  k.depth = depth.data.data();
-  k.depth_width = 640;
-  k.depth_height = 480;
+  k = SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"face 5", "out of range"});
   for (CpuTarget t : render::SupportedCpuTargets())
     ExpectThrowsWith([&] { render::ScoreCpuWith(t, k, &ws); }, {"face 5"});
