@@ -397,6 +397,13 @@ struct TestCamera {
   }
 };
 
+// Only the align-depth move, with TestCamera's geometry installed (fatal failure if refused).
+void AlignDepthParams(const TestCamera& cam, DiffusionParams* p) {
+  *p = OnlyMove(kHwAlignDepth);
+  std::string why;
+  ASSERT_TRUE(SetAlignDepthCamera(p, cam.rot, cam.trans, &why)) << why;
+}
+
 // Against src/filter/diffusion.cc's kAlignDepth in double: p' = p + Cᵀ(Δ·c/c_z). Tolerance per
 // axis: the final rounding to xyz_t (½ LSB) + C quantized to 2^-17 (≤ 3·2^-17·|v| in c_z) + o
 // rounded to 2^-11 (× |k| ≤ 0.2) — well below 1 LSB for |Δ| ≤ 0.1 m and c_z ≥ 0.5 m; the
@@ -405,9 +412,8 @@ TEST(HwRandomDiffusion, AlignDepthMatchesTheFloatMoveAlongTheViewingRay) {
   static HeuristicVolume vol[kNumCells];
   FillVolumes(vol);
   const TestCamera cam;
-  DiffusionParams p = OnlyMove(kHwAlignDepth);
-  std::string why;
-  ASSERT_TRUE(SetAlignDepthCamera(&p, cam.rot, cam.trans, &why)) << why;
+  DiffusionParams p;
+  ASSERT_NO_FATAL_FAILURE(AlignDepthParams(cam, &p));
   MoveDraw d{};
   d.move = kHwAlignDepth;
   Lfsr15 lfsr(77);
@@ -447,6 +453,7 @@ TEST(HwRandomDiffusion, AlignDepthMatchesTheFloatMoveAlongTheViewingRay) {
   EXPECT_TRUE(SameSample(ApplyMove(s, d, weight_t(0), OnlyMove(kHwAlignDepth), vol, depth_off_t(0.05)), s));
   // A camera centre beyond fixed<15,5> is refused on the host.
   const double far[3] = {20, 20, 20};  // |o| = 34.6 m: some axis beyond 16 m
+  std::string why;
   EXPECT_FALSE(SetAlignDepthCamera(&p, cam.rot, far, &why));
   EXPECT_NE(why.find("16 m"), std::string::npos);
 }
@@ -456,9 +463,8 @@ TEST(HwRandomDiffusion, ModuleReadsTheSideBandOfTheSelectedSample) {
   static HeuristicVolume vol[kNumCells];
   FillVolumes(vol);
   const TestCamera cam;
-  DiffusionParams p = OnlyMove(kHwAlignDepth);
-  std::string why;
-  ASSERT_TRUE(SetAlignDepthCamera(&p, cam.rot, cam.trans, &why)) << why;
+  DiffusionParams p;
+  ASSERT_NO_FATAL_FAILURE(AlignDepthParams(cam, &p));
   static Sample in[kMaxParticles], out[kMaxParticles];
   static depth_off_t off[kMaxParticles];
   particle_index_t sel[kMaxParticles];

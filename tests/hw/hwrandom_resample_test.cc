@@ -46,6 +46,14 @@ double ChiCritical(int dof) {  // p = 0.001, Wilson–Hilferty
 }
 
 // Rank (position in the sorted list) of each relative index.
+// kMaxParticles raw weights (2^-17) lo + UniformInt(span), drawn from Rng(seed).
+std::vector<uint32_t> RandomRaw(uint64_t seed, uint32_t lo, uint64_t span) {
+  Rng rng(seed);
+  std::vector<uint32_t> raw(kMaxParticles);
+  for (auto& r : raw) r = lo + uint32_t(rng.UniformInt(span));
+  return raw;
+}
+
 std::vector<int> RankOf(const Input& in) {
   std::vector<int> rank(kMaxParticles);
   for (int k = 0; k < kMaxParticles; ++k) rank[in.idx[k].to_int()] = k;
@@ -53,9 +61,7 @@ std::vector<int> RankOf(const Input& in) {
 }
 
 TEST(HwRandomResample, SelectionFrequenciesFollowWeights) {
-  Rng rng(21);
-  std::vector<uint32_t> raw(kMaxParticles);
-  for (auto& r : raw) r = 13107 + uint32_t(rng.UniformInt(117965));  // weights in [0.1, 1)
+  const std::vector<uint32_t> raw = RandomRaw(21, 13107, 117965);  // weights in [0.1, 1)
   Input in;
   Build(raw, &in);
   const std::vector<int> rank = RankOf(in);
@@ -88,9 +94,7 @@ TEST(HwRandomResample, SelectionFrequenciesFollowWeights) {
 }
 
 TEST(HwRandomResample, EliteIsTheHeadOfTheSortedList) {
-  Rng rng(1);
-  std::vector<uint32_t> raw(kMaxParticles);
-  for (auto& r : raw) r = uint32_t(rng.UniformInt(1u << 17));
+  const std::vector<uint32_t> raw = RandomRaw(1, 0, 1u << 17);
   Input in;
   Build(raw, &in);
   ResampleParams p;
@@ -104,9 +108,7 @@ TEST(HwRandomResample, EliteIsTheHeadOfTheSortedList) {
 }
 
 TEST(HwRandomResample, TrackerGivesLinearScanAnswersWithFewerReads) {
-  Rng rng(8);
-  std::vector<uint32_t> raw(kMaxParticles);
-  for (auto& r : raw) r = 1000 + uint32_t(rng.UniformInt(2000));  // broad: many bins
+  const std::vector<uint32_t> raw = RandomRaw(8, 1000, 2000);  // broad: many bins
   Input in;
   Build(raw, &in);
   const std::vector<int> rank = RankOf(in);
@@ -208,9 +210,7 @@ TEST(HwRandomResample, AllZeroPoolIsSampledUniformly) {
 }
 
 TEST(HwRandomResample, PoolSizeAndRegionCap) {
-  Rng rng(12);
-  std::vector<uint32_t> raw(kMaxParticles);
-  for (auto& r : raw) r = 100 + uint32_t(rng.UniformInt(100000));
+  const std::vector<uint32_t> raw = RandomRaw(12, 100, 100000);
   Input in;
   Build(raw, &in);
   const std::vector<int> rank = RankOf(in);
@@ -337,9 +337,7 @@ TEST(HwRandomResample, RotationBinMatchesTheReferenceBins) {
 // Three orientations (identity, yaw +π/2, pitch +π/2 — three different bins) in rank blocks
 // 0..14, 15..29, 30..; one hypothesis. A rotation cap of 5 admits ranks 0..4, 15..19, 30..34.
 TEST(HwRandomResample, RotationCapLimitsEachOrientationNiche) {
-  Rng rng(13);
-  std::vector<uint32_t> raw(kMaxParticles);
-  for (auto& r : raw) r = 100 + uint32_t(rng.UniformInt(100000));
+  const std::vector<uint32_t> raw = RandomRaw(13, 100, 100000);
   Input in;
   Build(raw, &in);
   const std::vector<int> rank = RankOf(in);
