@@ -95,12 +95,12 @@ inline int RotationBinHw(const Sample& s) {
   SinCos(s.roll, &sr, &cr);
   SinCos(s.pitch, &sp, &cp);
   SinCos(s.yaw, &sy, &cy);
-  typedef ap_int<40> wide_t;  // 2^-32 (products) or 2^-48 (triple products, shifted to 2^-32)
+  typedef ap_int<40> wide_t;  // 2^-32: products, and triple products via sp·cr shifted to 2^-16
   const wide_t spcr = wide_t(RawOf(sp)) * wide_t(RawOf(cr));  // 2^-32
   const wide_t col0[3] = {wide_t(RawOf(cy)) * wide_t(RawOf(cp)), wide_t(RawOf(sy)) * wide_t(RawOf(cp)),
                           -(wide_t(RawOf(sp)) << 16)};
-  const wide_t col2[3] = {((wide_t(RawOf(cy)) * (spcr >> 16)) >> 0) + wide_t(RawOf(sy)) * wide_t(RawOf(sr)),
-                          ((wide_t(RawOf(sy)) * (spcr >> 16)) >> 0) - wide_t(RawOf(cy)) * wide_t(RawOf(sr)),
+  const wide_t col2[3] = {wide_t(RawOf(cy)) * (spcr >> 16) + wide_t(RawOf(sy)) * wide_t(RawOf(sr)),
+                          wide_t(RawOf(sy)) * (spcr >> 16) - wide_t(RawOf(cy)) * wide_t(RawOf(sr)),
                           wide_t(RawOf(cp)) * wide_t(RawOf(cr))};
   wide_t a2[3], a0[3];
 ROT_BIN_ABS:
