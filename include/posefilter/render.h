@@ -2,7 +2,7 @@
 //
 // The score kernel (SPEC §6.2, thesis §6.2 and §7.5.1) renders the mesh inside a window of the
 // image and compares each rendered pixel's depth z_r with the scene depth z_s:
-//   soft inlier χ(d), d = |z_r − z_s|: 1 for d ≤ thr1, 2 − d/thr1 on the ramp (continuous form
+//   soft inlier χ(d), d = |z_r − z_s|: 1 for d ≤ thr1, 2 − d·(1/thr1) on the ramp (continuous form
 //   of the thesis's slope, SPEC erratum), 0 for d ≥ thr2 = 2·thr1; or hard: 1 iff d ≤ hard_thr.
 //   Missing scene depth (z_s = 0) is never an inlier.
 // ScoreKernelParams is the one plain parameter struct shared by every backend (reference now;
@@ -38,12 +38,13 @@ struct InlierParams {
   float hard_thr_m = 0.005f;     // hard mode: χ = 1 iff d ≤ this (5 mm, eq. 7.4)
 };
 
-// χ(d) for a depth difference d ≥ 0 in metres (thr2 = 2·thr1; the ramp is 2 − d/thr1).
+// χ(d) for a depth difference d ≥ 0 in metres (thr2 = 2·thr1; the ramp is 2 − d·(1/thr1),
+// with 1/thr1 rounded to float once: a multiply, as the thesis's 2 − 256·d for thr1 = 2^-8).
 inline float SoftInlier(float d, const InlierParams& p) {
   if (p.hard) return d <= p.hard_thr_m ? 1.0f : 0.0f;
   if (d <= p.thr1_m) return 1.0f;
   if (d >= 2 * p.thr1_m) return 0.0f;
-  return 2.0f - d / p.thr1_m;
+  return 2.0f - d * (1.0f / p.thr1_m);
 }
 
 struct ScoreKernelParams {

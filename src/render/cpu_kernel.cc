@@ -35,6 +35,12 @@ T* Grow(std::vector<T>* v, std::size_t n) {
   return v->data();
 }
 
+// The first 64-byte aligned element of a buffer with at least 15 spare elements.
+std::int32_t* AlignTo64(std::int32_t* p) {
+  const std::uintptr_t a = reinterpret_cast<std::uintptr_t>(p);
+  return p + ((64 - a % 64) % 64) / sizeof(std::int32_t);
+}
+
 }  // namespace
 
 const char* CpuTargetName(CpuTarget t) {
@@ -111,7 +117,7 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
     return ScoreReference(k, &ws->reference);
   }
 
-  const std::size_t nv = std::size_t(k.num_vertices) + 16, cap = std::size_t(k.num_faces) + 16;
+  const std::size_t nv = std::size_t(k.num_vertices) + 16, cap = (std::size_t(k.num_faces) + 31) / 16 * 16;
   cpu_detail::CoreScratch s;
   s.vx = Grow(&ws->vx, nv);
   s.vex_x = Grow(&ws->vexact, 2 * nv);
@@ -119,9 +125,8 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
   s.vok = Grow(&ws->vok, nv);
   s.viz = Grow(&ws->viz, nv);
   s.tri_cap = std::int64_t(cap);
-  s.tri_i = Grow(&ws->tri_i, 16 * cap);
-  s.tri_f = Grow(&ws->tri_f, 4 * cap);
-  s.fast = Grow(&ws->fast, 4 * cap);
+  s.tri = AlignTo64(Grow(&ws->tri, cpu_detail::kTriFields * cap + 16));
+  s.fast = Grow(&ws->fast, cpu_detail::kFastBins * cap);
   s.slow = Grow(&ws->slow, cap);
   s.wide = Grow(&ws->wide, cap);
   s.zb = nullptr;

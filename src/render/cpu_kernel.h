@@ -6,8 +6,9 @@
 //   2. face pass: gather, back-face cull, window test, setup of edge functions, 16 faces per
 //      step in int32; front faces in the window are listed by vector shape;
 //   3. raster: per triangle, vectors of 16 pixel centres (AVX-512; 8 AVX2, 4 portable) laid out
-//      as 4 rows of 4, 2 rows of 8 or one row of 16 to fit its box; int32 edge functions holding
-//      exact integers (double for large triangles); float 1/z exactly as raster.h; z-buffer mode
+//      as 4 rows of 4, 2 rows of 8 or one row of 16 to fit its box; edge functions holding exact
+//      integers in float (int32 for larger triangles, double for the largest); float 1/z
+//      exactly as raster.h; z-buffer mode
 //      keeps the max of 1/z per pixel (a window-sized float buffer in the workspace),
 //      z-buffer-free mode scores every fragment on the spot;
 //   4. z-buffer mode: one scoring pass over the covered part of the window (contiguous loads
@@ -46,9 +47,8 @@ struct CpuWorkspace {
   std::vector<std::int32_t> vexact;   // per vertex: snapped x, then y (1/256 px), any magnitude
   std::vector<std::int32_t> vok;      // per vertex: 1 = passed the near-plane/off-screen test
   std::vector<float> viz;             // per vertex: 1/z, 1/metres
-  std::vector<std::int32_t> tri_i;    // int32-raster triangle setup, field-major (see impl)
-  std::vector<float> tri_f;           //   and its float fields (1/z of the corners, 1/2Area)
-  std::vector<std::int32_t> fast;     // faces that take the int32 raster
+  std::vector<std::int32_t> tri;      // setup records of the rastered triangles (see impl)
+  std::vector<std::int32_t> fast;     // faces that take the float-exact or int32 raster, by bin
   std::vector<std::int32_t> slow;     // faces that take the exact int64 scalar path
   std::vector<std::int32_t> wide;     // faces that take the double row path
   std::vector<float> zbuffer;         // window-sized max(1/z) per pixel, 0 = empty
@@ -61,16 +61,17 @@ struct CpuWorkspace {
 namespace cpu_detail {
 // Raw views of a CpuWorkspace sized for one call (filled in by cpu_kernel.cc); the variants
 // (cpu_kernel_impl.inc) allocate nothing.
+inline constexpr int kTriFields = 20;  // fields of a triangle's setup record
+inline constexpr int kFastBins = 5;    // raster bins of the fast path
 struct CoreScratch {
   std::int32_t* vx;      // fast-path vertices: x (kBadX marks the others; y is vex_y)
   std::int32_t* vex_x;   // any vertex: exact snapped x, y
   std::int32_t* vex_y;
   std::int32_t* vok;
   float* viz;
-  std::int32_t* tri_i;   // 16 fields × tri_cap
-  float* tri_f;          // 4 fields × tri_cap
-  std::int64_t tri_cap;  // elements per field (≥ num_faces + 16)
-  std::int32_t* fast;
+  std::int32_t* tri;     // kTriFields × tri_cap int32/float words, 64-byte aligned
+  std::int64_t tri_cap;  // a multiple of 16, ≥ num_faces + 16
+  std::int32_t* fast;    // kFastBins × tri_cap
   std::int32_t* slow;
   std::int32_t* wide;
   float* zb;             // z-buffer row 0, column 0 (≥ 16 floats of slack before and 32 after

@@ -8,8 +8,10 @@
 #if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
 // GCC 12's AVX-512 intrinsics (e.g. _mm512_max_pd) pass `_mm512_undefined_pd()`, a
 // self-initialised `__Y`, as the unused merge operand; inlined here, -Wmaybe-uninitialized
-// flags that idiom (GCC bug 105593). No value of ours is involved.
+// flags that idiom (GCC bug 105593; as -Wuninitialized where the intrinsic is inlined into an
+// out-of-line helper). No value of ours is involved.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #define POSEFILTER_CPU_NS cpu_avx512
 #define POSEFILTER_CPU_ENTRY CoreAvx512
 #define POSEFILTER_CPU_LANES 8
