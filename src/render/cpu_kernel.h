@@ -51,7 +51,8 @@ struct CpuWorkspace {
   std::vector<std::int32_t> fast;     // faces that take the float-exact or int32 raster, by bin
   std::vector<std::int32_t> slow;     // faces that take the exact int64 scalar path
   std::vector<std::int32_t> wide;     // faces that take the double row path
-  std::vector<float> zbuffer;         // window-sized max(1/z) per pixel, 0 = empty
+  std::vector<float> zbuffer;         // window-sized max(1/z) per pixel, 0 = empty; all zeros
+                                      // between calls (each call clears what it wrote)
   std::vector<std::int32_t> frag_u;   // fragments waiting to be scored: pixel u, v, 1/z
   std::vector<std::int32_t> frag_v;
   std::vector<float> frag_iz;
