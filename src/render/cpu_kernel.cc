@@ -108,9 +108,10 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
                 std::to_string(k.depth_width) + "x" + std::to_string(k.depth_height) + " depth image");
   // Outside the fast path's domain (1/z must be positive for the max-1/z z-buffer; images
   // beyond 2^20 px a side would break the double-exactness bounds, beyond 2^28 pixels the
-  // int32 gather indices): the reference.
+  // int32 gather indices; meshes beyond 2^26 faces the int32 offsets of the setup records):
+  // the reference.
   if (!(k.near_m > 0) || k.depth_width > (1 << 20) || k.depth_height > (1 << 20) ||
-      std::int64_t(k.depth_width) * k.depth_height > (std::int64_t(1) << 28)) {
+      std::int64_t(k.depth_width) * k.depth_height > (std::int64_t(1) << 28) || k.num_faces > (1 << 26)) {
     for (int f = 0; f < 3 * k.num_faces; ++f)
       if (k.faces[f] >= std::uint32_t(k.num_vertices))
         throw Error("cpu kernel: face " + std::to_string(f / 3) + " has a vertex index out of range");
