@@ -77,6 +77,9 @@ struct Context {
   render::ValidDepthSat valid_depth;  // N_depth of any window in O(1) (summed-area table)
   std::array<Eigen::Vector3d, 8> bbox_corners;  // the model's bounding box, object frame, m
   render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
+  // One scratch memory per worker thread (cpu kernel; holds the reference's too), kept from
+  // one weighing round to the next so that its buffers are allocated and touched once.
+  mutable std::vector<render::CpuWorkspace> workspaces;
 };
 
 // The window a particle is weighed in (ours, FilterOptions::grow_window): its cell's window
@@ -162,9 +165,10 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats,
   const int n = int(ps.size());
   std::int64_t faces_total = 0, faces_front = 0, fragments = 0, weighings = 0;
   const int threads = ctx.opt.threads > 0 ? ctx.opt.threads : omp_get_max_threads();
+  if (int(ctx.workspaces.size()) < threads) ctx.workspaces.resize(std::size_t(threads));
 #pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
   {
-    render::CpuWorkspace ws;  // this worker's scratch (cpu kernel; holds the reference's too)
+    render::CpuWorkspace& ws = ctx.workspaces[std::size_t(omp_get_thread_num())];  // this worker's own
 #pragma omp for schedule(dynamic, 4)
     for (int i = 0; i < n; ++i) {
       if (ps[i].scored) continue;
@@ -281,7 +285,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera), {}, 0, {}, {}};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera), {}, 0, {}, {}, {}, {}};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   const double diameter = mesh.Diameter();
