@@ -150,6 +150,29 @@ std::uint32_t PixelVertex(Mesh* m, const Camera& cam, double u, double v, double
   return std::uint32_t(m->vertices.size() - 1);
 }
 
+// Tall slivers `w_lo`–`w_hi` px wide whose bounding box (1/256 px) has wx·wy spread evenly in
+// log scale over [2^lo_exp, 2^(lo_exp + 4)) (the bound under test at 2^(lo_exp + 2)), clipped
+// by the window at the top and bottom; both windings (front and back). Returns how many fall
+// below and above the bound.
+std::pair<std::int64_t, std::int64_t> AddSliversAroundBound(Mesh* m, const Camera& cam, Rng& rng, int lo_exp,
+                                                            double w_lo, double w_hi) {
+  std::int64_t below = 0, above = 0;
+  auto vertex = [&](double u, double v, double z) { return PixelVertex(m, cam, u, v, z); };
+  for (int t = 0; t < 120; ++t) {
+    const double w = rng.Uniform(w_lo, w_hi);
+    const double wxwy = std::ldexp(1.0, lo_exp) * std::pow(16.0, rng.Uniform());
+    const double h = wxwy / (w * 256.0 * 256.0);  // pixels
+    (wxwy < std::ldexp(1.0, lo_exp + 2) ? below : above) += 1;
+    const double u0 = rng.Uniform(250, 390), vc = rng.Uniform(200, 280), z = rng.Uniform(0.7, 1.3);
+    const std::uint32_t a = vertex(u0, vc - h * rng.Uniform(0.3, 0.7), z);
+    const std::uint32_t b = vertex(u0 + w * rng.Uniform(0, 1), vc + h * rng.Uniform(0.3, 0.7), z * rng.Uniform(0.97, 1.03));
+    const std::uint32_t c = vertex(u0 + w, vc + rng.Uniform(-20, 20), z);
+    m->faces.push_back({a, b, c});
+    m->faces.push_back({a, c, b});
+  }
+  return {below, above};
+}
+
 class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
  protected:
   void SetUp() override {
@@ -171,6 +194,31 @@ class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
       icp_ += ref.icp_count;
       occluded_ += ref.n_occluded;
     }
+  }
+
+  // Three scenes of slivers around the bound 2^(lo_exp + 2) (AddSliversAroundBound, once per
+  // width range), each checked in the full image and in a window that clips them; returns how
+  // many slivers fell below and above the bound.
+  std::pair<std::int64_t, std::int64_t> CheckSliverScenes(std::uint64_t seed, int lo_exp,
+                                                          std::initializer_list<std::pair<double, double>> widths) {
+    Rng rng(seed);
+    const Camera cam = PinholeCamera(525, 525);
+    std::int64_t below = 0, above = 0;
+    for (int scene = 0; scene < 3; ++scene) {
+      Mesh m;
+      m.name = "slivers";
+      for (const auto& [w_lo, w_hi] : widths) {
+        const auto [b, a] = AddSliversAroundBound(&m, cam, rng, lo_exp, w_lo, w_hi);
+        below += b;
+        above += a;
+      }
+      const Eigen::Isometry3d T = testing_util::At(0, 0, 1);
+      const DepthImage depth = MakeScene(m, T, cam, rng);
+      for (const PixelRect& w : {PixelRect{0, 0, 640, 480}, PixelRect{240, 150, 160, 180}})
+        Check(SceneParams(m, T, cam, depth, w),
+              "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
+    }
+    return {below, above};
   }
 
   CpuWorkspace ws_;  // shared by all cases: also checks that reuse leaves no stale state
@@ -345,52 +393,13 @@ TEST_P(CpuKernelTarget, TallAndWideSliversMatch) {
   EXPECT_GT(icp_, 1000);
 }
 
-// Tall slivers `w_lo`–`w_hi` px wide whose bounding box (1/256 px) has wx·wy spread evenly in
-// log scale over [2^lo_exp, 2^(lo_exp + 4)) (the bound under test at 2^(lo_exp + 2)), clipped
-// by the window at the top and bottom; both windings (front and back). Returns how many fall
-// below and above the bound.
-std::pair<std::int64_t, std::int64_t> AddSliversAroundBound(Mesh* m, const Camera& cam, Rng& rng, int lo_exp,
-                                                            double w_lo, double w_hi) {
-  std::int64_t below = 0, above = 0;
-  auto vertex = [&](double u, double v, double z) { return PixelVertex(m, cam, u, v, z); };
-  for (int t = 0; t < 120; ++t) {
-    const double w = rng.Uniform(w_lo, w_hi);
-    const double wxwy = std::ldexp(1.0, lo_exp) * std::pow(16.0, rng.Uniform());
-    const double h = wxwy / (w * 256.0 * 256.0);  // pixels
-    (wxwy < std::ldexp(1.0, lo_exp + 2) ? below : above) += 1;
-    const double u0 = rng.Uniform(250, 390), vc = rng.Uniform(200, 280), z = rng.Uniform(0.7, 1.3);
-    const std::uint32_t a = vertex(u0, vc - h * rng.Uniform(0.3, 0.7), z);
-    const std::uint32_t b = vertex(u0 + w * rng.Uniform(0, 1), vc + h * rng.Uniform(0.3, 0.7), z * rng.Uniform(0.97, 1.03));
-    const std::uint32_t c = vertex(u0 + w, vc + rng.Uniform(-20, 20), z);
-    m->faces.push_back({a, b, c});
-    m->faces.push_back({a, c, b});
-  }
-  return {below, above};
-}
-
 TEST_P(CpuKernelTarget, SliversAroundTheFloatEdgeBoundMatch) {
   // The raster steps edge values in float when a triangle's bounding box (1/256 px) has
   // wx·wy < 2^23 (cpu_kernel_impl.inc: every edge value at a pixel centre of the box is an
   // integer below 2^24), and in int32 above. Slivers 1–30 px wide (narrow boxes and boxes of
   // several row pieces) whose wx·wy spans 2^21 … 2^25 take both paths; a float bound set too
   // high rounds their edge values, and with them the depths, which the bit-identical sums show.
-  Rng rng(2027);
-  const Camera cam = PinholeCamera(525, 525);
-  std::int64_t below = 0, above = 0;
-  for (int scene = 0; scene < 3; ++scene) {
-    Mesh m;
-    m.name = "slivers";
-    const auto [b1, a1] = AddSliversAroundBound(&m, cam, rng, 21, 1.0, 15.5);
-    const auto [b2, a2] = AddSliversAroundBound(&m, cam, rng, 21, 17.0, 30.0);
-    below += b1 + b2;
-    above += a1 + a2;
-    const Eigen::Isometry3d T = testing_util::At(0, 0, 1);
-    const DepthImage depth = MakeScene(m, T, cam, rng);
-    for (const PixelRect& w : {PixelRect{0, 0, 640, 480}, PixelRect{240, 150, 160, 180}}) {
-      Check(SceneParams(m, T, cam, depth, w),
-            "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
-    }
-  }
+  const auto [below, above] = CheckSliverScenes(2027, 21, {{1.0, 15.5}, {17.0, 30.0}});
   EXPECT_GT(below, 100);
   EXPECT_GT(above, 100);
   EXPECT_GT(fragments_, 20000);
@@ -401,22 +410,7 @@ TEST_P(CpuKernelTarget, SliversAroundTheInt32EdgeBoundMatch) {
   // 2^23 ≤ wx·wy < 2^30 (cpu_kernel_impl.inc), and in double above. Tall slivers 2–16 px wide
   // whose wx·wy spans 2^28 … 2^32, clipped by the window at the top and bottom, take both
   // paths; an int32 bound set too high overflows their edge values.
-  Rng rng(2026);
-  const Camera cam = PinholeCamera(525, 525);
-  std::int64_t below = 0, above = 0;
-  for (int scene = 0; scene < 3; ++scene) {
-    Mesh m;
-    m.name = "tall slivers";
-    const auto [b, a] = AddSliversAroundBound(&m, cam, rng, 28, 2.0, 15.5);
-    below += b;
-    above += a;
-    const Eigen::Isometry3d T = testing_util::At(0, 0, 1);
-    const DepthImage depth = MakeScene(m, T, cam, rng);
-    for (const PixelRect& w : {PixelRect{0, 0, 640, 480}, PixelRect{240, 150, 160, 180}}) {
-      Check(SceneParams(m, T, cam, depth, w),
-            "scene " + std::to_string(scene) + " window " + std::to_string(w.u0) + "," + std::to_string(w.v0));
-    }
-  }
+  const auto [below, above] = CheckSliverScenes(2026, 28, {{2.0, 15.5}});
   EXPECT_GT(below, 50);
   EXPECT_GT(above, 50);
   EXPECT_GT(fragments_, 20000);
