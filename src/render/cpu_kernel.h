@@ -8,9 +8,8 @@
 //   3. raster: per triangle, vectors of 16 pixel centres (AVX-512; 8 AVX2, 4 portable) laid out
 //      as 4 rows of 4, 2 rows of 8 or one row of 16 to fit its box; edge functions holding exact
 //      integers in float (int32 for larger triangles, double for the largest); float 1/z
-//      exactly as raster.h; z-buffer mode
-//      keeps the max of 1/z per pixel (a window-sized float buffer in the workspace),
-//      z-buffer-free mode scores every fragment on the spot;
+//      exactly as raster.h; z-buffer mode keeps the max of 1/z per pixel (a window-sized float
+//      buffer in the workspace), z-buffer-free mode scores every fragment on the spot;
 //   4. z-buffer mode: one scoring pass over the covered part of the window (contiguous loads
 //      of scene depth and normals per pixel run, no gathers).
 // Runtime dispatch: one implementation source (cpu_kernel_impl.inc) compiled three times —
