@@ -141,8 +141,7 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
   }
   constexpr int kFragCap = 1024;  // scored in batches that stay in L1
   s.frag_cap = kFragCap;
-  s.frag_u = Grow(&ws->frag_u, kFragCap + 16);
-  s.frag_v = Grow(&ws->frag_v, kFragCap + 16);
+  s.frag_idx = Grow(&ws->frag_idx, kFragCap + 16);
   s.frag_iz = Grow(&ws->frag_iz, kFragCap + 16);
   std::int64_t bad = -1;
   switch (target) {

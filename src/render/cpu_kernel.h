@@ -52,9 +52,8 @@ struct CpuWorkspace {
   std::vector<std::int32_t> wide;     // faces that take the double row path
   std::vector<float> zbuffer;         // window-sized max(1/z) per pixel, 0 = empty; all zeros
                                       // between calls (each call clears what it wrote)
-  std::vector<std::int32_t> frag_u;   // fragments waiting to be scored: pixel u, v, 1/z
-  std::vector<std::int32_t> frag_v;
-  std::vector<float> frag_iz;
+  std::vector<std::int32_t> frag_idx; // fragments waiting to be scored: image index v·width + u,
+  std::vector<float> frag_iz;         //   1/z (z-buffer-free mode)
   RenderWorkspace reference;          // fallback for parameters outside the fast path's domain
 };
 
@@ -76,8 +75,7 @@ struct CoreScratch {
   std::int32_t* wide;
   float* zb;             // z-buffer row 0, column 0 (≥ 16 floats of slack before and 32 after
   std::int64_t zb_stride;//   each row, 4 spare rows)
-  std::int32_t* frag_u;  // fragment buffer: pixel u, v (image) and 1/z, frag_cap + 16 each
-  std::int32_t* frag_v;
+  std::int32_t* frag_idx;  // fragment buffer: image index v·width + u and 1/z, frag_cap + 16 each
   float* frag_iz;
   int frag_cap;
 };

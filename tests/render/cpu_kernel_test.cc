@@ -336,6 +336,35 @@ TEST_P(CpuKernelTarget, UnusualParametersMatchTheReference) {
   Check(k, "bands");
 }
 
+TEST_P(CpuKernelTarget, ImageWidthsWithInexactReciprocalsMatch) {
+  // The z-buffer-free mode recovers a fragment's (u, v) for the ICP terms from its image index
+  // v·width + u by a float quotient and one correction each way. Widths where that float quotient of column 0 falls short in most rows (e.g. 244: 447 of
+  // 480 rows) need the correction; a torus across the left border (window from column 0,
+  // scene normals nonzero everywhere, also in the border column) exercises it.
+  Rng rng(5);
+  const Mesh torus = MakeTorus(0.06, 0.025, 24, 16);
+  int widths = 0;
+  for (int w = 120; w < 800 && widths < 3; ++w) {
+    int short_rows = 0;
+    for (int v = 0; v < 480; ++v) short_rows += int(float(v * w) * (1.0f / float(w))) < v;
+    if (short_rows < 200) continue;
+    ++widths;
+    Camera cam = PinholeCamera(525, 525, 0.5 * (w - 1), 239.5);
+    cam.width = w;
+    const Eigen::Isometry3d T = RandomPose(rng, -0.5 * (w - 1) / 525.0 * 0.7, 0, 0.7);  // centred on column 0
+    const DepthImage depth = MakeScene(torus, T, cam, rng);
+    std::vector<float> normals(3 * depth.data.size());
+    for (std::size_t i = 0; i < depth.data.size(); ++i) {
+      const Eigen::Vector3d n = Eigen::Vector3d(rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3), -1.0).normalized();
+      for (int a = 0; a < 3; ++a) normals[3 * i + a] = float(n[a]);
+    }
+    for (PixelRect win : {PixelRect{0, 0, w, 480}, PixelRect{0, 140, 90, 200}})
+      Check(SceneParams(torus, T, cam, depth, win, &normals), "width " + std::to_string(w));
+  }
+  EXPECT_EQ(widths, 3);
+  EXPECT_GT(icp_, 1000);
+}
+
 TEST_P(CpuKernelTarget, TinyTrianglesAtTheWindowsBottomRightMatch) {
   // A finely tessellated torus far away: nearly every triangle's box is at most 4×4 px (the
   // kernel's stamp path), placed so that stamps reach past the window's last row and column
