@@ -28,7 +28,8 @@ constexpr FieldOption kFieldOptions[] = {
     {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"},
     {"delta", "--delta"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"},
     {"lod_max_faces", "--lod"},     {"polish_steps", "--polish-steps"},   {"polish_seeds", "--polish-seeds"},
-    {"polish_climbers", "--polish-climbers"}, {"cpu_isa", "--cpu-isa"}};
+    {"polish_climbers", "--polish-climbers"}, {"cpu_isa", "--cpu-isa"},
+    {"stall_iterations", "--stall-iterations"}, {"stall_gain", "--stall-gain"}};
 
 // The option that sets `field`; evaluated while compiling, so an unknown field does not compile.
 consteval const char* OptionOf(std::string_view field) {
@@ -96,6 +97,9 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("delta"), o->delta, "silhouette edge penalty weight (0 = off)");
   add(OptionOf("anneal_start_m"), o->anneal_start_m, "coarse-to-fine: initial inlier threshold (m, 0 = off)");
   add(OptionOf("restarts"), o->restarts, "independent runs, the best weight wins");
+  add(OptionOf("stall_iterations"), o->stall_iterations,
+      "a run ends when its best weight rose by less than --stall-gain over this many iterations at the final threshold (0 = off)");
+  add(OptionOf("stall_gain"), o->stall_gain, "see --stall-iterations");
   add(OptionOf("lod_max_faces"), o->lod_max_faces, "level of detail: render the mesh simplified to at most this many faces (0 = full mesh)");
   add(OptionOf("polish_steps"), o->polish_steps, "final polish: ICP steps per polished candidate (0 = off)");
   app.add_flag("!--no-polish-turns", o->polish_turns, "final polish: do not try the 23 cube turns of each seed");

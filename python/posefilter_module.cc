@@ -330,6 +330,8 @@ const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
       Nested("heuristics_max_depth_m", &O::heuristics, &HeuristicOptions::max_depth_m),
       Nested("heuristics_min_valid_pixels", &O::heuristics, &HeuristicOptions::min_valid_pixels),
       Field("restarts", &O::restarts),
+      Field("stall_iterations", &O::stall_iterations),
+      Field("stall_gain", &O::stall_gain),
       Field("polish_steps", &O::polish_steps),
       Field("polish_turns", &O::polish_turns),
       Field("polish_pivots", &O::polish_pivots),

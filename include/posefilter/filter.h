@@ -110,6 +110,12 @@ struct FilterOptions {
   double align_band_m = 0.05;        // depth differences used by the align-depth move, metres
   HeuristicOptions heuristics;       // depth_extension_m is set to the object's radius if 0
   int restarts = 4;                  // ours: independent runs, the best weight wins (time × restarts)
+  // Ours: a run also ends, at the final inlier threshold, once its best weight has risen by
+  // less than stall_gain over the last stall_iterations iterations (the elite keeps the best
+  // particle, so the best weight does not fall there). 0 = off: run until confidence or
+  // max_iterations (the thesis).
+  int stall_iterations = 3;
+  double stall_gain = 0.01;          // weight (eq. 7.4 units)
   // Final polish (ours): the best pose of every run, and each of those turned about the
   // model's bounding-box centre by the 23 other rotations of a cube, is refined by this many
   // point-to-plane ICP steps at the final inlier threshold; the best weight seen wins.

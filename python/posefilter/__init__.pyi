@@ -219,6 +219,7 @@ class Estimator:
                  heuristics_percentile_lo: float = ..., heuristics_percentile_hi: float = ...,
                  heuristics_depth_extension_m: float = ..., heuristics_max_samples: int = ...,
                  heuristics_max_depth_m: float = ..., heuristics_min_valid_pixels: int = ..., restarts: int = ...,
+                 stall_iterations: int = ..., stall_gain: float = ...,
                  polish_steps: int = ..., polish_turns: bool = ..., polish_pivots: bool = ..., polish_keep: int = ..., polish_seeds: int = ..., polish_climbers: int = ..., seed: int = ...,
                  threads: int = ...) -> None: ...
     @property

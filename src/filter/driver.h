@@ -12,6 +12,19 @@
 
 namespace posefilter::filter {
 
+// Coarse-to-fine schedule (FilterOptions::anneal_start_m, anneal_fraction): the number of
+// iterations whose inlier threshold is above its final value (0 = annealing off), and the
+// threshold thr1 of iteration `it` (metres), falling geometrically from anneal_start_m.
+int AnnealIterations(const FilterOptions& options);
+double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its);
+
+// Whether a run ends after iteration it (0-based) with these best weights so far (one per
+// iteration): at the final threshold (it ≥ anneal_its) the best weight reached
+// options.confidence (*converged is set), or it rose by less than stall_gain over the last
+// stall_iterations iterations (stall_iterations > 0), or it was the last iteration.
+bool RunEnds(const FilterOptions& options, int it, int anneal_its, const std::vector<double>& best_weights,
+             bool* converged);
+
 // One run of an engine's filter, from initialisation to convergence, on the given random
 // stream, reporting (iteration within the run, best weight) to the given progress callback.
 using RunFn = std::function<EstimateResult(Rng& rng, const ProgressFn& progress)>;

@@ -232,6 +232,8 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (!(align_band_m > 0 && std::isfinite(align_band_m))) return fail("align_band_m must be > 0");
   if (init_oversample < 1 || init_oversample > 64) return fail("init_oversample must be in [1, 64]");
   if (restarts < 1 || restarts > 100) return fail("restarts must be in [1, 100]");
+  if (stall_iterations < 0 || stall_iterations > 1000) return fail("stall_iterations must be in [0, 1000]");
+  if (!(stall_gain >= 0 && stall_gain <= 1)) return fail("stall_gain must be in [0, 1]");
   if (lod_max_faces != 0 && lod_max_faces < kMinSimplifyFaces) return fail("lod_max_faces must be 0 (full mesh) or >= 4");
   if (polish_steps < 0 || polish_steps > 100) return fail("polish_steps must be in [0, 100]");
   if (polish_seeds < 1 || polish_seeds > 1000) return fail("polish_seeds must be in [1, 1000]");
@@ -351,12 +353,9 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   // Coarse-to-fine inlier threshold: thr1 falls geometrically from anneal_start_m to its
   // final value over the first anneal_fraction of the iterations. Sets the threshold of
   // iteration `it`; returns true when it changed (weights measured before are stale).
-  const int anneal_its = options.anneal_start_m > options.inlier.thr1_m
-                             ? int(std::lround(options.anneal_fraction * options.max_iterations)) : 0;
+  const int anneal_its = filter::AnnealIterations(options);
   auto set_threshold = [&](int it) {
-    float thr = options.inlier.thr1_m;
-    if (it < anneal_its)
-      thr = float(options.anneal_start_m * std::pow(options.inlier.thr1_m / options.anneal_start_m, double(it) / anneal_its));
+    const float thr = float(filter::AnnealedThreshold(options, it, anneal_its));
     const bool changed = thr != ctx.inlier.thr1_m;
     ctx.inlier.thr1_m = thr;
     ctx.inlier.hard_thr_m = float(options.inlier.hard_thr_m * thr / options.inlier.thr1_m);
@@ -390,7 +389,6 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   Particle best;
   for (int it = 0; it < options.max_iterations; ++it) {
     const auto t_iter = Clock::now();
-    const bool annealing = it < anneal_its;
     if (set_threshold(it))
       for (auto& p : current) p.scored = false;
     // 2. Weigh.
@@ -402,9 +400,8 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     best = current[ranked[0].index];
     res.best_weight_history.push_back(best.weight);
     res.iterations = it + 1;
-    // 4. Converged, or out of iterations: the last set is already weighed; report its best.
-    if (!annealing && best.weight >= options.confidence) res.converged = true;
-    if (res.converged || it + 1 == options.max_iterations) {
+    // 4. Converged, stalled or out of iterations: the last set is already weighed; report its best.
+    if (filter::RunEnds(options, it, anneal_its, res.best_weight_history, &res.converged)) {
       std::set<std::pair<int, int>> niches;
       for (int j = 0; j < N && int(niches.size()) < options.polish_seeds; ++j) {
         const Particle& p = current[ranked[j].index];
@@ -624,6 +621,25 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
 }  // namespace
 
 namespace filter {
+
+int AnnealIterations(const FilterOptions& options) {
+  return options.anneal_start_m > options.inlier.thr1_m ? int(std::lround(options.anneal_fraction * options.max_iterations))
+                                                         : 0;
+}
+
+double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its) {
+  if (it >= anneal_its) return options.inlier.thr1_m;
+  return options.anneal_start_m * std::pow(options.inlier.thr1_m / options.anneal_start_m, double(it) / anneal_its);
+}
+
+bool RunEnds(const FilterOptions& options, int it, int anneal_its, const std::vector<double>& best_weights,
+             bool* converged) {
+  const bool final_threshold = it >= anneal_its;
+  if (final_threshold && best_weights[it] >= options.confidence) *converged = true;
+  const int k = options.stall_iterations;
+  const bool stalled = k > 0 && it - k >= anneal_its && best_weights[it] - best_weights[it - k] < options.stall_gain;
+  return *converged || stalled || it + 1 == options.max_iterations;
+}
 
 EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progress, const RunFn& run) {
   Rng rng(options.seed);

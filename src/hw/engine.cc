@@ -173,8 +173,7 @@ class HwRunner {
     res.stats.init_cdf_reads_linear = std::int64_t(report.counters.reads_linear.to_uint64());
 
     // Coarse-to-fine inlier threshold (host schedule, as the reference engine).
-    const int anneal_its = opt_.anneal_start_m > opt_.inlier.thr1_m
-                               ? int(std::lround(opt_.anneal_fraction * opt_.max_iterations)) : 0;
+    const int anneal_its = filter::AnnealIterations(opt_);
     int cur = 0;
     Sample best{};
     double best_w = 0;
@@ -187,9 +186,7 @@ class HwRunner {
     }
     for (int it = 0; it < opt_.max_iterations; ++it) {
       const auto t_iter = Clock::now();
-      double thr = opt_.inlier.thr1_m;
-      if (it < anneal_its) thr = opt_.anneal_start_m * std::pow(opt_.inlier.thr1_m / opt_.anneal_start_m, double(it) / anneal_its);
-      SetThreshold(thr);
+      SetThreshold(filter::AnnealedThreshold(opt_, it, anneal_its));
       const bool traced = trace_it && trace_it(it);
       weigh_trace = traced ? wt.get() : nullptr;
       update_trace = traced ? ut.get() : nullptr;
@@ -208,8 +205,7 @@ class HwRunner {
       best_w = m.sorted_w[0].to_double();
       res.best_weight_history.push_back(best_w);
       res.iterations = it + 1;
-      if (it >= anneal_its && best_w >= opt_.confidence) res.converged = true;
-      const bool last = res.converged || it + 1 == opt_.max_iterations;
+      const bool last = filter::RunEnds(opt_, it, anneal_its, res.best_weight_history, &res.converged);
       if (!last) {
         ResampleCounters rc;
         HwUpdateTop(m.sorted_w, m.sorted_idx, m.samples[cur], m.offsets, m.hypothesis, rprm_, resample_rng, dprm_, m.volumes,

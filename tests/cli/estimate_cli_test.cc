@@ -278,6 +278,8 @@ TEST_F(CliTest, NonsenseOptionValues) {
                                          {{"--sigma-t", "-1"}, "--sigma-t must"},
                                          {{"--sigma-r", "-1"}, "--sigma-r must"},
                                          {{"--threads", "-1"}, "--threads must"},
+                                         {{"--stall-iterations", "-1"}, "--stall-iterations must be in [0, 1000]"},
+                                         {{"--stall-gain", "2"}, "--stall-gain must be in [0, 1]"},
                                          {{"--cpu-isa", "avx9"}, "--cpu-isa must be 'auto', 'avx512', 'avx2' or 'portable'"},
                                          {{"--depth-scale", "-1"}, "--depth-scale"},
                                          {{"--unit-scale", "0"}, "--unit-scale"}}) {

@@ -8,6 +8,7 @@
 #include "posefilter/filter.h"
 #include "posefilter/metrics.h"
 #include "posefilter/synth.h"
+#include "filter/driver.h"
 
 namespace posefilter {
 namespace {
@@ -53,6 +54,41 @@ TEST(FilterOptionsTest, IsValidNamesTheViolatedConstraint) {
   b = o;
   b.inlier.thr1_m = -1;
   expect_bad(b, "inlier");
+  b = o;
+  b.stall_iterations = -1;
+  expect_bad(b, "stall_iterations");
+  b = o;
+  b.stall_gain = std::nan("");
+  expect_bad(b, "stall_gain");
+}
+
+TEST(RunEndsTest, StopsOnConfidenceOnAStallAtTheFinalThresholdOrAfterTheLastIteration) {
+  FilterOptions o;
+  o.max_iterations = 17;
+  o.confidence = 0.9;
+  o.stall_iterations = 3;
+  o.stall_gain = 0.01;
+  const int anneal = 8;
+  // Flat while annealing (the threshold still changes there: no stall), then slowing gains.
+  const std::vector<double> h = {0.1, 0.2, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.5, 0.52, 0.522, 0.529, 0.529};
+  bool converged = false;
+  for (int it = 0; it <= 10; ++it) EXPECT_FALSE(filter::RunEnds(o, it, anneal, h, &converged)) << it;
+  EXPECT_FALSE(filter::RunEnds(o, 11, anneal, h, &converged));  // 0.529 − 0.5 ≥ 0.01
+  EXPECT_TRUE(filter::RunEnds(o, 12, anneal, h, &converged));   // 0.529 − 0.52 < 0.01
+  EXPECT_FALSE(converged);
+  o.stall_iterations = 0;  // off: only confidence or the last iteration end a run
+  EXPECT_FALSE(filter::RunEnds(o, 12, anneal, h, &converged));
+  const std::vector<double> flat(17, 0.4);
+  EXPECT_FALSE(filter::RunEnds(o, 15, anneal, flat, &converged));
+  EXPECT_TRUE(filter::RunEnds(o, 16, anneal, flat, &converged));
+  EXPECT_FALSE(converged);
+  std::vector<double> high = flat;
+  high[5] = 0.95;  // while annealing: not a convergence
+  EXPECT_FALSE(filter::RunEnds(o, 5, anneal, high, &converged));
+  EXPECT_FALSE(converged);
+  high[9] = 0.95;
+  EXPECT_TRUE(filter::RunEnds(o, 9, anneal, high, &converged));
+  EXPECT_TRUE(converged);
 }
 
 TEST(ValidateSceneTest, RejectsSizeMismatchNanAndEmptyDepth) {
@@ -81,28 +117,64 @@ SynthScene EasyScene(const std::string& target, std::uint64_t seed) {
   return MakeSynthScene(so, seed);
 }
 
+// EasyScene with its post-processed prior, the filter input and the target's class.
+struct EasyCase {
+  EasyCase(const std::string& target, std::uint64_t seed)
+      : sc(EasyScene(target, seed)), prior(PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes)),
+        in{sc.depth, sc.camera}, cls(prior.ClassIndex(sc.target.name)) {}
+  EstimateResult Run(const FilterOptions& o) const { return EstimatePose(in, sc.target, prior, cls, o); }
+  // A small, fast budget: 64 particles, one run of at most `iterations` iterations.
+  static FilterOptions Small(int iterations) {
+    FilterOptions o;
+    o.num_particles = 64;
+    o.max_iterations = iterations;
+    o.restarts = 1;
+    return o;
+  }
+  SynthScene sc;
+  Prior prior;
+  SceneInput in;
+  int cls;
+};
+
 TEST(ParticleFilterTest, SameSeedSamePoseDifferentSeedDifferentRun) {
-  const SynthScene sc = EasyScene("box", 3);
-  const Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
-  FilterOptions o;
-  o.num_particles = 64;
-  o.max_iterations = 6;
-  o.restarts = 1;
+  const EasyCase box("box", 3);
+  FilterOptions o = EasyCase::Small(6);
   o.seed = 5;
-  const SceneInput in{sc.depth, sc.camera};
-  const int cls = prior.ClassIndex(sc.target.name);
-  const EstimateResult a = EstimatePose(in, sc.target, prior, cls, o);
+  const EstimateResult a = box.Run(o);
   o.threads = 1;  // thread count must not change anything
-  const EstimateResult b = EstimatePose(in, sc.target, prior, cls, o);
+  const EstimateResult b = box.Run(o);
   EXPECT_EQ(a.weight, b.weight);
   EXPECT_TRUE(a.T_cam_obj.isApprox(b.T_cam_obj, 0.0));
   EXPECT_EQ(a.best_weight_history, b.best_weight_history);
   o.seed = 6;
-  const EstimateResult c = EstimatePose(in, sc.target, prior, cls, o);
+  const EstimateResult c = box.Run(o);
   EXPECT_NE(a.best_weight_history, c.best_weight_history);
   // The best weight never decreases once annealing is over (elitism).
   EXPECT_EQ(a.iterations, 6);
   EXPECT_EQ(int(a.best_weight_history.size()), 6);
+}
+
+// The default stall stop (3 iterations, gain < 0.01) ends a converged run long before 40
+// iterations, at the first iteration the rule allows, the same way for the same seed.
+TEST(ParticleFilterTest, AStalledRunEndsEarlyAndTheSameSeedStallsAlike) {
+  const EasyCase box("box", 3);
+  FilterOptions o = EasyCase::Small(40);
+  o.polish_steps = 0;
+  const EstimateResult a = box.Run(o);
+  const int anneal = filter::AnnealIterations(o), k = o.stall_iterations;
+  ASSERT_EQ(k, 3);
+  ASSERT_LT(a.iterations, o.max_iterations);
+  ASSERT_EQ(int(a.best_weight_history.size()), a.iterations);
+  const std::vector<double>& h = a.best_weight_history;
+  const int last = a.iterations - 1;
+  ASSERT_GE(last - k, anneal);
+  EXPECT_LT(h[last] - h[last - k], o.stall_gain);
+  for (int it = anneal + k; it < last; ++it) EXPECT_GE(h[it] - h[it - k], o.stall_gain) << it;  // not earlier
+  EXPECT_FALSE(a.converged);
+  EXPECT_EQ(box.Run(o).best_weight_history, h);
+  o.stall_iterations = 0;
+  EXPECT_EQ(box.Run(o).iterations, o.max_iterations);
 }
 
 TEST(ParticleFilterTest, CountsTheThesisQuantities) {

@@ -197,6 +197,7 @@ TEST(LazyIcpTest, IcpOnlyDiffusionReweighsParentsAndMovesChildren) {
   o.polish_steps = 0;
   o.anneal_start_m = 0;
   o.confidence = 1;
+  o.stall_iterations = 0;  // all max_iterations iterations (the counts below assume them)
   o.move_probabilities.fill(0.0);
   o.move_probabilities[int(Move::kIcpStep)] = 1;
   const EstimateResult a = EstimatePose(in, sc.target, prior, cls, o);
