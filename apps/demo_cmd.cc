@@ -52,7 +52,7 @@ int RunDemo(int argc, char** argv) {
     const double diameter = scene.target.Diameter();
     const PoseErrors e = ComputePoseErrors(SamplePoints(scene.target), diameter, r.T_cam_obj, scene.gt[0].T_cam_obj);
     std::printf("estimate: weight %.3f after %d iterations in %.0f ms (%s)\n", r.weight, r.iterations, r.time_ms,
-                r.converged ? "converged" : "iteration limit");
+                r.converged ? "converged" : "confidence not reached: runs ended at their iteration limit or stall");
     std::printf("error vs ground truth: ADD-S %.1f mm = %.1f%% of the %.0f mm diameter (%s), ADD %.1f mm, "
                 "rotation %.1f deg, translation %.1f mm\n",
                 1000 * e.adds, 100 * e.adds / diameter, 1000 * diameter, e.adds_ok ? "found" : "NOT found",
