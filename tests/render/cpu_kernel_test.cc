@@ -338,9 +338,10 @@ TEST_P(CpuKernelTarget, UnusualParametersMatchTheReference) {
 
 TEST_P(CpuKernelTarget, ImageWidthsWithInexactReciprocalsMatch) {
   // The z-buffer-free mode recovers a fragment's (u, v) for the ICP terms from its image index
-  // v·width + u by a float quotient and one correction each way. Widths where that float quotient of column 0 falls short in most rows (e.g. 244: 447 of
-  // 480 rows) need the correction; a torus across the left border (window from column 0,
-  // scene normals nonzero everywhere, also in the border column) exercises it.
+  // v·width + u by a float quotient and one correction each way. Widths where that quotient
+  // falls short for column 0 in most rows (e.g. 244: 447 of 480 rows) need the correction; a
+  // torus across the left border (window from column 0, scene normals nonzero everywhere,
+  // also in the border column) exercises it.
   Rng rng(5);
   const Mesh torus = MakeTorus(0.06, 0.025, 24, 16);
   int widths = 0;
