@@ -7,7 +7,9 @@ namespace posefilter {
 
 std::vector<float> ComputeSceneNormals(const DepthImage& d, const Camera& c) {
   std::vector<float> n(std::size_t(d.width) * d.height * 3, 0.f);
-  for (int v = 1; v + 1 < d.height; ++v)
+  // Rows are independent (each pixel writes only its own normal): threads over rows, same result.
+#pragma omp parallel for schedule(static) if (d.height > 64)
+  for (int v = 1; v < d.height - 1; ++v)
     for (int u = 1; u + 1 < d.width; ++u) {
       const float z = d.at(u, v), zl = d.at(u - 1, v), zr = d.at(u + 1, v), zu = d.at(u, v - 1), zd = d.at(u, v + 1);
       if (z <= 0 || zl <= 0 || zr <= 0 || zu <= 0 || zd <= 0) continue;
