@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "posefilter/error.h"
+#include "prior/quantiles.h"
 
 namespace posefilter {
 namespace {
@@ -17,61 +18,9 @@ bool Fail(std::string* why, const std::string& msg) {
   return false;
 }
 
-// Nearest-rank quantiles lo ≤ hi of v (non-empty), exact, in O(n) with small constants:
-// a 256-bin histogram over [min, max] finds the bins holding the two ranks, and
-// std::nth_element runs only on those bins' values (about 3× faster than nth_element on the
-// whole array, which mispredicts a branch per comparison).
-void Quantiles(const std::vector<double>& v, double p_lo, double p_hi, double* lo, double* hi,
-               std::vector<std::uint8_t>& bin_of, std::vector<double>& tmp) {
-  const size_t n = v.size();
-  const size_t r_lo = size_t(std::lround(p_lo * double(n - 1)));
-  const size_t r_hi = std::max(r_lo, size_t(std::lround(p_hi * double(n - 1))));
-  // Min/max with four independent accumulators (breaks the minsd dependency chain).
-  double mn4[4] = {v[0], v[0], v[0], v[0]}, mx4[4] = {v[0], v[0], v[0], v[0]};
-  size_t i4 = 0;
-  for (; i4 + 4 <= n; i4 += 4) {
-    for (int k = 0; k < 4; ++k) {
-      mn4[k] = std::min(mn4[k], v[i4 + k]);
-      mx4[k] = std::max(mx4[k], v[i4 + k]);
-    }
-  }
-  for (; i4 < n; ++i4) {
-    mn4[0] = std::min(mn4[0], v[i4]);
-    mx4[0] = std::max(mx4[0], v[i4]);
-  }
-  const double mn = std::min(std::min(mn4[0], mn4[1]), std::min(mn4[2], mn4[3]));
-  const double mx = std::max(std::max(mx4[0], mx4[1]), std::max(mx4[2], mx4[3]));
-  if (!(mx > mn)) {
-    *lo = *hi = mn;
-    return;
-  }
-  constexpr int kBins = 256;
-  const double scale = kBins / (mx - mn);
-  int count[kBins] = {};
-  bin_of.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const int b = std::min(kBins - 1, int((v[i] - mn) * scale));
-    bin_of[i] = std::uint8_t(b);
-    ++count[b];
-  }
-  auto select = [&](size_t rank) {
-    size_t before = 0;
-    int b = 0;
-    while (before + size_t(count[b]) <= rank) before += size_t(count[b++]);
-    tmp.clear();
-    for (size_t i = 0; i < n; ++i)
-      if (bin_of[i] == b) tmp.push_back(v[i]);
-    std::nth_element(tmp.begin(), tmp.begin() + (rank - before), tmp.end());
-    return tmp[rank - before];
-  };
-  *lo = select(r_lo);
-  *hi = select(r_hi);
-}
-
 struct Scratch {
   std::vector<double> x, y, z;
-  std::vector<std::uint8_t> bin_of;
-  std::vector<double> tmp;
+  prior::QuantileScratch q;
 };
 
 Volume OneVolume(const DepthImage& depth, const Camera& cam, const Eigen::Matrix3d& R,
@@ -136,9 +85,9 @@ Volume OneVolume(const DepthImage& depth, const Camera& cam, const Eigen::Matrix
   s.y.resize(m);
   s.z.resize(m);
   if (count < opt.min_valid_pixels) return vol;
-  Quantiles(s.x, opt.percentile_lo, opt.percentile_hi, &vol.min.x(), &vol.max.x(), s.bin_of, s.tmp);
-  Quantiles(s.y, opt.percentile_lo, opt.percentile_hi, &vol.min.y(), &vol.max.y(), s.bin_of, s.tmp);
-  Quantiles(s.z, opt.percentile_lo, opt.percentile_hi, &vol.min.z(), &vol.max.z(), s.bin_of, s.tmp);
+  prior::QuantilePair(s.x.data(), m, opt.percentile_lo, opt.percentile_hi, &vol.min.x(), &vol.max.x(), s.q);
+  prior::QuantilePair(s.y.data(), m, opt.percentile_lo, opt.percentile_hi, &vol.min.y(), &vol.max.y(), s.q);
+  prior::QuantilePair(s.z.data(), m, opt.percentile_lo, opt.percentile_hi, &vol.min.z(), &vol.max.z(), s.q);
   vol.valid = true;
   return vol;
 }

@@ -1,7 +1,6 @@
 // Tests of the per-cell heuristic volumes (SPEC §5, thesis §7.4).
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 
 #include "posefilter/error.h"
@@ -174,7 +173,9 @@ TEST(Heuristics, SubsamplingStaysCloseToTheFullStatistics) {
   EXPECT_EQ(b.max, c.max);
 }
 
-TEST(Heuristics, FastEnoughForAThesisPyramid) {
+TEST(Heuristics, EveryBoxOfAThesisPyramidGetsAVolume) {
+  // The thesis's 6300 cells, every box at the 200 px clip (the timing of this workload is
+  // bench/prior_bench.cc's BM_HeuristicsThesisPyramid).
   const Camera cam;
   DepthImage depth(cam.width, cam.height);
   for (int v = 0; v < cam.height; ++v)
@@ -183,19 +184,18 @@ TEST(Heuristics, FastEnoughForAThesisPyramid) {
   std::vector<Box> boxes(l.CellCount());
   for (int c = 0; c < l.CellCount(); ++c) {
     boxes[c] = l.AnchorBox(c);
-    boxes[c].w = boxes[c].h = 200;  // worst case: every box at the 200 px clip
+    boxes[c].w = boxes[c].h = 200;
   }
   HeuristicOptions opt;
   opt.depth_extension_m = 0.05;
-  ComputeHeuristics(depth, cam, boxes, opt);  // warm-up
-  const auto t0 = std::chrono::steady_clock::now();
   const auto vols = ComputeHeuristics(depth, cam, boxes, opt);
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  RecordProperty("heuristics_ms", std::to_string(ms));
-  std::printf("ComputeHeuristics: 6300 boxes of 200×200 px in %.1f ms\n", ms);
-  for (const Volume& v : vols) ASSERT_TRUE(v.valid);
-  EXPECT_LT(ms, 1000);  // target well under 100 ms; loose bound for shared CI machines
+  ASSERT_EQ(vols.size(), boxes.size());
+  for (const Volume& v : vols) {
+    ASSERT_TRUE(v.valid);
+    // Depths lie in [0.7, 1.0) m and the extension adds 5 cm behind them.
+    EXPECT_GE(v.min.z(), 0.69);
+    EXPECT_LE(v.max.z(), 1.06);
+  }
 }
 
 TEST(Heuristics, RejectsBadInput) {
