@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -160,21 +159,15 @@ TEST(AddSError, MatchesBruteForce) {
   }
 }
 
-TEST(AddSError, TenThousandPointsAreFast) {
+TEST(AddSError, TenThousandPoints) {
+  // A large cloud (the timing of this case is bench/metrics_bench.cc's BM_AddSError).
   Rng rng(5);
   const auto pts = RandomPoints(rng, 10000, 0.1);
   const Eigen::Isometry3d T_gt = RandomPose(rng, std::numbers::pi, 0.2);
   const Eigen::Isometry3d T_est = RandomPose(rng, std::numbers::pi, 0.2);
-  const auto t0 = std::chrono::steady_clock::now();
   const double adds = AddSError(pts, T_est, T_gt);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_GT(adds, 0.0);
   EXPECT_LE(adds, AddError(pts, T_est, T_gt));
-#ifdef NDEBUG
-  EXPECT_LT(ms, 50.0) << "ADD-S on 10k points took " << ms << " ms";
-#else
-  (void)ms;
-#endif
 }
 
 TEST(RotationErrorDeg, KnownRotations) {
