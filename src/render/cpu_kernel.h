@@ -61,7 +61,7 @@ namespace cpu_detail {
 // Raw views of a CpuWorkspace sized for one call (filled in by cpu_kernel.cc); the variants
 // (cpu_kernel_impl.inc) allocate nothing.
 inline constexpr int kTriFields = 20;  // fields of a triangle's setup record
-inline constexpr int kFastBins = 8;    // raster bins of the fast path
+inline constexpr int kFastBins = 10;   // raster bins of the fast path
 struct CoreScratch {
   std::int32_t* vx;      // fast-path vertices: x (kBadX marks the others; y is vex_y)
   std::int32_t* vex_x;   // any vertex: exact snapped x, y
