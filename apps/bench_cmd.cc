@@ -138,7 +138,7 @@ int RunBench(int argc, char** argv) {
   app.add_option("--particles", particles, "particles N, 128..8192")->capture_default_str();
   app.add_option("--iterations", iterations, "iterations per run (no early stop), 1..1000")->capture_default_str();
   app.add_option("--repeats", repeats, "timed runs per engine; the median is reported, 1..100")->capture_default_str();
-  app.add_option("--threads", threads, "scoring threads (0 = all cores)")->capture_default_str();
+  app.add_option("--threads", threads, "worker threads: scoring, scene normals, heuristic volumes (0 = all cores)")->capture_default_str();
   app.add_option("--zbuffer", zbuffer, "on: exact z-buffer; off: the thesis's culling-only mode")->capture_default_str();
   app.add_option("--lod", lod, "render the mesh simplified to at most this many faces (0 = full mesh)")->capture_default_str();
   app.add_option("--seed", seed, "seed of the scene and of the filter")->capture_default_str();

@@ -108,7 +108,7 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("polish_climbers"), o->polish_climbers, "final polish: candidates refined by pattern search");
   app.add_flag("!--no-grow-window", o->grow_window, "weigh each particle in its cell's window only (thesis)");
   add(OptionOf("seed"), o->seed, "random seed (same seed, same poses)");
-  add(OptionOf("threads"), o->threads, "scoring threads (0 = all cores)");
+  add(OptionOf("threads"), o->threads, "worker threads: scoring, scene normals, heuristic volumes (0 = all cores)");
 }
 
 void CheckFilterOptions(const FilterOptions& opt) {

@@ -133,7 +133,7 @@ struct FilterOptions {
   // (±1 cm / ±0.1 rad along camera axes, halved down to 0.5 mm when nothing improves).
   int polish_climbers = 4;
   std::uint64_t seed = 1;            // every random stream derives from this
-  int threads = 0;                   // scoring threads; 0 = all cores
+  int threads = 0;                   // worker threads (scoring, scene normals, heuristic volumes); 0 = all cores
   bool IsValid(std::string* why) const;
 };
 

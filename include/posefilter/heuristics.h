@@ -44,9 +44,10 @@ struct HeuristicOptions {
 // One volume per box (boxes in pixels, prior.h conventions: a pixel belongs to a box when its
 // centre (u, v) lies in [cx − w/2, cx + w/2) × [cy − h/2, cy + h/2); boxes are cut to the
 // image). Throws Error if the options or camera are invalid, the depth image's size differs
-// from the camera's, or a box is not finite (naming its index).
+// from the camera's, or a box is not finite (naming its index). `threads`: worker threads over
+// the boxes (0 or less = all cores); the result does not depend on it.
 std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& camera,
                                       const std::vector<Box>& boxes,
-                                      const HeuristicOptions& opt = {});
+                                      const HeuristicOptions& opt = {}, int threads = 0);
 
 }  // namespace posefilter

@@ -287,13 +287,13 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera), {}, 0, {}, {}, {}, {}};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
-  ctx.volumes = ComputeHeuristics(scene.depth, scene.camera, prior.boxes, hopt);
+  ctx.volumes = ComputeHeuristics(scene.depth, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
   ctx.valid_depth = render::ValidDepthSat(scene.depth.data.data(), scene.depth.width, scene.depth.height);
   const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();

@@ -325,7 +325,7 @@ class HwRunner {
     const double diameter = mesh_in.Diameter();
     HeuristicOptions hopt = o.heuristics;
     if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
-    const std::vector<Volume> volumes = ComputeHeuristics(scene_.depth, cam, prior_.boxes, hopt);
+    const std::vector<Volume> volumes = ComputeHeuristics(scene_.depth, cam, prior_.boxes, hopt, o.threads);
     double max_p = 0;
     std::map<std::array<long, 4>, int> ids;
     for (int c = 0; c < kNumCells; ++c) {

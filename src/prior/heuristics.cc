@@ -1,6 +1,8 @@
 // Per-cell heuristic volumes (SPEC §5, thesis §7.4). See include/posefilter/heuristics.h.
 #include "posefilter/heuristics.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -112,7 +114,7 @@ bool HeuristicOptions::IsValid(std::string* why) const {
 
 std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& camera,
                                       const std::vector<Box>& boxes,
-                                      const HeuristicOptions& opt) {
+                                      const HeuristicOptions& opt, int threads) {
   std::string why;
   if (!opt.IsValid(&why)) throw Error("heuristic options: " + why);
   if (!camera.IsValid(&why)) throw Error("heuristics: invalid camera: " + why);
@@ -145,7 +147,8 @@ std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& cam
 
   std::vector<Volume> out(boxes.size());
   const long n = long(uniq.size());
-#pragma omp parallel if (n > 256)
+  const int nt = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel num_threads(nt) if (n > 256)
   {
     Scratch s;
     s.x.reserve(2 * size_t(opt.max_samples));

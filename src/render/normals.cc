@@ -1,14 +1,17 @@
 // Scene normals for the ICP terms of the score kernel (render.h).
+#include <omp.h>
+
 #include <cmath>
 
 #include "posefilter/render.h"
 
 namespace posefilter {
 
-std::vector<float> ComputeSceneNormals(const DepthImage& d, const Camera& c) {
+std::vector<float> ComputeSceneNormals(const DepthImage& d, const Camera& c, int threads) {
   std::vector<float> n(std::size_t(d.width) * d.height * 3, 0.f);
   // Rows are independent (each pixel writes only its own normal): threads over rows, same result.
-#pragma omp parallel for schedule(static) if (d.height > 64)
+  const int nt = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) num_threads(nt) if (d.height > 64)
   for (int v = 1; v < d.height - 1; ++v)
     for (int u = 1; u + 1 < d.width; ++u) {
       const float z = d.at(u, v), zl = d.at(u - 1, v), zr = d.at(u + 1, v), zu = d.at(u, v - 1), zd = d.at(u, v + 1);

@@ -54,6 +54,16 @@ TEST(SceneNormalsTest, PlaneNormalsAreExactAndFaceTheCamera) {
   EXPECT_EQ(normals[0], 0.f);  // border: no normal
 }
 
+TEST(SceneNormalsTest, TheSameWithAnyThreadCount) {
+  const SynthScene sc = Clean("torus", 4);  // a table-top scene with depth steps
+  const std::vector<float> all = ComputeSceneNormals(sc.depth, sc.camera);
+  EXPECT_EQ(ComputeSceneNormals(sc.depth, sc.camera, 1), all);
+  EXPECT_EQ(ComputeSceneNormals(sc.depth, sc.camera, 3), all);
+  std::size_t nonzero = 0;
+  for (float x : all) nonzero += x != 0.f;
+  EXPECT_GT(nonzero, all.size() / 2);  // not an empty image
+}
+
 TEST(IcpStepTest, OneStepPullsAPerturbedPoseBack) {
   for (const auto& [target, seed] : std::vector<std::pair<std::string, int>>{{"box", 3}, {"lshape", 7}, {"torus", 4}}) {
     const SynthScene sc = Clean(target, seed);

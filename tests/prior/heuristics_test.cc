@@ -190,6 +190,11 @@ TEST(Heuristics, EveryBoxOfAThesisPyramidGetsAVolume) {
   opt.depth_extension_m = 0.05;
   const auto vols = ComputeHeuristics(depth, cam, boxes, opt);
   ASSERT_EQ(vols.size(), boxes.size());
+  const auto one_thread = ComputeHeuristics(depth, cam, boxes, opt, 1);  // the same with any thread count
+  for (std::size_t i = 0; i < vols.size(); ++i) {
+    ASSERT_EQ(one_thread[i].min, vols[i].min) << i;
+    ASSERT_EQ(one_thread[i].max, vols[i].max) << i;
+  }
   for (const Volume& v : vols) {
     ASSERT_TRUE(v.valid);
     // Depths lie in [0.7, 1.0) m and the extension adds 5 cm behind them.
