@@ -6,6 +6,7 @@
 #include "posefilter/error.h"
 #include "posefilter/heuristics.h"
 #include "posefilter/prior.h"
+#include "prior/heuristics_workload.h"
 #include "test_util.h"
 
 namespace posefilter {
@@ -176,18 +177,12 @@ TEST(Heuristics, SubsamplingStaysCloseToTheFullStatistics) {
 TEST(Heuristics, EveryBoxOfAThesisPyramidGetsAVolume) {
   // The thesis's 6300 cells, every box at the 200 px clip (the timing of this workload is
   // bench/prior_bench.cc's BM_HeuristicsThesisPyramid).
-  const Camera cam;
-  DepthImage depth(cam.width, cam.height);
-  for (int v = 0; v < cam.height; ++v)
-    for (int u = 0; u < cam.width; ++u) depth.at(u, v) = float(0.7 + 0.001 * ((u * 7 + v * 3) % 300));
-  const PyramidLayout l = PyramidLayout::Thesis();
-  std::vector<Box> boxes(l.CellCount());
-  for (int c = 0; c < l.CellCount(); ++c) {
-    boxes[c] = l.AnchorBox(c);
-    boxes[c].w = boxes[c].h = 200;
-  }
-  HeuristicOptions opt;
-  opt.depth_extension_m = 0.05;
+  const testing_util::HeuristicsWorkload w = testing_util::ThesisPyramidWorkload();
+  const Camera& cam = w.cam;
+  const DepthImage& depth = w.depth;
+  const std::vector<Box>& boxes = w.boxes;
+  const HeuristicOptions& opt = w.opt;
+  ASSERT_EQ(boxes.size(), 6300u);
   const auto vols = ComputeHeuristics(depth, cam, boxes, opt);
   ASSERT_EQ(vols.size(), boxes.size());
   const auto one_thread = ComputeHeuristics(depth, cam, boxes, opt, 1);  // the same with any thread count
