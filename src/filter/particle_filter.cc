@@ -77,6 +77,9 @@ struct Context {
   render::ValidDepthSat valid_depth;  // N_depth of any window in O(1) (summed-area table)
   std::array<Eigen::Vector3d, 8> bbox_corners;  // the model's bounding box, object frame, m
   render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
+  // The mesh's face planes for the cpu kernel's back-face pre-cull (render/face_planes.h;
+  // built once per run, empty for the other engines).
+  render::FacePlanes face_planes;
   // One scratch memory per worker thread (cpu kernel; holds the reference's too), kept from
   // one weighing round to the next so that its buffers are allocated and touched once.
   mutable std::vector<render::CpuWorkspace> workspaces;
@@ -147,7 +150,7 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
   k.scene_normals = icp ? ctx.normals.data() : nullptr;
-  *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws) : ScoreReference(k, &ws->reference);
+  *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws, &ctx.face_planes) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
@@ -287,9 +290,13 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
+  if (options.engine == "cpu") {
+    const ScoreKernelParams k = MakeKernelParams(mesh, Eigen::Isometry3d::Identity(), scene.camera);
+    ctx.face_planes = render::BuildFacePlanes(k.vertices, k.num_vertices, k.faces, k.num_faces);
+  }
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "posefilter/error.h"
@@ -86,15 +87,83 @@ CpuTarget BestCpuTarget() {
   return best;
 }
 
-ScoreKernelResult ScoreCpu(const ScoreKernelParams& k, CpuWorkspace* ws) {
-  return ScoreCpuWith(BestCpuTarget(), k, ws);
+ScoreKernelResult ScoreCpu(const ScoreKernelParams& k, CpuWorkspace* ws, const FacePlanes* planes) {
+  return ScoreCpuWith(BestCpuTarget(), k, ws, planes);
 }
 
-ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, CpuWorkspace* ws) {
+// Proof in brief (docs/PERFORMANCE.md, "Round 11"). Let P_i = R·v_i + t be the exact camera-
+// frame corners (R, t the kernel's floats), N = (v1 − v0) × (v2 − v0) and s = N·(v0 − c) with
+// c = −R⁻¹·t. Then 2·Area of the exact projections is −fx·fy·det(R)·s/(z0·z1·z2) pixels², so
+// s > 0 makes it negative with |2·Area| ≥ fx·fy·det(R)·s/z_max³. The kernel's corners differ
+// from the exact projections by at most ε per coordinate (float transform and projection,
+// snapping: ≤ 1/512 px), which moves 2·Area by at most 4ε·(W + H) + 8ε² (W, H: the exact
+// projections' extents, ≤ f·σ·len·(1 + A)/z_min each, σ ≥ ‖R‖₂, A ≥ |x/z|, |y/z| of every
+// vertex). So s > z_max³/(fx·fy·det)·(4ε·(fx + fy)·σ·len·(1 + A)/z_min + 8ε²) proves the snapped
+// 2·Area < 0: culled. The float evaluation of s (stored N and N·v0 rounded to float, c rounded,
+// three products and sums) is within 2^-20·len·max_len·(radius + |c|) of s (|N| ≤ len²),
+// which is added to k1; k1 and k0 are raised by 1 % and rounded up, which covers the float
+// evaluation of k1·len + k0.
+bool PreCullConstants(const ScoreKernelParams& k, const FacePlanes& p, float c_out[3], float* k1_out, float* k0_out) {
+  const double fx = k.fx, fy = k.fy, cx = k.cx, cy = k.cy;
+  if (!(fx > 0 && fy > 0 && std::isfinite(fx) && std::isfinite(fy) && std::isfinite(cx) && std::isfinite(cy)))
+    return false;
+  double R[9], t[3];
+  for (int i = 0; i < 9; ++i) R[i] = k.R[i];
+  for (int i = 0; i < 3; ++i) t[i] = k.t[i];
+  // σ ≥ ‖R‖₂: ‖R‖₂² = λmax(RᵀR) ≤ 1 + ‖RᵀR − I‖_F.
+  double g = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const double rr = R[i] * R[j] + R[3 + i] * R[3 + j] + R[6 + i] * R[6 + j] - (i == j ? 1 : 0);
+      g += rr * rr;
+    }
+  const double sigma = std::sqrt(1 + std::sqrt(g)) * (1 + 1e-9);
+  const double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
+                     R[2] * (R[3] * R[7] - R[4] * R[6]);
+  if (!(sigma < 1.01) || !(det > 0.9)) return false;
+  // c = −R⁻¹·t (adjugate / det).
+  const double inv[9] = {(R[4] * R[8] - R[5] * R[7]) / det, (R[2] * R[7] - R[1] * R[8]) / det, (R[1] * R[5] - R[2] * R[4]) / det,
+                         (R[5] * R[6] - R[3] * R[8]) / det, (R[0] * R[8] - R[2] * R[6]) / det, (R[2] * R[3] - R[0] * R[5]) / det,
+                         (R[3] * R[7] - R[4] * R[6]) / det, (R[1] * R[6] - R[0] * R[7]) / det, (R[0] * R[4] - R[1] * R[3]) / det};
+  double c[3];
+  for (int i = 0; i < 3; ++i) c[i] = -(inv[3 * i] * t[0] + inv[3 * i + 1] * t[1] + inv[3 * i + 2] * t[2]);
+  const double rho = sigma * p.radius;  // |R·v| ≤ rho for every vertex
+  const double z_min = t[2] - rho, z_max = t[2] + rho;
+  // Float transform error per coordinate of a computed corner (four roundings, ≤ 2^-21·(…)).
+  const double dp = std::ldexp(rho + std::fabs(t[0]) + std::fabs(t[1]) + std::fabs(t[2]), -20);
+  const double z_min_c = z_min - dp;
+  if (!(z_min_c > 0) || !std::isfinite(z_max)) return false;
+  const double hxy = std::hypot(t[0], t[1]) + rho;
+  const double A = hxy / z_min, A_c = (hxy + 2 * dp) / z_min_c;  // exact / computed corners
+  // ε: snapping (1/512 px) + float projection (three roundings) + the transform error's effect.
+  auto eps_axis = [&](double f, double cc) {
+    return 1.0 / 512 + std::ldexp(f * A_c + std::fabs(cc), -20) + f * dp * (1 + A_c) / z_min_c;
+  };
+  const double eps = std::fmax(eps_axis(fx, cx), eps_axis(fy, cy));
+  if (!(eps < 0.01)) return false;
+  const double scale = z_max * z_max * z_max / (fx * fy * det);
+  const double cn = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  const double k1 = (scale * 4 * eps * (fx + fy) * sigma * (1 + A) / z_min +
+                     std::ldexp(p.max_len * (p.radius + cn), -20)) * 1.01;
+  const double k0 = scale * 8 * eps * eps * 1.01;
+  auto up = [](double x) {
+    float f = float(x);
+    return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+  };
+  if (!(std::isfinite(k1) && std::isfinite(k0) && std::isfinite(cn))) return false;
+  *k1_out = up(k1);
+  *k0_out = up(k0);
+  for (int i = 0; i < 3; ++i) c_out[i] = float(c[i]);
+  return std::isfinite(*k1_out) && std::isfinite(*k0_out) && std::isfinite(c_out[0]) && std::isfinite(c_out[1]) &&
+         std::isfinite(c_out[2]);
+}
+
+ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, CpuWorkspace* ws, const FacePlanes* planes) {
   if (!CpuTargetSupported(target))
     throw Error(std::string("cpu kernel: this build/CPU cannot run the '") + CpuTargetName(target) + "' variant");
   ScoreKernelResult r;
   r.faces_total = k.num_faces;
+  ws->faces_preculled = 0;
   const PixelRect& w = k.window;
   if (w.width <= 0 || w.height <= 0) return r;  // as ScoreReference: nothing rendered or counted
   if (k.num_vertices < 0 || k.num_faces < 0 || (k.num_vertices > 0 && !k.vertices) ||
@@ -143,6 +212,25 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
   s.frag_cap = kFragCap;
   s.frag_idx = Grow(&ws->frag_idx, kFragCap + 16);
   s.frag_iz = Grow(&ws->frag_iz, kFragCap + 16);
+  s.pc_nx = nullptr;
+  s.cand = nullptr;
+  s.preculled = &ws->faces_preculled;
+  if (planes) {
+    if (planes->vertices != k.vertices || planes->faces != k.faces || planes->num_vertices != k.num_vertices ||
+        planes->num_faces != k.num_faces)
+      throw Error("cpu kernel: the face planes were built from another mesh (vertices/faces)");
+    if (PreCullConstants(k, *planes, s.pc_c, &s.pc_k1, &s.pc_k0)) {
+      s.pc_nx = planes->nx.data();
+      s.pc_ny = planes->ny.data();
+      s.pc_nz = planes->nz.data();
+      s.pc_d = planes->d.data();
+      s.pc_len = planes->len.data();
+      s.pc_i0 = planes->i0.data();
+      s.pc_i1 = planes->i1.data();
+      s.pc_i2 = planes->i2.data();
+      s.cand = Grow(&ws->cand, 4 * (cap + 16));
+    }
+  }
   std::int64_t bad = -1;
   switch (target) {
     case CpuTarget::kPortable: bad = cpu_detail::CorePortable(k, s, &r); break;

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "posefilter/render.h"
+#include "render/face_planes.h"
 
 namespace posefilter::render {
 
@@ -54,6 +55,8 @@ struct CpuWorkspace {
                                       // between calls (each call clears what it wrote)
   std::vector<std::int32_t> frag_idx; // fragments waiting to be scored: image index v·width + u,
   std::vector<float> frag_iz;         //   1/z (z-buffer-free mode)
+  std::vector<std::int32_t> cand;     // faces kept by the back-face pre-cull (see face_planes.h)
+  std::int64_t faces_preculled = 0;   // last call: faces the pre-cull skipped (0 when off)
   RenderWorkspace reference;          // fallback for parameters outside the fast path's domain
 };
 
@@ -78,6 +81,15 @@ struct CoreScratch {
   std::int32_t* frag_idx;  // fragment buffer: image index v·width + u and 1/z, frag_cap + 16 each
   float* frag_iz;
   int frag_cap;
+  // Back-face pre-cull (face_planes.h), off when pc_nx is null: the table's per-face arrays
+  // (padded to 16), the camera centre in the object frame (metres) and the margin: a face
+  // with d − N·c > k1·len + k0 is skipped. The faces kept are listed in cand: vertex indices
+  // i0, i1, i2 and the face's index, tri_cap + 16 entries each.
+  const float *pc_nx, *pc_ny, *pc_nz, *pc_d, *pc_len;
+  const std::uint32_t *pc_i0, *pc_i1, *pc_i2;
+  float pc_c[3], pc_k1, pc_k0;
+  std::int32_t* cand;        // 4 × (tri_cap + 16)
+  std::int64_t* preculled;   // out: faces the pre-cull skipped
 };
 // Each returns −1, or the index of a face with an out-of-range vertex index (nothing scored).
 std::int64_t CorePortable(const ScoreKernelParams& k, const CoreScratch& s, ScoreKernelResult* r);
@@ -90,10 +102,20 @@ bool BuiltAvx512();
 
 // Scores with the best supported variant. Same contract and result as ScoreReference; throws
 // posefilter::Error when the window does not lie inside the depth image, the depth (or mesh)
-// pointers are missing, or a face index is out of range.
-ScoreKernelResult ScoreCpu(const ScoreKernelParams& params, CpuWorkspace* ws);
+// pointers are missing, or a face index is out of range. `planes` (optional, built from the
+// same mesh arrays, else Error) lets the kernel skip faces proven back-facing before their
+// vertices are gathered; the result is the same with or without it.
+ScoreKernelResult ScoreCpu(const ScoreKernelParams& params, CpuWorkspace* ws, const FacePlanes* planes = nullptr);
 // Scores with a given variant; throws posefilter::Error if this machine cannot run it.
-ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& params, CpuWorkspace* ws);
+ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& params, CpuWorkspace* ws,
+                               const FacePlanes* planes = nullptr);
+
+// The pre-cull's per-call constants (double arithmetic; docs/PERFORMANCE.md, "Round 11"):
+// the camera centre c in the object frame and the margin k1·len + k0 (metres³) beyond which
+// s = d − N·c proves a face culled after snapping. False when the pose or camera lies outside
+// the proof's assumptions (R not a rotation to 1 %, a vertex possibly at z ≤ 0, fx or fy ≤ 0,
+// anything not finite): the pre-cull is then not used.
+bool PreCullConstants(const ScoreKernelParams& params, const FacePlanes& planes, float c[3], float* k1, float* k0);
 
 // Summed-area table of the valid-depth mask (depth > 0): the number of valid depth pixels in
 // any rectangle in O(1) (N_depth of eq. 7.4).

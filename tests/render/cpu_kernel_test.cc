@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -181,14 +182,20 @@ class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
                    << "' kernel variant";
   }
 
-  // Compares ScoreCpuWith(target) with ScoreReference on one case in both z-buffer modes.
+  // Compares ScoreCpuWith(target) with ScoreReference on one case in both z-buffer modes,
+  // without and with the back-face pre-cull (face planes of k's mesh).
   void Check(ScoreKernelParams k, const std::string& ctx) {
+    const render::FacePlanes planes = render::BuildFacePlanes(k.vertices, k.num_vertices, k.faces, k.num_faces);
     for (bool zb : {true, false}) {
       k.zbuffer = zb;
       RenderWorkspace rws;
       const ScoreKernelResult ref = ScoreReference(k, &rws);
       const ScoreKernelResult got = render::ScoreCpuWith(GetParam(), k, &ws_);
       ExpectSame(ref, got, ctx + (zb ? " zbuffer" : " no-zbuffer"));
+      EXPECT_EQ(ws_.faces_preculled, 0);
+      const ScoreKernelResult pre = render::ScoreCpuWith(GetParam(), k, &ws_, &planes);
+      ExpectSame(ref, pre, ctx + (zb ? " zbuffer" : " no-zbuffer") + " pre-cull");
+      preculled_ += ws_.faces_preculled;
       fragments_ += ref.n_raster;
       edges_ += ref.n_edge;
       icp_ += ref.icp_count;
@@ -222,7 +229,7 @@ class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
   }
 
   CpuWorkspace ws_;  // shared by all cases: also checks that reuse leaves no stale state
-  std::int64_t fragments_ = 0, edges_ = 0, icp_ = 0, occluded_ = 0;
+  std::int64_t fragments_ = 0, edges_ = 0, icp_ = 0, occluded_ = 0, preculled_ = 0;
 };
 
 TEST_P(CpuKernelTarget, MatchesReferenceOnRandomPosesMeshesAndWindows) {
@@ -260,6 +267,7 @@ TEST_P(CpuKernelTarget, MatchesReferenceOnRandomPosesMeshesAndWindows) {
   EXPECT_GT(edges_, 1000);
   EXPECT_GT(icp_, 10000);
   EXPECT_GT(occluded_, 1000);
+  EXPECT_GT(preculled_, 5000);  // the pre-cull ran (and skipped faces) in most cases
 }
 
 TEST_P(CpuKernelTarget, MatchesReferenceOnEdgeOnAndPixelAlignedGeometry) {
@@ -446,6 +454,69 @@ TEST_P(CpuKernelTarget, SliversAroundTheInt32EdgeBoundMatch) {
   EXPECT_GT(fragments_, 20000);
 }
 
+TEST_P(CpuKernelTarget, PreCullAtGrazingAnglesMatches) {
+  // The back-face pre-cull skips a face when s = N·(v0 − c) exceeds a margin that covers the
+  // float transform, the projection and the snapping (PreCullConstants). Faces nearly edge-on
+  // to the camera — planes through the viewing ray turned by 10^-7 … 1.4 rad either way, 0.3 to
+  // 40 px long, in an object-sized ball under random rotations — lie on both sides of that margin:
+  // a face skipped that the reference keeps front changes faces_front (and the fragments).
+  Rng rng(31);
+  const Camera cam = PinholeCamera(525, 525);
+  std::int64_t skipped = 0, faces = 0, front = 0;
+  for (int scene = 0; scene < 6; ++scene) {
+    const double depth_m = rng.Uniform(0.4, 2.0);
+    const Eigen::Isometry3d T = RandomPose(rng, rng.Uniform(-0.1, 0.1), rng.Uniform(-0.1, 0.1), depth_m);
+    Mesh m;
+    m.name = "grazing";
+    for (int f = 0; f < 400; ++f) {
+      // Camera frame: a point p of an object-sized ball (0.12 m) around the pose's origin, the
+      // ray direction r = p/|p|, a direction w across it.
+      Eigen::Vector3d p;
+      do p = Eigen::Vector3d(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+      while (p.norm() > 1);
+      p = T.translation() + 0.12 * p;
+      const double z = p.z();
+      const Eigen::Vector3d r = p.normalized();
+      Eigen::Vector3d w = r.cross(Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal())).normalized();
+      const double size = rng.Uniform(0.3, 40) * z / cam.fx;  // metres for 0.3 … 40 px
+      // The face's plane contains the ray through p (edge-on), then turns about w.
+      // Half of them grazing (10^-7 … 0.3 rad), half clearly turned (0.3 … 1.4 rad).
+      const double turn = f % 2 ? std::pow(10.0, rng.Uniform(-7, std::log10(0.3))) : rng.Uniform(0.3, 1.4);
+      const double angle = (rng.Uniform() < 0.5 ? -1 : 1) * turn;
+      const Eigen::Vector3d a = Eigen::AngleAxisd(angle, w) * r;
+      // Three corners spread along w (on screen: along the plane's image, a line when edge-on),
+      // so that snapping each one independently can flip the sign of a grazing face's area.
+      const Eigen::Vector3d q[3] = {p, p + w * size, p + w * size * rng.Uniform(0.2, 0.8) + a * size * rng.Uniform(0.5, 2)};
+      std::array<std::uint32_t, 3> idx;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d v = T.inverse() * q[k];  // object frame
+        m.vertices.emplace_back(float(v.x()), float(v.y()), float(v.z()));
+        idx[k] = std::uint32_t(m.vertices.size() - 1);
+      }
+      m.faces.push_back(idx);
+    }
+    DepthImage depth(640, 480, 0.f);
+    for (float& d : depth.data) d = float(depth_m * rng.Uniform(0.8, 1.2));
+    for (bool zb : {true, false}) {
+      ScoreKernelParams k = SceneParams(m, T, cam, depth, PixelRect{0, 0, 640, 480});
+      k.zbuffer = zb;
+      RenderWorkspace rws;
+      const ScoreKernelResult ref = ScoreReference(k, &rws);
+      const render::FacePlanes planes = render::BuildFacePlanes(k.vertices, k.num_vertices, k.faces, k.num_faces);
+      const ScoreKernelResult got = render::ScoreCpuWith(GetParam(), k, &ws_, &planes);
+      ExpectSame(ref, got, "scene " + std::to_string(scene) + (zb ? " zbuffer" : " no-zbuffer"));
+      skipped += ws_.faces_preculled;
+      faces += k.num_faces;
+      front += ref.faces_front;
+    }
+  }
+  // Under half the faces are front (the most grazing ones snap to 2·Area ≤ 0); the margin must
+  // leave most back faces to the pre-cull, and the grazing ones to the exact test.
+  EXPECT_GT(front, faces / 4);
+  EXPECT_GT(skipped, faces / 4);
+  EXPECT_LT(skipped + front, faces);
+}
+
 INSTANTIATE_TEST_SUITE_P(CpuKernel, CpuKernelTarget,
                          ::testing::Values(CpuTarget::kPortable, CpuTarget::kAvx2, CpuTarget::kAvx512),
                          [](const ::testing::TestParamInfo<CpuTarget>& i) {
@@ -488,6 +559,15 @@ TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
   k.num_faces = 3;
   k.faces = nullptr;
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"faces"});
+  // Face planes: built from another mesh, or from a mesh with a bad index.
+  const Mesh other = MakeBox(0.1, 0.1, 0.1);
+  const ScoreKernelParams ko = MakeKernelParams(other, testing_util::At(0, 0, 1), cam);
+  const render::FacePlanes planes = render::BuildFacePlanes(ko.vertices, ko.num_vertices, ko.faces, ko.num_faces);
+  k = params();
+  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws, &planes); }, {"face planes", "another mesh"});
+  const ScoreKernelParams kb = SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
+  ExpectThrowsWith([&] { render::BuildFacePlanes(kb.vertices, kb.num_vertices, kb.faces, kb.num_faces); },
+                   {"face 5", "out of range"});
 }
 
 TEST(CpuKernel, ValidDepthSatCountsAnyRectangle) {
