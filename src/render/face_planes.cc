@@ -28,7 +28,8 @@ FacePlanes BuildFacePlanes(const float* vertices, int num_vertices, const std::u
   p.num_vertices = num_vertices;
   p.num_faces = num_faces;
   const std::size_t padded = (std::size_t(num_faces) + 15) / 16 * 16;
-  for (auto* v : {&p.nx, &p.ny, &p.nz, &p.d, &p.len}) v->assign(padded, 0.f);
+  for (auto* v : {&p.nx, &p.ny, &p.nz, &p.len}) v->assign(padded, 0.f);
+  p.d.assign(padded, std::numeric_limits<float>::infinity());  // padding: never kept
   for (auto* v : {&p.i0, &p.i1, &p.i2}) v->assign(padded, 0u);
 
   double r2 = 0;

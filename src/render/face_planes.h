@@ -26,7 +26,8 @@ struct FacePlanes {
   const float* vertices = nullptr;
   const std::uint32_t* faces = nullptr;
   int num_vertices = 0, num_faces = 0;
-  // Per face, structure of arrays padded with zeros to a multiple of 16 entries:
+  // Per face, structure of arrays padded to a multiple of 16 entries (zeros; d: +inf, so that
+  // the kernel drops the padding without a lane test):
   std::vector<float> nx, ny, nz;  // N = (v1 − v0) × (v2 − v0), metres², rounded to float
   std::vector<float> d;           // N·v0, metres³, rounded to float
   std::vector<float> len;         // longest edge, metres, rounded up to float
