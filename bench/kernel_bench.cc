@@ -1,7 +1,8 @@
 // Google Benchmark cases of the score kernel, one call = one particle weighed (render + soft
 // inlier + the side sums of ScoreKernelResult): the reference kernel against the cpu engine's
 // kernel (every instruction-set variant this machine runs, when src/render/cpu_kernel.h is in
-// the tree), in both z-buffer modes, for tori of 512, 2048 and 8192 triangles.
+// the tree; with and without the back-face pre-cull), in both z-buffer modes, for tori of 512,
+// 2048 and 8192 triangles.
 //
 // Workload: the torus (R 6 cm, r 2.5 cm) at 0.8 m in front of a wall at 1.2 m, rendered into a
 // 640×480 depth image with the thesis camera; each call scores one of 16 poses near the true
@@ -95,24 +96,36 @@ BENCHMARK(BM_KernelReference)->Apply(MeshSizesAndModes);
 
 #ifdef POSEFILTER_BENCH_HAS_CPU
 // The cpu kernel with one instruction-set variant; registered for each variant this CPU runs.
+// Args: (n, zbuffer, precull: 0/1 — the back-face pre-cull from the mesh's face planes, as the
+// filter runs it).
 void BM_KernelCpu(benchmark::State& state, render::CpuTarget target) {
   const KernelSetup s(int(state.range(0)), state.range(1) != 0);
+  const bool precull = state.range(2) != 0;
+  const ScoreKernelParams& k0 = s.params[0];
+  const render::FacePlanes planes = render::BuildFacePlanes(k0.vertices, k0.num_vertices, k0.faces, k0.num_faces);
   render::CpuWorkspace ws;
   std::int64_t fragments = 0;
   int i = 0;
   for (auto _ : state) {
-    const ScoreKernelResult r = render::ScoreCpuWith(target, s.params[i], &ws);
+    const ScoreKernelResult r = render::ScoreCpuWith(target, s.params[i], &ws, precull ? &planes : nullptr);
     benchmark::DoNotOptimize(r.inlier_sum);
     fragments += r.n_raster;
     i = (i + 1) % kPoses;
   }
-  SetCounters(state, fragments, s, std::string("cpu/") + render::CpuTargetName(target));
+  SetCounters(state, fragments, s, std::string("cpu/") + render::CpuTargetName(target) + (precull ? ", pre-cull" : ""));
+}
+
+void CpuMeshSizesModesAndPreCull(benchmark::internal::Benchmark* b) {
+  for (int n : {16, 32, 64})
+    for (int zbuffer : {1, 0})
+      for (int precull : {1, 0}) b->Args({n, zbuffer, precull});
+  b->ArgNames({"n", "zbuffer", "precull"});
 }
 
 const int kCpuRegistered = [] {
   for (render::CpuTarget t : render::SupportedCpuTargets()) {
     const std::string name = std::string("BM_KernelCpu/") + render::CpuTargetName(t);
-    benchmark::RegisterBenchmark(name.c_str(), BM_KernelCpu, t)->Apply(MeshSizesAndModes);
+    benchmark::RegisterBenchmark(name.c_str(), BM_KernelCpu, t)->Apply(CpuMeshSizesModesAndPreCull);
   }
   return 0;
 }();

@@ -3,6 +3,8 @@
 // ScoreCpu computes exactly what ScoreReference computes (include/posefilter/render.h; the
 // rasterization rules there are binding), with SIMD and a fused render+inlier pipeline:
 //   1. vertex pass: transform + project + snap, 16 vertices per step (bit-identical float ops);
+//      1b. optional back-face pre-cull from per-mesh face planes (face_planes.h): faces proven
+//      culled are dropped before their corners are gathered;
 //   2. face pass: gather, back-face cull, window test, setup of edge functions, 16 faces per
 //      step in int32; front faces in the window are listed by vector shape;
 //   3. raster: per triangle, vectors of 16 pixel centres (AVX-512; 8 AVX2, 4 portable) laid out
