@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -530,6 +531,50 @@ TEST(CpuKernel, DispatchListsPortableFirstAndTheBestVariantIsSupported) {
   EXPECT_TRUE(render::CpuTargetSupported(render::BestCpuTarget()));
   EXPECT_EQ(targets.back(), render::BestCpuTarget());
   EXPECT_STREQ(render::CpuTargetName(CpuTarget::kAvx512), "avx512");
+}
+
+TEST(CpuKernel, PreCullTurnsItselfOffOutsideItsProof) {
+  // PreCullConstants must decline (the kernel then sends every face to the face pass) whenever
+  // an assumption of its margin fails, and the kernel's result must not change either way.
+  const Mesh torus = MakeTorus(0.06, 0.025, 16, 12);
+  const Camera cam = PinholeCamera(525, 525);
+  const DepthImage depth(640, 480, 0.8f);
+  ScoreKernelParams k = SceneParams(torus, testing_util::At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
+  const render::FacePlanes planes = render::BuildFacePlanes(k.vertices, k.num_vertices, k.faces, k.num_faces);
+  float c[3], k1, k0;
+  ASSERT_TRUE(render::PreCullConstants(k, planes, c, &k1, &k0));
+  EXPECT_GT(k1, 0.f);
+  EXPECT_GT(k0, 0.f);
+  EXPECT_NEAR(c[2], -0.7f, 1e-6f);  // the camera centre in the object frame (R = I)
+  auto declines = [&](ScoreKernelParams p, const char* what) {
+    EXPECT_FALSE(render::PreCullConstants(p, planes, c, &k1, &k0)) << what;
+    RenderWorkspace rws;
+    CpuWorkspace ws;
+    const ScoreKernelResult ref = ScoreReference(p, &rws);
+    ExpectSame(ref, render::ScoreCpu(p, &ws, &planes), what);
+    EXPECT_EQ(ws.faces_preculled, 0) << what;
+  };
+  ScoreKernelParams p = k;
+  p.t[2] = 0.05f;  // the object reaches behind the camera
+  declines(p, "object around the camera");
+  p = k;
+  p.R[0] = 1.05f;  // not a rotation
+  declines(p, "R scaled");
+  p = k;
+  p.R[0] = -1;  // a reflection (det < 0)
+  declines(p, "R reflects");
+  p = k;
+  p.fx = -525;
+  declines(p, "negative focal length");
+  p = k;
+  p.t[0] = std::nanf("");
+  declines(p, "NaN translation");
+  // A mesh with a non-finite vertex: the table's radius is infinite, the pre-cull off.
+  Mesh bad = torus;
+  bad.vertices[3].x() = std::numeric_limits<float>::infinity();
+  const ScoreKernelParams kb = SceneParams(bad, testing_util::At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
+  const render::FacePlanes pb = render::BuildFacePlanes(kb.vertices, kb.num_vertices, kb.faces, kb.num_faces);
+  EXPECT_FALSE(render::PreCullConstants(kb, pb, c, &k1, &k0));
 }
 
 TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
