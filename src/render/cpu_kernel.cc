@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <string>
 
 #include "posefilter/error.h"
@@ -146,13 +145,9 @@ bool PreCullConstants(const ScoreKernelParams& k, const FacePlanes& p, float c_o
   const double k1 = (scale * 4 * eps * (fx + fy) * sigma * (1 + A) / z_min +
                      std::ldexp(p.max_len * (p.radius + cn), -20)) * 1.01;
   const double k0 = scale * 8 * eps * eps * 1.01;
-  auto up = [](double x) {
-    float f = float(x);
-    return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
-  };
-  if (!(std::isfinite(k1) && std::isfinite(k0) && std::isfinite(cn))) return false;
-  *k1_out = up(k1);
-  *k0_out = up(k0);
+  // Anything not finite in double (NaN included) is not finite as a float either.
+  *k1_out = RoundUpToFloat(k1);
+  *k0_out = RoundUpToFloat(k0);
   for (int i = 0; i < 3; ++i) c_out[i] = float(c[i]);
   return std::isfinite(*k1_out) && std::isfinite(*k0_out) && std::isfinite(c_out[0]) && std::isfinite(c_out[1]) &&
          std::isfinite(c_out[2]);

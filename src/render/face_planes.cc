@@ -8,16 +8,12 @@
 #include "posefilter/error.h"
 
 namespace posefilter::render {
-namespace {
 
-// The smallest float ≥ x (x finite or ±inf).
 float RoundUpToFloat(double x) {
   float f = float(x);
   if (double(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
   return f;
 }
-
-}  // namespace
 
 FacePlanes BuildFacePlanes(const float* vertices, int num_vertices, const std::uint32_t* faces, int num_faces) {
   if (num_vertices < 0 || num_faces < 0 || (num_vertices > 0 && !vertices) || (num_faces > 0 && !faces))

@@ -41,4 +41,8 @@ struct FacePlanes {
 // coordinate that is not finite makes `radius` infinite, which turns the pre-cull off.
 FacePlanes BuildFacePlanes(const float* vertices, int num_vertices, const std::uint32_t* faces, int num_faces);
 
+// The smallest float ≥ x (x finite or ±inf; NaN stays NaN): the table's lengths and the
+// kernel's margin are rounded this way so that they only grow.
+float RoundUpToFloat(double x);
+
 }  // namespace posefilter::render
