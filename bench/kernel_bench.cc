@@ -48,7 +48,8 @@ struct KernelSetup {
     Rng rng(17);
     for (int i = 0; i < kPoses; ++i) {
       Eigen::Isometry3d T = truth;
-      const Eigen::Vector3d axis(rng.Normal(), rng.Normal(), rng.Normal());
+      const double az = rng.Normal(), ay = rng.Normal(), ax = rng.Normal();  // one per statement, as GCC ordered them
+      const Eigen::Vector3d axis(ax, ay, az);
       T.linear() = truth.linear() * Eigen::AngleAxisd(rng.Uniform(-0.3, 0.3), axis.normalized()).toRotationMatrix();
       T.translation().z() += 0.003;
       ScoreKernelParams k = MakeKernelParams(mesh, T, camera);

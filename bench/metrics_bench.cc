@@ -11,7 +11,10 @@ namespace {
 void BM_AddSError(benchmark::State& state) {
   Rng rng(5);
   std::vector<Eigen::Vector3f> pts(std::size_t(state.range(0)));
-  for (auto& p : pts) p = Eigen::Vector3f(float(rng.Uniform(-0.1, 0.1)), float(rng.Uniform(-0.1, 0.1)), float(rng.Uniform(-0.1, 0.1)));
+  for (auto& p : pts) {  // one draw per statement (C++ leaves a call's argument order open), as GCC ordered them
+    const double z = rng.Uniform(-0.1, 0.1), y = rng.Uniform(-0.1, 0.1), x = rng.Uniform(-0.1, 0.1);
+    p = Eigen::Vector3f(float(x), float(y), float(z));
+  }
   Eigen::Isometry3d T_gt = Eigen::Isometry3d::Identity(), T_est = Eigen::Isometry3d::Identity();
   T_gt.translation() = Eigen::Vector3d(0.01, -0.02, 0.6);
   T_est.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();

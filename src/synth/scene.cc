@@ -58,7 +58,11 @@ Eigen::Matrix3d RandomRotation(Rng& rng) {
   Eigen::Quaterniond q;
   double n = 0;
   do {
-    q = Eigen::Quaterniond(rng.Normal(), rng.Normal(), rng.Normal(), rng.Normal());
+    // One draw per statement: C++ leaves the order of a call's argument evaluations open (GCC
+    // draws the last argument first, Clang the first), so the scene would depend on the
+    // compiler. The order is the one every scene so far was made with (z first).
+    const double z = rng.Normal(), y = rng.Normal(), x = rng.Normal(), w = rng.Normal();
+    q = Eigen::Quaterniond(w, x, y, z);
     n = q.norm();
   } while (n < 1e-9);
   q.coeffs() /= n;
@@ -472,10 +476,15 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
   std::size_t hidden_budget = std::size_t(kClutterMaxHiddenFrac * double(n_alone));
   for (int i = 0; i < opt.clutter; ++i) {
     const bool is_box = rng_clutter.Uniform() < 0.5;
-    Mesh m = is_box ? MakeBox(rng_clutter.Uniform(0.04, 0.12), rng_clutter.Uniform(0.04, 0.12),
-                              rng_clutter.Uniform(0.04, 0.18), "clutter_box")
-                    : MakeCylinder(rng_clutter.Uniform(0.025, 0.06), rng_clutter.Uniform(0.05, 0.2),
-                                   24, "clutter_cylinder");
+    Mesh m;
+    if (is_box) {  // sizes drawn one per statement, last first (see RandomRotation)
+      const double sz = rng_clutter.Uniform(0.04, 0.18), sy = rng_clutter.Uniform(0.04, 0.12),
+                   sx = rng_clutter.Uniform(0.04, 0.12);
+      m = MakeBox(sx, sy, sz, "clutter_box");
+    } else {
+      const double height = rng_clutter.Uniform(0.05, 0.2), radius = rng_clutter.Uniform(0.025, 0.06);
+      m = MakeCylinder(radius, height, 24, "clutter_cylinder");
+    }
     const double rc = 0.5 * std::hypot(m.Max().x() - m.Min().x(), m.Max().y() - m.Min().y());
     for (int attempt = 0; attempt < 40; ++attempt) {
       const double ang = rng_clutter.Uniform(0, 2 * M_PI);

@@ -25,19 +25,26 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 std::vector<Eigen::Vector3f> RandomPoints(Rng& rng, int n, double half_extent) {
   std::vector<Eigen::Vector3f> pts;
   pts.reserve(n);
-  for (int i = 0; i < n; ++i)
-    pts.emplace_back(rng.Uniform(-half_extent, half_extent), rng.Uniform(-half_extent, half_extent),
-                     rng.Uniform(-half_extent, half_extent));
+  // Draws one per statement, the last coordinate first: C++ leaves the order of a call's
+  // argument evaluations open (GCC takes the last first, Clang the first), and these are the
+  // cases the tests have always run (GCC's order). The same below.
+  for (int i = 0; i < n; ++i) {
+    const double z = rng.Uniform(-half_extent, half_extent), y = rng.Uniform(-half_extent, half_extent),
+                 x = rng.Uniform(-half_extent, half_extent);
+    pts.emplace_back(x, y, z);
+  }
   return pts;
 }
 
 Eigen::Isometry3d RandomPose(Rng& rng, double max_angle_rad, double max_trans_m) {
-  Eigen::Vector3d axis(rng.Normal(), rng.Normal(), rng.Normal());
+  const double az = rng.Normal(), ay = rng.Normal(), ax = rng.Normal();
+  Eigen::Vector3d axis(ax, ay, az);
   axis.normalize();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(rng.Uniform(-max_angle_rad, max_angle_rad), axis).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(rng.Uniform(-max_trans_m, max_trans_m),
-                                    rng.Uniform(-max_trans_m, max_trans_m), 0.5 + rng.Uniform(0, max_trans_m));
+  const double tz = 0.5 + rng.Uniform(0, max_trans_m), ty = rng.Uniform(-max_trans_m, max_trans_m),
+               tx = rng.Uniform(-max_trans_m, max_trans_m);
+  T.translation() = Eigen::Vector3d(tx, ty, tz);
   return T;
 }
 
@@ -74,7 +81,8 @@ TEST(AddError, EqualsNormOfPureTranslation) {
   const auto pts = RandomPoints(rng, 300, 0.08);
   for (int trial = 0; trial < 5; ++trial) {
     const Eigen::Isometry3d T_gt = RandomPose(rng, std::numbers::pi, 0.2);
-    const Eigen::Vector3d d(rng.Uniform(-0.05, 0.05), rng.Uniform(-0.05, 0.05), rng.Uniform(-0.05, 0.05));
+    const double dz = rng.Uniform(-0.05, 0.05), dy = rng.Uniform(-0.05, 0.05), dx = rng.Uniform(-0.05, 0.05);
+    const Eigen::Vector3d d(dx, dy, dz);
     const Eigen::Isometry3d T_est = Eigen::Translation3d(d) * T_gt;  // every point moved by d
     EXPECT_NEAR(AddError(pts, T_est, T_gt), d.norm(), 1e-12);
     EXPECT_NEAR(TranslationError(T_est.translation(), T_gt.translation()), d.norm(), 1e-12);
@@ -149,9 +157,10 @@ TEST(AddSError, MatchesBruteForce) {
       // Small to large perturbations: near-exact matches and far-away estimates.
       const double scale = trial == 0 ? 0.002 : trial == 1 ? 0.03 : 0.5;
       Eigen::Isometry3d T_est = T_gt;
-      T_est.translation() += Eigen::Vector3d(rng.Uniform(-scale, scale), rng.Uniform(-scale, scale),
-                                             rng.Uniform(-scale, scale));
-      T_est.linear() = T_est.linear() * Eigen::AngleAxisd(scale * 3, Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized()).toRotationMatrix();
+      const double dz = rng.Uniform(-scale, scale), dy = rng.Uniform(-scale, scale), dx = rng.Uniform(-scale, scale);
+      T_est.translation() += Eigen::Vector3d(dx, dy, dz);
+      const double az = rng.Normal(), ay = rng.Normal(), ax = rng.Normal();
+      T_est.linear() = T_est.linear() * Eigen::AngleAxisd(scale * 3, Eigen::Vector3d(ax, ay, az).normalized()).toRotationMatrix();
       const double fast = AddSError(clouds[c], T_est, T_gt);
       const double ref = BruteForceAddS(clouds[c], T_est, T_gt);
       EXPECT_NEAR(fast, ref, 1e-12 * std::max(1.0, ref)) << "cloud " << c << " trial " << trial;

@@ -272,7 +272,8 @@ TEST(HwRenderDepthDistributor, RandomWindowsDeliverExactFragments) {
     std::vector<Window> w(N);
     for (auto& x : w) {
       const int ww = 1 + int(rng.UniformInt(40)), hh = 1 + int(rng.UniformInt(30));
-      x = SaturatedWindow(int(rng.UniformInt(64)), int(rng.UniformInt(48)), ww, hh, 64, 48);
+      const int v0 = int(rng.UniformInt(48)), u0 = int(rng.UniformInt(64));  // one draw per statement, as GCC ordered them
+      x = SaturatedWindow(u0, v0, ww, hh, 64, 48);
     }
     uint64_t shared = 0, unshared = 0;
     SCOPED_TRACE(::testing::Message() << "trial " << trial << " M=" << M << " N=" << N);

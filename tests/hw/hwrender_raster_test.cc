@@ -410,9 +410,10 @@ TEST(HwRenderPipeline, MultiCoreWeightsMatchTheReference) {
     }
     samples[i] = MakeSample(p);
     // Windows of a converging filter: overlapping boxes around the object.
-    windows[i] = SaturatedWindow(int(c.x()) + int(rng.UniformInt(21)) - 10, int(c.y()) + int(rng.UniformInt(21)) - 10,
-                                 120 + int(rng.UniformInt(60)), 120 + int(rng.UniformInt(60)), sc.depth.width,
-                                 sc.depth.height);
+    // One draw per statement (C++ leaves a call's argument order open), in the order GCC gave them.
+    const int wh = 120 + int(rng.UniformInt(60)), ww = 120 + int(rng.UniformInt(60));
+    const int dv = int(rng.UniformInt(21)) - 10, du = int(rng.UniformInt(21)) - 10;
+    windows[i] = SaturatedWindow(int(c.x()) + du, int(c.y()) + dv, ww, wh, sc.depth.width, sc.depth.height);
     cells[i] = rng.UniformInt(kNumCells);
   }
   CycleTrace trace;

@@ -66,7 +66,11 @@ void ExpectSame(const ScoreKernelResult& ref, const ScoreKernelResult& got, cons
 
 // Random rotation (uniform axis, angle in ±π) and the given translation.
 Eigen::Isometry3d RandomPose(Rng& rng, double x, double y, double z) {
-  Eigen::Vector3d axis(rng.Normal(), rng.Normal(), rng.Normal());
+  // Draws one per statement, the last coordinate first: C++ leaves the order of a call's
+  // argument evaluations open (GCC takes the last first, Clang the first), and these are the
+  // cases the tests have always run (GCC's order). The same below.
+  const double az = rng.Normal(), ay = rng.Normal(), ax = rng.Normal();
+  Eigen::Vector3d axis(ax, ay, az);
   if (axis.norm() < 1e-9) axis = Eigen::Vector3d::UnitZ();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(rng.Uniform(-M_PI, M_PI), axis.normalized()).toRotationMatrix();
@@ -78,9 +82,10 @@ Eigen::Isometry3d RandomPose(Rng& rng, double x, double y, double z) {
 Mesh RandomSoup(Rng& rng, int nv, int nf, double size) {
   Mesh m;
   m.name = "soup";
-  for (int i = 0; i < nv; ++i)
-    m.vertices.emplace_back(float(rng.Uniform(-size, size)), float(rng.Uniform(-size, size)),
-                            float(rng.Uniform(-size, size)));
+  for (int i = 0; i < nv; ++i) {
+    const double z = rng.Uniform(-size, size), y = rng.Uniform(-size, size), x = rng.Uniform(-size, size);
+    m.vertices.emplace_back(float(x), float(y), float(z));
+  }
   for (int f = 0; f < nf; ++f) {
     std::array<std::uint32_t, 3> t;
     for (auto& i : t) i = std::uint32_t(rng.UniformInt(std::uint64_t(nv)));
@@ -94,7 +99,8 @@ Mesh RandomSoup(Rng& rng, int nv, int nf, double size) {
 DepthImage MakeScene(const Mesh& mesh, const Eigen::Isometry3d& T, const Camera& cam, Rng& rng) {
   DepthImage d(cam.width, cam.height, 0.f);
   Eigen::Isometry3d Ts = T;
-  Ts.translation() += Eigen::Vector3d(rng.Uniform(-0.004, 0.004), rng.Uniform(-0.004, 0.004), rng.Uniform(-0.006, 0.006));
+  const double dz = rng.Uniform(-0.006, 0.006), dy = rng.Uniform(-0.004, 0.004), dx = rng.Uniform(-0.004, 0.004);
+  Ts.translation() += Eigen::Vector3d(dx, dy, dz);
   RenderDepth(mesh, Ts, cam, &d);
   const float plane = float(T.translation().z() + rng.Uniform(-0.05, 0.3));
   for (float& z : d.data) {
@@ -167,7 +173,8 @@ std::pair<std::int64_t, std::int64_t> AddSliversAroundBound(Mesh* m, const Camer
     (wxwy < std::ldexp(1.0, lo_exp + 2) ? below : above) += 1;
     const double u0 = rng.Uniform(250, 390), vc = rng.Uniform(200, 280), z = rng.Uniform(0.7, 1.3);
     const std::uint32_t a = vertex(u0, vc - h * rng.Uniform(0.3, 0.7), z);
-    const std::uint32_t b = vertex(u0 + w * rng.Uniform(0, 1), vc + h * rng.Uniform(0.3, 0.7), z * rng.Uniform(0.97, 1.03));
+    const double bz = rng.Uniform(0.97, 1.03), bv = rng.Uniform(0.3, 0.7), bu = rng.Uniform(0, 1);
+    const std::uint32_t b = vertex(u0 + w * bu, vc + h * bv, z * bz);
     const std::uint32_t c = vertex(u0 + w, vc + rng.Uniform(-20, 20), z);
     m->faces.push_back({a, b, c});
     m->faces.push_back({a, c, b});
@@ -308,8 +315,10 @@ TEST_P(CpuKernelTarget, FarOffScreenVerticesTakeTheExactPathAndMatch) {
   for (float& z : depth.data) z = float(rng.Uniform(0.5, 3.0));
   Mesh m;
   m.name = "huge";
-  for (int i = 0; i < 40; ++i)
-    m.vertices.emplace_back(float(rng.Uniform(-60, 60)), float(rng.Uniform(-60, 60)), float(rng.Uniform(-0.5, 0.5)));
+  for (int i = 0; i < 40; ++i) {
+    const double z = rng.Uniform(-0.5, 0.5), y = rng.Uniform(-60, 60), x = rng.Uniform(-60, 60);
+    m.vertices.emplace_back(float(x), float(y), float(z));
+  }
   m.vertices.emplace_back(1e5f, 0.f, 0.f);  // beyond 2^20 px at z ≈ 1 m
   for (int f = 0; f < 120; ++f) {
     std::array<std::uint32_t, 3> t;
@@ -365,7 +374,8 @@ TEST_P(CpuKernelTarget, ImageWidthsWithInexactReciprocalsMatch) {
     const DepthImage depth = MakeScene(torus, T, cam, rng);
     std::vector<float> normals(3 * depth.data.size());
     for (std::size_t i = 0; i < depth.data.size(); ++i) {
-      const Eigen::Vector3d n = Eigen::Vector3d(rng.Uniform(-0.3, 0.3), rng.Uniform(-0.3, 0.3), -1.0).normalized();
+      const double ny = rng.Uniform(-0.3, 0.3), nx = rng.Uniform(-0.3, 0.3);
+      const Eigen::Vector3d n = Eigen::Vector3d(nx, ny, -1.0).normalized();
       for (int a = 0; a < 3; ++a) normals[3 * i + a] = float(n[a]);
     }
     for (PixelRect win : {PixelRect{0, 0, w, 480}, PixelRect{0, 140, 90, 200}})
@@ -385,8 +395,8 @@ TEST_P(CpuKernelTarget, TinyTrianglesAtTheWindowsBottomRightMatch) {
   for (int p = 0; p < 6; ++p) {
     // Centre near the image's bottom-right corner at 1.6–2.4 m (≈ 3200 front faces of ≈ 2 px).
     const double z = rng.Uniform(1.6, 2.4);
-    const Eigen::Isometry3d T = RandomPose(rng, (300.0 + rng.Uniform(-30, 10)) * z / 525,
-                                           (220.0 + rng.Uniform(-30, 10)) * z / 525, z);
+    const double dv = rng.Uniform(-30, 10), du = rng.Uniform(-30, 10);
+    const Eigen::Isometry3d T = RandomPose(rng, (300.0 + du) * z / 525, (220.0 + dv) * z / 525, z);
     const DepthImage depth = MakeScene(torus, T, cam, rng);
     const std::vector<float> normals = ComputeSceneNormals(depth, cam);
     for (const PixelRect& w : {PixelRect{520, 380, 120, 100}, PixelRect{560, 400, 57, 43}, PixelRect{600, 470, 40, 10}}) {
@@ -414,8 +424,9 @@ TEST_P(CpuKernelTarget, TallAndWideSliversMatch) {
       const double w = shape == 0 ? rng.Uniform(0.3, 2.0) : shape == 1 ? rng.Uniform(2.0, 4.0) : rng.Uniform(8.0, 16.0);
       const double h = shape == 2 ? rng.Uniform(1.0, 6.0) : rng.Uniform(5.0, 60.0);
       const double u0 = rng.Uniform(260, 380), v0 = rng.Uniform(180, 300), z = rng.Uniform(0.6, 1.4);
-      const std::uint32_t a = vertex(u0, v0, z), b = vertex(u0 + w * rng.Uniform(0, 1), v0 + h, z * rng.Uniform(0.95, 1.05)),
-                          c = vertex(u0 + w, v0 + h * rng.Uniform(0, 1), z);
+      const std::uint32_t a = vertex(u0, v0, z);
+      const double bz = rng.Uniform(0.95, 1.05), bu = rng.Uniform(0, 1);
+      const std::uint32_t b = vertex(u0 + w * bu, v0 + h, z * bz), c = vertex(u0 + w, v0 + h * rng.Uniform(0, 1), z);
       m.faces.push_back({a, b, c});
       m.faces.push_back({a, c, b});
     }
@@ -466,19 +477,23 @@ TEST_P(CpuKernelTarget, PreCullAtGrazingAnglesMatches) {
   std::int64_t skipped = 0, faces = 0, front = 0;
   for (int scene = 0; scene < 6; ++scene) {
     const double depth_m = rng.Uniform(0.4, 2.0);
-    const Eigen::Isometry3d T = RandomPose(rng, rng.Uniform(-0.1, 0.1), rng.Uniform(-0.1, 0.1), depth_m);
+    const double y0 = rng.Uniform(-0.1, 0.1), x0 = rng.Uniform(-0.1, 0.1);
+    const Eigen::Isometry3d T = RandomPose(rng, x0, y0, depth_m);
     Mesh m;
     m.name = "grazing";
     for (int f = 0; f < 400; ++f) {
       // Camera frame: a point p of an object-sized ball (0.12 m) around the pose's origin, the
       // ray direction r = p/|p|, a direction w across it.
       Eigen::Vector3d p;
-      do p = Eigen::Vector3d(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
-      while (p.norm() > 1);
+      do {
+        const double pz = rng.Uniform(-1, 1), py = rng.Uniform(-1, 1), px = rng.Uniform(-1, 1);
+        p = Eigen::Vector3d(px, py, pz);
+      } while (p.norm() > 1);
       p = T.translation() + 0.12 * p;
       const double z = p.z();
       const Eigen::Vector3d r = p.normalized();
-      Eigen::Vector3d w = r.cross(Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal())).normalized();
+      const double gz = rng.Normal(), gy = rng.Normal(), gx = rng.Normal();
+      Eigen::Vector3d w = r.cross(Eigen::Vector3d(gx, gy, gz)).normalized();
       const double size = rng.Uniform(0.3, 40) * z / cam.fx;  // metres for 0.3 … 40 px
       // The face's plane contains the ray through p (edge-on), then turns about w.
       // Half of them grazing (10^-7 … 0.3 rad), half clearly turned (0.3 … 1.4 rad).
