@@ -9,9 +9,11 @@
 // GCC 12's AVX-512 intrinsics (e.g. _mm512_max_pd) pass `_mm512_undefined_pd()`, a
 // self-initialised `__Y`, as the unused merge operand; inlined here, -Wmaybe-uninitialized
 // flags that idiom (GCC bug 105593; as -Wuninitialized where the intrinsic is inlined into an
-// out-of-line helper). No value of ours is involved.
+// out-of-line helper). No value of ours is involved. (Clang has no such warning group.)
+#if !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#endif
 #define POSEFILTER_CPU_NS cpu_avx512
 #define POSEFILTER_CPU_ENTRY CoreAvx512
 #define POSEFILTER_CPU_LANES 8
