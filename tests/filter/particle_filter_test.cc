@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <exception>
+#include <thread>
 
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
@@ -153,6 +155,53 @@ TEST(ParticleFilterTest, SameSeedSamePoseDifferentSeedDifferentRun) {
   // The best weight never decreases once annealing is over (elitism).
   EXPECT_EQ(a.iterations, 6);
   EXPECT_EQ(int(a.best_weight_history.size()), 6);
+}
+
+// No global state: estimates running at once on the caller's threads (each with its own two
+// workers), or inside the caller's OpenMP region (where, nested parallelism being off, each
+// weighs on its calling thread alone), give exactly the results of one after the other.
+TEST(ParticleFilterTest, ConcurrentEstimatesGiveTheSequentialResults) {
+  const EasyCase box("box", 3), torus("torus", 4);
+  FilterOptions o = EasyCase::Small(6);  // with the final polish (default)
+  o.threads = 2;
+  const EasyCase* cases[2] = {&box, &torus};
+  EstimateResult seq[2];
+  for (int i = 0; i < 2; ++i) seq[i] = cases[i]->Run(o);
+  auto expect_same = [&](const EstimateResult (&r)[2], const char* how) {
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_EQ(r[i].weight, seq[i].weight) << how << ", case " << i;
+      EXPECT_TRUE(r[i].T_cam_obj.isApprox(seq[i].T_cam_obj, 0.0)) << how << ", case " << i;
+      EXPECT_EQ(r[i].best_weight_history, seq[i].best_weight_history) << how << ", case " << i;
+      EXPECT_EQ(r[i].stats.fragments, seq[i].stats.fragments) << how << ", case " << i;
+    }
+  };
+  EstimateResult par[2];
+  std::exception_ptr err[2];
+  std::thread workers[2];
+  for (int i = 0; i < 2; ++i)
+    workers[i] = std::thread([&, i] {
+      try {
+        par[i] = cases[i]->Run(o);
+      } catch (...) {
+        err[i] = std::current_exception();
+      }
+    });
+  for (auto& w : workers) w.join();
+  for (const auto& e : err)
+    if (e) std::rethrow_exception(e);
+  expect_same(par, "two caller threads");
+  EstimateResult omp[2];
+#pragma omp parallel for num_threads(2) schedule(static, 1)
+  for (int i = 0; i < 2; ++i) {
+    try {
+      omp[i] = cases[i]->Run(o);
+    } catch (...) {
+      err[i] = std::current_exception();
+    }
+  }
+  for (const auto& e : err)
+    if (e) std::rethrow_exception(e);
+  expect_same(omp, "inside an OpenMP region");
 }
 
 // The default stall stop (3 iterations, gain < 0.01) ends a converged run long before 40
