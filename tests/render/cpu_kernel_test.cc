@@ -250,7 +250,10 @@ TEST_P(CpuKernelTarget, MatchesReferenceOnRandomPosesMeshesAndWindows) {
     for (int p = 0; p < 8; ++p) {
       // Mostly in view; some partly off the image, some straddling the near plane.
       double x = rng.Uniform(-0.15, 0.15), y = rng.Uniform(-0.1, 0.1), z = rng.Uniform(0.4, 1.2);
-      if (p == 5) x = rng.Uniform(0.35, 0.5) * (rng.Uniform() < 0.5 ? -1 : 1);  // off the side
+      if (p == 5) {  // off the side (magnitude drawn first: the operands of * are unsequenced too)
+        const double off = rng.Uniform(0.35, 0.5);
+        x = off * (rng.Uniform() < 0.5 ? -1 : 1);
+      }
       if (p == 6) z = rng.Uniform(0.02, 0.09);                                    // near plane
       const Eigen::Isometry3d T = RandomPose(rng, x, y, z);
       const DepthImage depth = MakeScene(mesh, T, cam, rng);
