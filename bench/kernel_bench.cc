@@ -103,7 +103,7 @@ void BM_KernelCpu(benchmark::State& state, render::CpuTarget target) {
   const KernelSetup s(int(state.range(0)), state.range(1) != 0);
   const bool precull = state.range(2) != 0;
   const ScoreKernelParams& k0 = s.params[0];
-  const render::FacePlanes planes = render::BuildFacePlanes(k0.vertices, k0.num_vertices, k0.faces, k0.num_faces);
+  const render::FacePlanes planes = render::BuildFacePlanes(k0);
   render::CpuWorkspace ws;
   std::int64_t fragments = 0;
   int i = 0;

@@ -1,7 +1,6 @@
 // Google Benchmark case of the ADD-S metric (src/eval/metrics.cc) on a 10 000-point cloud.
 #include <benchmark/benchmark.h>
 
-
 #include "posefilter/metrics.h"
 #include "posefilter/rng.h"
 

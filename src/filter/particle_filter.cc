@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/threads.h"
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
 #include "filter/online_sorter.h"
@@ -167,7 +168,7 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
 void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats, bool icp = false) {
   const int n = int(ps.size());
   std::int64_t faces_total = 0, faces_front = 0, fragments = 0, weighings = 0;
-  const int threads = ctx.opt.threads > 0 ? ctx.opt.threads : omp_get_max_threads();
+  const int threads = WorkerThreads(ctx.opt.threads);
   if (int(ctx.workspaces.size()) < threads) ctx.workspaces.resize(std::size_t(threads));
 #pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
   {
@@ -293,10 +294,8 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
-  if (options.engine == "cpu") {
-    const ScoreKernelParams k = MakeKernelParams(mesh, Eigen::Isometry3d::Identity(), scene.camera);
-    ctx.face_planes = render::BuildFacePlanes(k.vertices, k.num_vertices, k.faces, k.num_faces);
-  }
+  if (options.engine == "cpu")  // the table of the same arrays every weighing's parameters point at
+    ctx.face_planes = render::BuildFacePlanes(MakeKernelParams(mesh, Eigen::Isometry3d::Identity(), scene.camera));
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;

@@ -1,14 +1,13 @@
 // Per-cell heuristic volumes (SPEC §5, thesis §7.4). See include/posefilter/heuristics.h.
 #include "posefilter/heuristics.h"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <tuple>
 
+#include "core/threads.h"
 #include "posefilter/error.h"
 #include "prior/quantiles.h"
 
@@ -147,7 +146,7 @@ std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& cam
 
   std::vector<Volume> out(boxes.size());
   const long n = long(uniq.size());
-  const int nt = threads > 0 ? threads : omp_get_max_threads();
+  const int nt = WorkerThreads(threads);
 #pragma omp parallel num_threads(nt) if (n > 256)
   {
     Scratch s;

@@ -15,7 +15,10 @@ float RoundUpToFloat(double x) {
   return f;
 }
 
-FacePlanes BuildFacePlanes(const float* vertices, int num_vertices, const std::uint32_t* faces, int num_faces) {
+FacePlanes BuildFacePlanes(const ScoreKernelParams& mesh) {
+  const float* const vertices = mesh.vertices;
+  const std::uint32_t* const faces = mesh.faces;
+  const int num_vertices = mesh.num_vertices, num_faces = mesh.num_faces;
   if (num_vertices < 0 || num_faces < 0 || (num_vertices > 0 && !vertices) || (num_faces > 0 && !faces))
     throw Error("face planes: mesh pointers/counts are invalid (vertices/faces)");
   FacePlanes p;

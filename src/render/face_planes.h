@@ -19,6 +19,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "posefilter/render.h"
+
 namespace posefilter::render {
 
 struct FacePlanes {
@@ -36,10 +38,12 @@ struct FacePlanes {
   double max_len = 0;   // max of len
 };
 
-// Builds the table of a mesh: vertices num_vertices×3 floats (metres), faces num_faces×3
-// indices. Throws posefilter::Error naming the face when an index is out of range. A vertex
-// coordinate that is not finite makes `radius` infinite, which turns the pre-cull off.
-FacePlanes BuildFacePlanes(const float* vertices, int num_vertices, const std::uint32_t* faces, int num_faces);
+// Builds the table of the mesh the kernel parameters point at (vertices, num_vertices×3 floats
+// in metres; faces, num_faces×3 indices; the pose and the rest are not read), so that the
+// kernel's check that table and parameters describe the same arrays holds. Throws
+// posefilter::Error naming the face when an index is out of range. A vertex coordinate that is
+// not finite makes `radius` infinite, which turns the pre-cull off.
+FacePlanes BuildFacePlanes(const ScoreKernelParams& mesh);
 
 // The smallest float ≥ x (x finite or ±inf; NaN stays NaN): the table's lengths and the
 // kernel's margin are rounded this way so that they only grow.

@@ -1,8 +1,7 @@
 // Scene normals for the ICP terms of the score kernel (render.h).
-#include <omp.h>
-
 #include <cmath>
 
+#include "core/threads.h"
 #include "posefilter/render.h"
 
 namespace posefilter {
@@ -10,7 +9,7 @@ namespace posefilter {
 std::vector<float> ComputeSceneNormals(const DepthImage& d, const Camera& c, int threads) {
   std::vector<float> n(std::size_t(d.width) * d.height * 3, 0.f);
   // Rows are independent (each pixel writes only its own normal): threads over rows, same result.
-  const int nt = threads > 0 ? threads : omp_get_max_threads();
+  const int nt = WorkerThreads(threads);
 #pragma omp parallel for schedule(static) num_threads(nt) if (d.height > 64)
   for (int v = 1; v < d.height - 1; ++v)
     for (int u = 1; u + 1 < d.width; ++u) {

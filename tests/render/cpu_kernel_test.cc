@@ -193,7 +193,7 @@ class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
   // Compares ScoreCpuWith(target) with ScoreReference on one case in both z-buffer modes,
   // without and with the back-face pre-cull (face planes of k's mesh).
   void Check(ScoreKernelParams k, const std::string& ctx) {
-    const render::FacePlanes planes = render::BuildFacePlanes(k.vertices, k.num_vertices, k.faces, k.num_faces);
+    const render::FacePlanes planes = render::BuildFacePlanes(k);
     for (bool zb : {true, false}) {
       k.zbuffer = zb;
       RenderWorkspace rws;
@@ -521,7 +521,7 @@ TEST_P(CpuKernelTarget, PreCullAtGrazingAnglesMatches) {
       k.zbuffer = zb;
       RenderWorkspace rws;
       const ScoreKernelResult ref = ScoreReference(k, &rws);
-      const render::FacePlanes planes = render::BuildFacePlanes(k.vertices, k.num_vertices, k.faces, k.num_faces);
+      const render::FacePlanes planes = render::BuildFacePlanes(k);
       const ScoreKernelResult got = render::ScoreCpuWith(GetParam(), k, &ws_, &planes);
       ExpectSame(ref, got, "scene " + std::to_string(scene) + (zb ? " zbuffer" : " no-zbuffer"));
       skipped += ws_.faces_preculled;
@@ -558,7 +558,7 @@ TEST(CpuKernel, PreCullTurnsItselfOffOutsideItsProof) {
   const Camera cam = PinholeCamera(525, 525);
   const DepthImage depth(640, 480, 0.8f);
   ScoreKernelParams k = SceneParams(torus, testing_util::At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
-  const render::FacePlanes planes = render::BuildFacePlanes(k.vertices, k.num_vertices, k.faces, k.num_faces);
+  const render::FacePlanes planes = render::BuildFacePlanes(k);
   float c[3], k1, k0;
   ASSERT_TRUE(render::PreCullConstants(k, planes, c, &k1, &k0));
   EXPECT_GT(k1, 0.f);
@@ -591,7 +591,7 @@ TEST(CpuKernel, PreCullTurnsItselfOffOutsideItsProof) {
   Mesh bad = torus;
   bad.vertices[3].x() = std::numeric_limits<float>::infinity();
   const ScoreKernelParams kb = SceneParams(bad, testing_util::At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
-  const render::FacePlanes pb = render::BuildFacePlanes(kb.vertices, kb.num_vertices, kb.faces, kb.num_faces);
+  const render::FacePlanes pb = render::BuildFacePlanes(kb);
   EXPECT_FALSE(render::PreCullConstants(kb, pb, c, &k1, &k0));
 }
 
@@ -625,11 +625,11 @@ TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
   // Face planes: built from another mesh, or from a mesh with a bad index.
   const Mesh other = MakeBox(0.1, 0.1, 0.1);
   const ScoreKernelParams ko = MakeKernelParams(other, testing_util::At(0, 0, 1), cam);
-  const render::FacePlanes planes = render::BuildFacePlanes(ko.vertices, ko.num_vertices, ko.faces, ko.num_faces);
+  const render::FacePlanes planes = render::BuildFacePlanes(ko);
   k = params();
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws, &planes); }, {"face planes", "another mesh"});
   const ScoreKernelParams kb = SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
-  ExpectThrowsWith([&] { render::BuildFacePlanes(kb.vertices, kb.num_vertices, kb.faces, kb.num_faces); },
+  ExpectThrowsWith([&] { render::BuildFacePlanes(kb); },
                    {"face 5", "out of range"});
 }
 
