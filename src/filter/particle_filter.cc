@@ -46,8 +46,8 @@ PixelRect CellWindow(const Box& box, double min_side, int max_px, int image_w, i
 
 // Coarse orientation class of a pose for niching: which signed axis of the base frame the
 // object's z axis points along most (6) × which of the 4 remaining signed axes its x axis
-// points along most — the 24 rotations of a cube, so a quarter or half turn changes the bin.
-constexpr int kRotationBins = 24;
+// points along most — the 24 rotations of a cube, so a quarter or half turn changes the bin
+// (0 … 23).
 int RotationBin(const Pose6& pose) {
   const Eigen::Matrix3d R = PoseToTransform(pose).linear();
   auto signed_axis = [](const Eigen::Vector3d& v, int exclude) {
