@@ -305,6 +305,7 @@ const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
       Nested("inlier_hard_thr_m", &O::inlier, &InlierParams::hard_thr_m),
       Field("anneal_start_m", &O::anneal_start_m),
       Field("anneal_fraction", &O::anneal_fraction),
+      Field("anneal_subsample", &O::anneal_subsample),
       Field("zbuffer", &O::zbuffer),
       Field("occlusion_aware", &O::occlusion_aware),
       Field("max_window_px", &O::max_window_px),

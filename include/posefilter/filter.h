@@ -70,6 +70,14 @@ struct FilterOptions {
   // (0 or ≤ thr1 = off, the thesis's fixed threshold).
   double anneal_start_m = 0.02;
   double anneal_fraction = 0.5;
+  // Coarse pixels while annealing (ours): in the iterations whose inlier threshold is still
+  // above its final value — except a run's last possible iteration, whose weights are the
+  // answer's — particles are weighed on every anneal_subsample-th pixel of every
+  // anneal_subsample-th row (SubsampleScene: the depth image and the camera subsampled by that
+  // factor; the ratios of eq. 7.4 keep their scale). Every weighing after annealing, the
+  // polish and WeighPoses use every pixel. 1 = off (the thesis); 1..4. The hw engine, a model
+  // of the thesis's full-resolution raster, ignores it.
+  int anneal_subsample = 3;
   bool zbuffer = true;               // exact z-buffer (false: the thesis's culling-only mode)
   // Occlusion-aware precision: rendered pixels hidden behind nearer scene depth (beyond the
   // inlier ramp) are left out of N_raster, so a partly occluded object is not penalised for
@@ -184,6 +192,13 @@ struct SceneInput {
 // Checks that depth and camera agree in size, the depth holds at least one valid pixel and
 // no NaN/inf/negative value; throws Error naming `what` otherwise.
 void ValidateScene(const SceneInput& scene, const std::string& what);
+
+// The scene on a coarser pixel grid (FilterOptions::anneal_subsample): pixel (i, j) of the
+// result is pixel (factor·i, factor·j) of `scene` (no averaging: every depth is a reading of
+// the sensor), ceil(width / factor) × ceil(height / factor) pixels, fx, fy, cx, cy divided
+// by factor, the same base_to_camera — so a camera-frame point projects to 1/factor of its
+// full-resolution pixel coordinates. Throws Error when factor < 1.
+SceneInput SubsampleScene(const SceneInput& scene, int factor);
 
 // Runs the filter for one object. `cls` indexes prior.classes. Throws Error on invalid
 // options, a class index out of range, a prior of the wrong image size, or when no prior

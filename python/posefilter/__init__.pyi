@@ -211,7 +211,7 @@ class Estimator:
                  confidence: float = ..., alpha: float = ..., beta: float = ..., gamma: float = ...,
                  delta: float = ..., edge_band_m: float = ..., inlier_thr1_m: float = ..., inlier_hard: bool = ...,
                  inlier_hard_thr_m: float = ..., anneal_start_m: float = ..., anneal_fraction: float = ...,
-                 zbuffer: bool = ..., occlusion_aware: bool = ..., max_window_px: int = ...,
+                 anneal_subsample: int = ..., zbuffer: bool = ..., occlusion_aware: bool = ..., max_window_px: int = ...,
                  min_window_diameters: float = ..., grow_window: bool = ..., near_m: float = ..., lod_max_faces: int = ...,
                  init_oversample: int = ..., num_elite: int = ..., resample_pool: float = ..., region_cap: float = ...,
                  rotation_cap: float = ..., tracker_bins: int = ..., sigma_t0_m: float = ..., sigma_r0_rad: float = ...,

@@ -84,6 +84,14 @@ struct Context {
   // One scratch memory per worker thread (cpu kernel; holds the reference's too), kept from
   // one weighing round to the next so that its buffers are allocated and touched once.
   mutable std::vector<render::CpuWorkspace> workspaces;
+  // The coarse level (FilterOptions::anneal_subsample > 1): the scene on every s-th pixel of
+  // every s-th row (pixel (i, j) is the full image's (s·i, s·j); fx, fy, cx, cy divided by s),
+  // its valid-depth table and normals. `coarse` selects it for the weighings of the moment.
+  int subsample = 1;
+  SceneInput coarse_scene;
+  render::ValidDepthSat coarse_valid_depth;
+  std::vector<float> coarse_normals;
+  bool coarse = false;
 };
 
 // The window a particle is weighed in (ours, FilterOptions::grow_window): its cell's window
@@ -140,23 +148,32 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
 double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
   const Camera& cam = ctx.scene.camera;
   const Eigen::Isometry3d T = cam.base_to_camera * PoseToTransform(p.pose);  // FT without P
-  ScoreKernelParams k = MakeKernelParams(ctx.mesh, T, cam);
+  const bool coarse = ctx.coarse;
+  const SceneInput& scene = coarse ? ctx.coarse_scene : ctx.scene;
+  ScoreKernelParams k = MakeKernelParams(ctx.mesh, T, scene.camera);
   k.near_m = float(ctx.opt.near_m);
   k.window = ParticleWindow(ctx, T, p.cell);
-  k.depth = ctx.scene.depth.data.data();
-  k.depth_width = ctx.scene.depth.width;
-  k.depth_height = ctx.scene.depth.height;
+  if (coarse) {  // the coarse pixels i whose full-resolution pixel s·i lies in [u0, u1): ceil(u0 / s) ≤ i < ceil(u1 / s)
+    const int s = ctx.subsample;
+    auto up = [s](int a) { return (a + s - 1) / s; };  // a ≥ 0: windows lie inside the image
+    const int u0 = up(k.window.u0), u1 = up(k.window.u0 + k.window.width);
+    const int v0 = up(k.window.v0), v1 = up(k.window.v0 + k.window.height);
+    k.window = PixelRect{u0, v0, u1 - u0, v1 - v0};
+  }
+  k.depth = scene.depth.data.data();
+  k.depth_width = scene.depth.width;
+  k.depth_height = scene.depth.height;
   k.inlier = ctx.inlier;
   k.zbuffer = ctx.opt.zbuffer;
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
-  k.scene_normals = icp ? ctx.normals.data() : nullptr;
+  k.scene_normals = icp ? (coarse ? ctx.coarse_normals.data() : ctx.normals.data()) : nullptr;
   *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws, &ctx.face_planes) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
   const double r_raster = n_raster > 0 ? std::min(1.0, I / double(n_raster)) : 0.0;
-  const long nd = long(ctx.valid_depth.Count(k.window));
+  const long nd = long((coarse ? ctx.coarse_valid_depth : ctx.valid_depth).Count(k.window));
   const double r_depth = nd > 0 ? std::min(1.0, I / double(nd)) : 0.0;
   const double rho = ctx.prior.Prob(p.cell, ctx.cls);
   const double r_edge = out->n_edge > 0 ? double(out->n_edge_continued) / double(out->n_edge) : 0.0;
@@ -224,6 +241,7 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (!(inlier.hard_thr_m > 0 && std::isfinite(inlier.hard_thr_m))) return fail("hard inlier threshold must be > 0");
   if (!(anneal_start_m >= 0 && std::isfinite(anneal_start_m))) return fail("anneal_start_m must be >= 0");
   if (!(anneal_fraction >= 0 && anneal_fraction <= 1)) return fail("anneal_fraction must be in [0, 1]");
+  if (anneal_subsample < 1 || anneal_subsample > 4) return fail("anneal_subsample must be in [1, 4]");
   if (!(min_window_diameters >= 0 && min_window_diameters <= 4)) return fail("min_window_diameters must be in [0, 4]");
   if (max_window_px < 8) return fail("max_window_px must be >= 8");
   if (!(near_m > 0 && std::isfinite(near_m))) return fail("near_m must be > 0");
@@ -278,6 +296,25 @@ void ValidateScene(const SceneInput& scene, const std::string& what) {
   if (valid == 0) throw Error(what + ": depth image has no valid pixel (all zero)");
 }
 
+SceneInput SubsampleScene(const SceneInput& scene, int factor) {
+  if (factor < 1) throw Error("SubsampleScene: factor must be >= 1 (got " + std::to_string(factor) + ")");
+  const int s = factor;
+  SceneInput out;
+  Camera& c = out.camera;
+  c = scene.camera;
+  c.width = (scene.camera.width + s - 1) / s;
+  c.height = (scene.camera.height + s - 1) / s;
+  c.fx /= s;  // u = fx·x/z + cx at full resolution is s times the coarse u
+  c.fy /= s;
+  c.cx /= s;
+  c.cy /= s;
+  const DepthImage& d = scene.depth;
+  out.depth = DepthImage((d.width + s - 1) / s, (d.height + s - 1) / s);
+  for (int j = 0; j < out.depth.height; ++j)
+    for (int i = 0; i < out.depth.width; ++i) out.depth.at(i, j) = d.at(s * i, s * j);
+  return out;
+}
+
 namespace {
 
 // Checks the inputs and precomputes volumes, windows and N_depth for every cell.
@@ -291,7 +328,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}, 1, {}, {}, {}, false};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   if (options.engine == "cpu")  // the table of the same arrays every weighing's parameters point at
@@ -302,6 +339,13 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   ctx.volumes = ComputeHeuristics(scene.depth, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
   ctx.valid_depth = render::ValidDepthSat(scene.depth.data.data(), scene.depth.width, scene.depth.height);
+  if (options.anneal_subsample > 1 && filter::AnnealIterations(options) > 0) {
+    ctx.subsample = options.anneal_subsample;
+    ctx.coarse_scene = SubsampleScene(scene, ctx.subsample);
+    const DepthImage& d = ctx.coarse_scene.depth;
+    ctx.coarse_valid_depth = render::ValidDepthSat(d.data.data(), d.width, d.height);
+    ctx.coarse_normals = ComputeSceneNormals(d, ctx.coarse_scene.camera, options.threads);
+  }
   const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
   for (int i = 0; i < 8; ++i)
     ctx.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
@@ -357,15 +401,20 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   const SceneInput& scene = ctx.scene;
   const filter::DiffusionContext diffusion(scene.camera, ctx.prior.layout, ctx.volumes, options);
   // Coarse-to-fine inlier threshold: thr1 falls geometrically from anneal_start_m to its
-  // final value over the first anneal_fraction of the iterations. Sets the threshold of
-  // iteration `it`; returns true when it changed (weights measured before are stale).
+  // final value over the first anneal_fraction of the iterations, weighed on the coarse pixel
+  // grid while it does (anneal_subsample > 1). Sets the threshold and the pixel grid of
+  // iteration `it`; returns true when either changed (weights measured before are stale).
   const int anneal_its = filter::AnnealIterations(options);
   auto set_threshold = [&](int it) {
     const float thr = float(filter::AnnealedThreshold(options, it, anneal_its));
     const bool changed = thr != ctx.inlier.thr1_m;
     ctx.inlier.thr1_m = thr;
     ctx.inlier.hard_thr_m = float(options.inlier.hard_thr_m * thr / options.inlier.thr1_m);
-    return changed;
+    // Never the run's last possible iteration: its weights are the answer's.
+    const bool coarse = ctx.subsample > 1 && it < anneal_its && it + 1 < options.max_iterations;
+    const bool level_changed = coarse != ctx.coarse;
+    ctx.coarse = coarse;
+    return changed || level_changed;
   };
   ctx.inlier = options.inlier;
   set_threshold(0);  // the oversampled start is weighed with the first iteration's threshold

@@ -62,6 +62,41 @@ TEST(FilterOptionsTest, IsValidNamesTheViolatedConstraint) {
   b = o;
   b.stall_gain = std::nan("");
   expect_bad(b, "stall_gain");
+  for (int f : {0, 5, -2}) {
+    b = o;
+    b.anneal_subsample = f;
+    expect_bad(b, "anneal_subsample");
+  }
+}
+
+// Pixel (i, j) of the coarse scene is pixel (f·i, f·j) of the full one, and a camera-frame
+// point projects to 1/f of its full-resolution pixel coordinates.
+TEST(SubsampleSceneTest, KeepsEveryFthPixelAndScalesTheCamera) {
+  Camera cam;
+  cam.width = 641;
+  cam.height = 481;
+  cam.cx = 321.7;
+  cam.cy = 230.2;
+  SceneInput full{DepthImage(cam.width, cam.height), cam};
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) full.depth.at(u, v) = 0.5f + 0.001f * float(u) + 1e-6f * float(v);
+  for (int f : {1, 2, 3, 4}) {
+    const SceneInput c = SubsampleScene(full, f);
+    const int w = (641 + f - 1) / f, h = (481 + f - 1) / f;
+    ASSERT_EQ(c.camera.width, w) << f;
+    ASSERT_EQ(c.camera.height, h) << f;
+    ASSERT_EQ(c.depth.width, w) << f;
+    ASSERT_EQ(c.depth.height, h) << f;
+    for (int j = 0; j < h; j += 7)
+      for (int i = 0; i < w; i += 5) ASSERT_EQ(c.depth.at(i, j), full.depth.at(f * i, f * j)) << f << " " << i << " " << j;
+    EXPECT_EQ(c.depth.at(w - 1, h - 1), full.depth.at(f * (w - 1), f * (h - 1))) << f;
+    const Eigen::Vector3d p(0.13, -0.07, 0.8);
+    EXPECT_TRUE((cam.Project(p) / f).isApprox(c.camera.Project(p), 1e-12)) << f;
+    EXPECT_TRUE(c.camera.base_to_camera.isApprox(cam.base_to_camera)) << f;
+    std::string why;
+    EXPECT_TRUE(c.camera.IsValid(&why)) << why;
+  }
+  EXPECT_THROW(SubsampleScene(full, 0), Error);
 }
 
 TEST(RunEndsTest, StopsOnConfidenceOnAStallAtTheFinalThresholdOrAfterTheLastIteration) {
@@ -224,6 +259,38 @@ TEST(ParticleFilterTest, AStalledRunEndsEarlyAndTheSameSeedStallsAlike) {
   EXPECT_EQ(box.Run(o).best_weight_history, h);
   o.stall_iterations = 0;
   EXPECT_EQ(box.Run(o).iterations, o.max_iterations);
+}
+
+// Coarse pixels while annealing (anneal_subsample): the annealing iterations weigh about a
+// quarter of the fragments, every later weighing is at full resolution — the answer's weight
+// is what WeighPoses gives its pose — and the same seed gives the same run.
+TEST(ParticleFilterTest, CoarseAnnealingWeighsFewerPixelsAndAnswersAtFullResolution) {
+  const EasyCase box("box", 3);
+  FilterOptions o = EasyCase::Small(6);
+  o.polish_steps = 0;
+  o.stall_iterations = 0;
+  o.anneal_subsample = 1;
+  const EstimateResult full = box.Run(o);
+  o.anneal_subsample = 2;
+  ASSERT_EQ(filter::AnnealIterations(o), 3);  // iterations 0–2 coarse, 3–5 full
+  const EstimateResult coarse = box.Run(o);
+  EXPECT_EQ(coarse.iterations, 6);
+  // ≈ 3/6 · 1/4 + 3/6 · 1 = 0.625 of the fragments (the runs differ after the first weighing).
+  EXPECT_LT(double(coarse.stats.fragments), 0.8 * double(full.stats.fragments));
+  EXPECT_GT(double(coarse.stats.fragments), 0.45 * double(full.stats.fragments));
+  // The last iteration's weights are full-resolution ones at the final threshold.
+  const std::vector<double> w = WeighPoses(box.in, box.sc.target, box.prior, box.cls, o, {{coarse.pose_base, coarse.cell}});
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0], coarse.weight);
+  EXPECT_EQ(coarse.best_weight_history.back(), coarse.weight);
+  const EstimateResult again = box.Run(o);
+  EXPECT_EQ(again.best_weight_history, coarse.best_weight_history);
+  EXPECT_EQ(again.stats.fragments, coarse.stats.fragments);
+  // A one-iteration run is never coarse: its only weighing is the answer.
+  o.max_iterations = 1;
+  FilterOptions o1 = o;
+  o1.anneal_subsample = 1;
+  EXPECT_EQ(box.Run(o).stats.fragments, box.Run(o1).stats.fragments);
 }
 
 TEST(ParticleFilterTest, CountsTheThesisQuantities) {
