@@ -27,7 +27,7 @@ constexpr FieldOption kFieldOptions[] = {
     {"num_elite", "--elite"},       {"resample_pool", "--pool"},          {"sigma_t0_m", "--sigma-t"},
     {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"},
     {"delta", "--delta"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"},
-    {"anneal_subsample", "--anneal-subsample"},
+    {"anneal_subsample", "--anneal-subsample"}, {"anneal_fraction", "--anneal-fraction"},
     {"lod_max_faces", "--lod"},     {"polish_steps", "--polish-steps"},   {"polish_seeds", "--polish-seeds"},
     {"polish_climbers", "--polish-climbers"}, {"cpu_isa", "--cpu-isa"},
     {"stall_iterations", "--stall-iterations"}, {"stall_gain", "--stall-gain"}};
@@ -97,6 +97,8 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("sigma_r0_rad"), o->sigma_r0_rad, "initial diffusion rotation sigma (rad)");
   add(OptionOf("delta"), o->delta, "silhouette edge penalty weight (0 = off)");
   add(OptionOf("anneal_start_m"), o->anneal_start_m, "coarse-to-fine: initial inlier threshold (m, 0 = off)");
+  add(OptionOf("anneal_fraction"), o->anneal_fraction,
+      "coarse-to-fine: fraction of --iterations over which the threshold falls to --inlier-thr");
   add(OptionOf("anneal_subsample"), o->anneal_subsample,
       "coarse-to-fine: weigh on every Nth pixel of every Nth row while the threshold anneals (1 = every pixel)");
   add(OptionOf("restarts"), o->restarts, "independent runs, the best weight wins");

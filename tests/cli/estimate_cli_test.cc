@@ -281,6 +281,7 @@ TEST_F(CliTest, NonsenseOptionValues) {
                                          {{"--stall-iterations", "-1"}, "--stall-iterations must be in [0, 1000]"},
                                          {{"--stall-gain", "2"}, "--stall-gain must be in [0, 1]"},
                                          {{"--anneal-subsample", "0"}, "--anneal-subsample must be in [1, 4]"},
+                                         {{"--anneal-fraction", "1.5"}, "--anneal-fraction must be in [0, 1]"},
                                          {{"--cpu-isa", "avx9"}, "--cpu-isa must be 'auto', 'avx512', 'avx2' or 'portable'"},
                                          {{"--depth-scale", "-1"}, "--depth-scale"},
                                          {{"--unit-scale", "0"}, "--unit-scale"}}) {
