@@ -28,6 +28,7 @@ constexpr FieldOption kFieldOptions[] = {
     {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"},
     {"delta", "--delta"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"},
     {"anneal_subsample", "--anneal-subsample"}, {"anneal_fraction", "--anneal-fraction"},
+    {"fine_particle_fraction", "--fine-fraction"},
     {"lod_max_faces", "--lod"},     {"polish_steps", "--polish-steps"},   {"polish_seeds", "--polish-seeds"},
     {"polish_climbers", "--polish-climbers"}, {"cpu_isa", "--cpu-isa"},
     {"stall_iterations", "--stall-iterations"}, {"stall_gain", "--stall-gain"}};
@@ -91,6 +92,8 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   app.add_flag("!--no-occlusion-aware", o->occlusion_aware,
                "count occluded rendered pixels in N_raster, as the thesis does");
   add(OptionOf("max_window_px"), o->max_window_px, "maximum window side (pixels)");
+  add(OptionOf("fine_particle_fraction"), o->fine_particle_fraction,
+      "after annealing, each set has this fraction of --particles (1 = all of them)");
   add(OptionOf("num_elite"), o->num_elite, "best particles kept unchanged each iteration");
   add(OptionOf("resample_pool"), o->resample_pool, "fraction of the sorted set resampled from");
   add(OptionOf("sigma_t0_m"), o->sigma_t0_m, "initial diffusion translation sigma (m)");

@@ -314,6 +314,7 @@ const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
       Field("near_m", &O::near_m),
       Field("lod_max_faces", &O::lod_max_faces),
       Field("init_oversample", &O::init_oversample),
+      Field("fine_particle_fraction", &O::fine_particle_fraction),
       Field("num_elite", &O::num_elite),
       Field("resample_pool", &O::resample_pool),
       Field("region_cap", &O::region_cap),

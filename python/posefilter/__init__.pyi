@@ -213,7 +213,7 @@ class Estimator:
                  inlier_hard_thr_m: float = ..., anneal_start_m: float = ..., anneal_fraction: float = ...,
                  anneal_subsample: int = ..., zbuffer: bool = ..., occlusion_aware: bool = ..., max_window_px: int = ...,
                  min_window_diameters: float = ..., grow_window: bool = ..., near_m: float = ..., lod_max_faces: int = ...,
-                 init_oversample: int = ..., num_elite: int = ..., resample_pool: float = ..., region_cap: float = ...,
+                 init_oversample: int = ..., fine_particle_fraction: float = ..., num_elite: int = ..., resample_pool: float = ..., region_cap: float = ...,
                  rotation_cap: float = ..., tracker_bins: int = ..., sigma_t0_m: float = ..., sigma_r0_rad: float = ...,
                  min_sigma_fraction: float = ..., move_probabilities: Sequence[float] = ..., align_band_m: float = ...,
                  heuristics_percentile_lo: float = ..., heuristics_percentile_hi: float = ...,

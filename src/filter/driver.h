@@ -17,6 +17,9 @@ namespace posefilter::filter {
 // threshold thr1 of iteration `it` (metres), falling geometrically from anneal_start_m.
 int AnnealIterations(const FilterOptions& options);
 double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its);
+// The set size once annealing is over (FilterOptions::fine_particle_fraction):
+// round(fine_particle_fraction · num_particles).
+int FineParticles(const FilterOptions& options);
 
 // Whether a run ends after iteration it (0-based) with these best weights so far (one per
 // iteration): at the final threshold (it ≥ anneal_its) the best weight reached

@@ -246,6 +246,10 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (max_window_px < 8) return fail("max_window_px must be >= 8");
   if (!(near_m > 0 && std::isfinite(near_m))) return fail("near_m must be > 0");
   if (num_elite < 0 || num_elite >= num_particles) return fail("num_elite must be in [0, num_particles)");
+  if (!(fine_particle_fraction > 0 && fine_particle_fraction <= 1))
+    return fail("fine_particle_fraction must be in (0, 1]");
+  if (filter::FineParticles(*this) <= num_elite)
+    return fail("fine_particle_fraction must leave more than num_elite particles (fraction × num_particles > num_elite)");
   if (!(resample_pool > 0 && resample_pool <= 1)) return fail("resample_pool must be in (0, 1]");
   if (!(region_cap > 0 && region_cap <= 1)) return fail("region_cap must be in (0, 1]");
   if (!(rotation_cap > 0 && rotation_cap <= 1)) return fail("rotation_cap must be in (0, 1]");
@@ -449,8 +453,9 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // 2. Weigh.
     WeighAll(ctx, current, &res.stats);
     // 3. Sort online as the weights arrive.
-    filter::OnlineSorter sorter(N);
-    for (int i = 0; i < N; ++i) sorter.Insert(current[i].weight, i);
+    const int Nc = int(current.size());
+    filter::OnlineSorter sorter(Nc);
+    for (int i = 0; i < Nc; ++i) sorter.Insert(current[i].weight, i);
     const auto& ranked = sorter.sorted();
     best = current[ranked[0].index];
     res.best_weight_history.push_back(best.weight);
@@ -458,7 +463,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // 4. Converged, stalled or out of iterations: the last set is already weighed; report its best.
     if (filter::RunEnds(options, it, anneal_its, res.best_weight_history, &res.converged)) {
       std::set<std::pair<int, int>> niches;
-      for (int j = 0; j < N && int(niches.size()) < options.polish_seeds; ++j) {
+      for (int j = 0; j < Nc && int(niches.size()) < options.polish_seeds; ++j) {
         const Particle& p = current[ranked[j].index];
         if (niches.insert({ctx.hypothesis[p.cell], RotationBin(p.pose)}).second) leaders->push_back(p);
       }
@@ -471,14 +476,14 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // (niching: a false detection or a wrong orientation that fits coarsely early on cannot
     // take the whole set); the elite is the head of the pool, the rest is drawn from
     // the pool's CDF (threshold tracker) and diffused.
-    const int pool_size = std::max(std::max(options.num_elite, 1), int(std::lround(options.resample_pool * N)));
+    const int pool_size = std::max(std::max(options.num_elite, 1), int(std::lround(options.resample_pool * Nc)));
     const int cap = std::max(1, int(std::ceil(options.region_cap * pool_size)));
     const int rot_cap = std::max(1, int(std::ceil(options.rotation_cap * pool_size)));
     std::vector<int> pool;  // indices into `ranked`
     pool.reserve(pool_size);
     std::vector<int> per_hypothesis(ctx.hypothesis_count, 0);
     std::map<std::pair<int, int>, int> per_orientation;
-    for (int j = 0; j < N && int(pool.size()) < pool_size; ++j) {
+    for (int j = 0; j < Nc && int(pool.size()) < pool_size; ++j) {
       const Particle& p = current[ranked[j].index];
       const int h = ctx.hypothesis[p.cell];
       if (per_hypothesis[h] >= cap) continue;
@@ -498,7 +503,10 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // the parents in question are weighed once more with the ICP sums (same weight), then
     // the move is applied. The move draws no random numbers, so the streams are unchanged.
     std::map<int, std::vector<int>> icp_children;  // parent index in `current` → children j
-    for (int j = elite; j < N; ++j) {
+    // The next set's size: N, or once annealing is over the fine set (FineParticles).
+    const int n_next = anneal_its > 0 && it + 1 >= anneal_its ? filter::FineParticles(options) : N;
+    next.resize(n_next);
+    for (int j = elite; j < n_next; ++j) {
       const int parent = ranked[pool[resampler.Sample(1.0 - rng.Uniform())]].index;
       next[j] = current[parent];
       const Move move = diffusion.PickMove(rng.Uniform());
@@ -680,6 +688,10 @@ namespace filter {
 int AnnealIterations(const FilterOptions& options) {
   return options.anneal_start_m > options.inlier.thr1_m ? int(std::lround(options.anneal_fraction * options.max_iterations))
                                                          : 0;
+}
+
+int FineParticles(const FilterOptions& options) {
+  return int(std::lround(options.fine_particle_fraction * options.num_particles));
 }
 
 double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its) {

@@ -282,6 +282,7 @@ TEST_F(CliTest, NonsenseOptionValues) {
                                          {{"--stall-gain", "2"}, "--stall-gain must be in [0, 1]"},
                                          {{"--anneal-subsample", "0"}, "--anneal-subsample must be in [1, 4]"},
                                          {{"--anneal-fraction", "1.5"}, "--anneal-fraction must be in [0, 1]"},
+                                         {{"--fine-fraction", "0"}, "--fine-fraction must be in (0, 1]"},
                                          {{"--cpu-isa", "avx9"}, "--cpu-isa must be 'auto', 'avx512', 'avx2' or 'portable'"},
                                          {{"--depth-scale", "-1"}, "--depth-scale"},
                                          {{"--unit-scale", "0"}, "--unit-scale"}}) {

@@ -67,6 +67,17 @@ TEST(FilterOptionsTest, IsValidNamesTheViolatedConstraint) {
     b.anneal_subsample = f;
     expect_bad(b, "anneal_subsample");
   }
+  for (double f : {0.0, 1.5, std::nan("")}) {
+    b = o;
+    b.fine_particle_fraction = f;
+    expect_bad(b, "fine_particle_fraction");
+  }
+  b = o;
+  b.num_particles = 20;
+  b.fine_particle_fraction = 0.5;  // 10 particles: no more than the 10 elite
+  expect_bad(b, "fine_particle_fraction must leave more than num_elite");
+  b.fine_particle_fraction = 0.55;  // 11
+  EXPECT_TRUE(b.IsValid(nullptr));
 }
 
 // Pixel (i, j) of the coarse scene is pixel (f·i, f·j) of the full one, and a camera-frame
@@ -291,6 +302,30 @@ TEST(ParticleFilterTest, CoarseAnnealingWeighsFewerPixelsAndAnswersAtFullResolut
   FilterOptions o1 = o;
   o1.anneal_subsample = 1;
   EXPECT_EQ(box.Run(o).stats.fragments, box.Run(o1).stats.fragments);
+}
+
+// fine_particle_fraction: once annealing is over each set has round(f·N) particles. Without
+// the ICP move (whose parents are weighed again) every weighing is countable: every particle
+// of an annealing iteration (the threshold changes each time), the whole fine set at the
+// first final-threshold iteration, then its children (the 10 elite keep their weights).
+TEST(ParticleFilterTest, FineSetsHaveTheFineFractionOfTheParticles) {
+  const EasyCase box("box", 3);
+  FilterOptions o = EasyCase::Small(6);  // N = 64, 10 elite, iterations 0–2 annealing
+  o.polish_steps = 0;
+  o.stall_iterations = 0;
+  o.move_probabilities[int(Move::kIcpStep)] = 0;
+  o.region_cap = o.rotation_cap = 1;  // no niching: the pool always holds the 10 elite
+  ASSERT_EQ(filter::AnnealIterations(o), 3);
+  o.fine_particle_fraction = 1;
+  EXPECT_EQ(box.Run(o).stats.weighings, 3 * 64 + 64 + 2 * (64 - 10));
+  o.fine_particle_fraction = 0.5;
+  ASSERT_EQ(filter::FineParticles(o), 32);
+  const EstimateResult half = box.Run(o);
+  EXPECT_EQ(half.stats.weighings, 3 * 64 + 32 + 2 * (32 - 10));
+  EXPECT_EQ(half.iterations, 6);
+  EXPECT_EQ(box.Run(o).best_weight_history, half.best_weight_history);  // same seed, same run
+  o.anneal_start_m = 0;  // no annealing: every set has N particles (the thesis)
+  EXPECT_EQ(box.Run(o).stats.weighings, 64 + 5 * (64 - 10));
 }
 
 TEST(ParticleFilterTest, CountsTheThesisQuantities) {
