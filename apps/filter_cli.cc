@@ -92,6 +92,8 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   app.add_flag("!--no-occlusion-aware", o->occlusion_aware,
                "count occluded rendered pixels in N_raster, as the thesis does");
   add(OptionOf("max_window_px"), o->max_window_px, "maximum window side (pixels)");
+  app.add_flag("!--no-anneal-simplify", o->anneal_simplify,
+               "weigh the full mesh on the coarse annealing grid too (not one simplified to faces / N^2)");
   add(OptionOf("fine_particle_fraction"), o->fine_particle_fraction,
       "after annealing, each set has this fraction of --particles (1 = all of them)");
   add(OptionOf("num_elite"), o->num_elite, "best particles kept unchanged each iteration");

@@ -306,6 +306,7 @@ const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
       Field("anneal_start_m", &O::anneal_start_m),
       Field("anneal_fraction", &O::anneal_fraction),
       Field("anneal_subsample", &O::anneal_subsample),
+      Field("anneal_simplify", &O::anneal_simplify),
       Field("zbuffer", &O::zbuffer),
       Field("occlusion_aware", &O::occlusion_aware),
       Field("max_window_px", &O::max_window_px),

@@ -78,6 +78,11 @@ struct FilterOptions {
   // polish and WeighPoses use every pixel. 1 = off (the thesis); 1..4. The hw engine, a model
   // of the thesis's full-resolution raster, ignores it.
   int anneal_subsample = 3;
+  // On that coarse grid, also weigh a simplified mesh (ours): SimplifyMesh to max(256,
+  // faces / anneal_subsample²) faces, built once per estimate (a mesh meshoptimizer cannot
+  // bring to that budget is weighed as it is), so that the per-face work shrinks with the
+  // pixels. false = the (LOD) mesh itself on the coarse grid too.
+  bool anneal_simplify = true;
   bool zbuffer = true;               // exact z-buffer (false: the thesis's culling-only mode)
   // Occlusion-aware precision: rendered pixels hidden behind nearer scene depth (beyond the
   // inlier ramp) are left out of N_raster, so a partly occluded object is not penalised for

@@ -17,6 +17,12 @@ namespace posefilter::filter {
 // threshold thr1 of iteration `it` (metres), falling geometrically from anneal_start_m.
 int AnnealIterations(const FilterOptions& options);
 double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its);
+// The face budget of the mesh weighed on the coarse pixel grid (FilterOptions::anneal_simplify)
+// for a mesh of `faces` faces: faces / subsample², at least kCoarseMinFaces. A mesh with no
+// more faces than that is weighed as it is.
+inline constexpr int kCoarseMinFaces = 256;
+int CoarseMeshFaces(int faces, int subsample);
+
 // The set size once annealing is over (FilterOptions::fine_particle_fraction):
 // round(fine_particle_fraction · num_particles).
 int FineParticles(const FilterOptions& options);

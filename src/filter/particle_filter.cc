@@ -91,6 +91,8 @@ struct Context {
   SceneInput coarse_scene;
   render::ValidDepthSat coarse_valid_depth;
   std::vector<float> coarse_normals;
+  Mesh coarse_mesh;  // FilterOptions::anneal_simplify's mesh; empty: the full mesh
+  render::FacePlanes coarse_face_planes;  // coarse_mesh's (cpu engine)
   bool coarse = false;
 };
 
@@ -150,7 +152,8 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   const Eigen::Isometry3d T = cam.base_to_camera * PoseToTransform(p.pose);  // FT without P
   const bool coarse = ctx.coarse;
   const SceneInput& scene = coarse ? ctx.coarse_scene : ctx.scene;
-  ScoreKernelParams k = MakeKernelParams(ctx.mesh, T, scene.camera);
+  const Mesh& mesh = coarse && !ctx.coarse_mesh.faces.empty() ? ctx.coarse_mesh : ctx.mesh;
+  ScoreKernelParams k = MakeKernelParams(mesh, T, scene.camera);
   k.near_m = float(ctx.opt.near_m);
   k.window = ParticleWindow(ctx, T, p.cell);
   if (coarse) {  // the coarse pixels i whose full-resolution pixel s·i lies in [u0, u1): ceil(u0 / s) ≤ i < ceil(u1 / s)
@@ -168,7 +171,8 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
   k.scene_normals = icp ? (coarse ? ctx.coarse_normals.data() : ctx.normals.data()) : nullptr;
-  *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws, &ctx.face_planes) : ScoreReference(k, &ws->reference);
+  const render::FacePlanes* planes = &mesh == &ctx.mesh ? &ctx.face_planes : &ctx.coarse_face_planes;
+  *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
@@ -332,7 +336,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}, 1, {}, {}, {}, false};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}, 1, {}, {}, {}, {}, {}, false};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   if (options.engine == "cpu")  // the table of the same arrays every weighing's parameters point at
@@ -349,6 +353,19 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
     const DepthImage& d = ctx.coarse_scene.depth;
     ctx.coarse_valid_depth = render::ValidDepthSat(d.data.data(), d.width, d.height);
     ctx.coarse_normals = ComputeSceneNormals(d, ctx.coarse_scene.camera, options.threads);
+    if (options.anneal_simplify) {
+      const int budget = filter::CoarseMeshFaces(int(mesh.faces.size()), ctx.subsample);
+      if (int(mesh.faces.size()) > budget) {
+        try {
+          ctx.coarse_mesh = SimplifyMesh(mesh, budget);
+        } catch (const Error&) {
+          ctx.coarse_mesh = Mesh{};  // a mesh meshoptimizer cannot bring to the budget: the full one
+        }
+      }
+      if (!ctx.coarse_mesh.faces.empty() && options.engine == "cpu")
+        ctx.coarse_face_planes =
+            render::BuildFacePlanes(MakeKernelParams(ctx.coarse_mesh, Eigen::Isometry3d::Identity(), scene.camera));
+    }
   }
   const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
   for (int i = 0; i < 8; ++i)
@@ -688,6 +705,10 @@ namespace filter {
 int AnnealIterations(const FilterOptions& options) {
   return options.anneal_start_m > options.inlier.thr1_m ? int(std::lround(options.anneal_fraction * options.max_iterations))
                                                          : 0;
+}
+
+int CoarseMeshFaces(int faces, int subsample) {
+  return std::max(kCoarseMinFaces, faces / (subsample * subsample));
 }
 
 int FineParticles(const FilterOptions& options) {

@@ -8,6 +8,7 @@
 
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
+#include "posefilter/mesh_simplify.h"
 #include "posefilter/metrics.h"
 #include "posefilter/synth.h"
 #include "filter/driver.h"
@@ -326,6 +327,30 @@ TEST(ParticleFilterTest, FineSetsHaveTheFineFractionOfTheParticles) {
   EXPECT_EQ(box.Run(o).best_weight_history, half.best_weight_history);  // same seed, same run
   o.anneal_start_m = 0;  // no annealing: every set has N particles (the thesis)
   EXPECT_EQ(box.Run(o).stats.weighings, 64 + 5 * (64 - 10));
+}
+
+// anneal_simplify: the coarse iterations weigh the mesh simplified to max(256, F / s²) faces,
+// every later one the full mesh — FilterStats::faces_total counts the faces of every weighing.
+TEST(ParticleFilterTest, CoarseIterationsWeighTheSimplifiedMesh) {
+  const EasyCase torus("torus", 4);
+  const int F = int(torus.sc.target.faces.size());
+  ASSERT_GT(F, 1024);
+  FilterOptions o = EasyCase::Small(6);  // N = 64; iterations 0–2 coarse; fine sets of 43
+  o.polish_steps = 0;
+  o.stall_iterations = 0;
+  o.move_probabilities[int(Move::kIcpStep)] = 0;
+  o.region_cap = o.rotation_cap = 1;
+  ASSERT_EQ(filter::CoarseMeshFaces(F, 3), std::max(256, F / 9));
+  const std::int64_t Fc = std::int64_t(SimplifyMesh(torus.sc.target, filter::CoarseMeshFaces(F, 3)).faces.size());
+  ASSERT_LT(Fc, F);
+  const std::int64_t coarse_weighings = 3 * 64, fine_weighings = 43 + 2 * (43 - 10);
+  const EstimateResult r = torus.Run(o);
+  EXPECT_EQ(r.stats.weighings, coarse_weighings + fine_weighings);
+  EXPECT_EQ(r.stats.faces_total, coarse_weighings * Fc + fine_weighings * F);
+  o.anneal_simplify = false;
+  EXPECT_EQ(torus.Run(o).stats.faces_total, (coarse_weighings + fine_weighings) * F);
+  // Meshes at or below the floor are weighed as they are.
+  EXPECT_EQ(filter::CoarseMeshFaces(12, 3), filter::kCoarseMinFaces);
 }
 
 TEST(ParticleFilterTest, CountsTheThesisQuantities) {
