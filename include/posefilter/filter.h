@@ -107,8 +107,8 @@ struct FilterOptions {
   // round(fine_particle_fraction · num_particles) particles (340 of 510): the filter then
   // refines modes it has found, and the resampling keeps the best of them. Only with annealing
   // on (anneal_start_m > thr1; without it every set has num_particles, as in the thesis).
-  // 1 = every set num_particles; (0, 1], and the fine set must exceed num_elite. The hw
-  // engine (510 particles in hardware) ignores it.
+  // 1 = every set num_particles; (0, 1]. The fine set has at least num_elite + 1 particles.
+  // The hw engine (510 particles in hardware) ignores it.
   double fine_particle_fraction = 2.0 / 3.0;
   int num_elite = 10;                // best particles carried unchanged into the next set
   double resample_pool = 0.25;       // fraction of the sorted set the rest is drawn from, (0, 1]

@@ -24,7 +24,7 @@ inline constexpr int kCoarseMinFaces = 256;
 int CoarseMeshFaces(int faces, int subsample);
 
 // The set size once annealing is over (FilterOptions::fine_particle_fraction):
-// round(fine_particle_fraction · num_particles).
+// round(fine_particle_fraction · num_particles), at least num_elite + 1, at most num_particles.
 int FineParticles(const FilterOptions& options);
 
 // Whether a run ends after iteration it (0-based) with these best weights so far (one per

@@ -252,8 +252,6 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (num_elite < 0 || num_elite >= num_particles) return fail("num_elite must be in [0, num_particles)");
   if (!(fine_particle_fraction > 0 && fine_particle_fraction <= 1))
     return fail("fine_particle_fraction must be in (0, 1]");
-  if (filter::FineParticles(*this) <= num_elite)
-    return fail("fine_particle_fraction must leave more than num_elite particles (fraction × num_particles > num_elite)");
   if (!(resample_pool > 0 && resample_pool <= 1)) return fail("resample_pool must be in (0, 1]");
   if (!(region_cap > 0 && region_cap <= 1)) return fail("region_cap must be in (0, 1]");
   if (!(rotation_cap > 0 && rotation_cap <= 1)) return fail("rotation_cap must be in (0, 1]");
@@ -589,7 +587,8 @@ std::vector<Eigen::Matrix3d> CubeRotations() {
 // the best weighed particle seen, or the best seed if nothing beats it.
 Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* stats) {
   const FilterOptions& o = ctx.opt;
-  ctx.inlier = o.inlier;  // final thresholds
+  ctx.inlier = o.inlier;  // final thresholds, every pixel, the full mesh
+  ctx.coarse = false;
   const Eigen::Vector3d centre = 0.5 * (ctx.bbox_corners[0] + ctx.bbox_corners[7]);
   std::vector<Eigen::Matrix3d> turns = CubeRotations();
   if (!o.polish_turns) turns.resize(1);
@@ -712,7 +711,8 @@ int CoarseMeshFaces(int faces, int subsample) {
 }
 
 int FineParticles(const FilterOptions& options) {
-  return int(std::lround(options.fine_particle_fraction * options.num_particles));
+  const int n = int(std::lround(options.fine_particle_fraction * options.num_particles));
+  return std::min(options.num_particles, std::max(options.num_elite + 1, n));
 }
 
 double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its) {

@@ -74,11 +74,15 @@ TEST(FilterOptionsTest, IsValidNamesTheViolatedConstraint) {
     expect_bad(b, "fine_particle_fraction");
   }
   b = o;
-  b.num_particles = 20;
-  b.fine_particle_fraction = 0.5;  // 10 particles: no more than the 10 elite
-  expect_bad(b, "fine_particle_fraction must leave more than num_elite");
-  b.fine_particle_fraction = 0.55;  // 11
+  b.num_particles = 12;  // valid with any fraction: the fine set keeps one more than the elite
+  b.fine_particle_fraction = 0.1;
   EXPECT_TRUE(b.IsValid(nullptr));
+  EXPECT_EQ(filter::FineParticles(b), 11);
+  b.num_particles = 510;
+  b.fine_particle_fraction = 2.0 / 3.0;
+  EXPECT_EQ(filter::FineParticles(b), 340);
+  b.fine_particle_fraction = 1;
+  EXPECT_EQ(filter::FineParticles(b), 510);
 }
 
 // Pixel (i, j) of the coarse scene is pixel (f·i, f·j) of the full one, and a camera-frame
