@@ -67,6 +67,8 @@ def test_uint16_depth_needs_a_valid_scale(easy_scene, tiny):
         (dict(restarts=0), "restarts"),
         (dict(threads=-1), "threads"),
         (dict(confidence=float("nan")), "confidence"),
+        (dict(anneal_subsample=5), "anneal_subsample"),
+        (dict(fine_particle_fraction=0.0), "fine_particle_fraction"),
     ],
 )
 def test_bad_option_values(options, match):
