@@ -12,4 +12,9 @@ namespace posefilter::cli {
 //   posefilter::Error or std::exception → "posefilter <name>: error: <what>", exit 1.
 int RunApp(CLI::App& app, int argc, char** argv, const std::function<void()>& body);
 
+// SynthOptions::IsValid's message `why` ("<field> must ...") with the field replaced by the
+// CLI option that sets it ("--min-distance (min_distance_m): must ..."); unchanged when no
+// option sets the field. Used by the commands that make synthetic scenes (synth, suite).
+std::string NameSynthOption(const std::string& why);
+
 }  // namespace posefilter::cli

@@ -32,6 +32,8 @@ int RunSuite(int argc, char** argv) {
   app.add_option("--occlusions", occlusions, "occlusion levels, used in turn")->delimiter(',');
   app.add_option("--box-jitter", synth.box_jitter_px, "detection box noise sigma (px)")->capture_default_str();
   app.add_option("--false-positives", synth.false_positives, "false detections per scene")->capture_default_str();
+  app.add_option("--min-distance", synth.min_distance_m, "min camera→target distance, m")->capture_default_str();
+  app.add_option("--max-distance", synth.max_distance_m, "max camera→target distance, m")->capture_default_str();
   app.add_option("--json", json_path, "also write the table as JSON");
   AddFilterOptions(app, &opt);
 
@@ -49,7 +51,7 @@ int RunSuite(int argc, char** argv) {
       so.target = targets[i % targets.size()];
       so.occlusion = occlusions[(i / targets.size()) % occlusions.size()];
       std::string why;
-      if (!so.IsValid(&why)) throw Error("invalid scene option: " + why);
+      if (!so.IsValid(&why)) throw Error("invalid scene option " + NameSynthOption(why));
       const std::uint64_t seed = first_seed + i;
       const SynthScene scene = MakeSynthScene(so, seed);
       const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);

@@ -60,22 +60,7 @@ int RunSynth(int argc, char** argv) {
       opt.target_mesh = mesh.get();
     }
     std::string why;
-    if (!opt.IsValid(&why)) {
-      // Name the CLI option for the options struct's field.
-      static const std::pair<const char*, const char*> kNames[] = {
-          {"target_mesh", "--mesh"},          {"target", "--target"},
-          {"min_distance_m", "--min-distance"}, {"max_distance_m", "--max-distance"},
-          {"occlusion", "--occlusion"},       {"clutter", "--clutter"},
-          {"noise_sigma_m", "--noise"},       {"hole_fraction", "--holes"},
-          {"box_jitter_px", "--box-jitter"},  {"miss_probability", "--miss-prob"},
-          {"false_positives", "--false-positives"}, {"depth_scale", "--depth-scale"}};
-      for (const auto& [field, option] : kNames)
-        if (why.rfind(field, 0) == 0) {
-          why = std::string(option) + " (" + field + "): " + why.substr(why.find(' ') + 1);
-          break;
-        }
-      throw Error("invalid option " + why);
-    }
+    if (!opt.IsValid(&why)) throw Error("invalid option " + NameSynthOption(why));
     for (int i = 0; i < count; ++i) {
       char name[32];
       std::snprintf(name, sizeof name, "scene_%03d", i);

@@ -307,6 +307,15 @@ TEST_F(CliTest, NonsenseOptionValues) {
 // ---------------------------------------------------------------------------------------------
 // The dispatcher.
 
+// Scene options of the commands that make synthetic scenes: the message names the CLI option.
+TEST_F(CliTest, SynthAndSuiteNameTheSceneOption) {
+  ExpectInputError(Run({"synth", "--out", Path("bad_synth"), "--max-distance", "9"}), "synth",
+                   "--max-distance (max_distance_m): must be in [0.2, 5] m");
+  ExpectInputError(Run({"suite", "--count", "1", "--min-distance", "0.1"}), "suite",
+                   "--min-distance (min_distance_m): must be in [0.2, 5] m");
+  ExpectInputError(Run({"suite", "--count", "1", "--false-positives", "-1"}), "suite", "--false-positives");
+}
+
 TEST_F(CliTest, UnknownSubcommand) {
   const RunResult r = Run({"frobnicate"});
   EXPECT_EQ(r.code, 2);
