@@ -324,8 +324,10 @@ SceneInput SubsampleScene(const SceneInput& scene, int factor) {
 namespace {
 
 // Checks the inputs and precomputes volumes, windows and N_depth for every cell.
+// `runs`: the context will run the filter (EstimatePose), so it also gets the coarse level
+// of the annealing iterations; weighing given poses and the polish need only every pixel.
 Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
-                     const FilterOptions& options) {
+                     const FilterOptions& options, bool runs) {
   std::string why;
   if (!options.IsValid(&why)) throw Error("invalid filter option: " + why);
   if (!mesh.IsValid(&why)) throw Error("mesh '" + mesh.name + "': " + why);
@@ -345,7 +347,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   ctx.volumes = ComputeHeuristics(scene.depth, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
   ctx.valid_depth = render::ValidDepthSat(scene.depth.data.data(), scene.depth.width, scene.depth.height);
-  if (options.anneal_subsample > 1 && filter::AnnealIterations(options) > 0) {
+  if (runs && options.anneal_subsample > 1 && filter::AnnealIterations(options) > 0) {
     ctx.subsample = options.anneal_subsample;
     ctx.coarse_scene = SubsampleScene(scene, ctx.subsample);
     const DepthImage& d = ctx.coarse_scene.depth;
@@ -393,7 +395,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
   Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
-  const Context ctx = BuildContext(scene, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options);
+  const Context ctx = BuildContext(scene, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options, false);
   std::vector<Particle> ps(hypotheses.size());
   for (std::size_t i = 0; i < hypotheses.size(); ++i) {
     if (hypotheses[i].second < 0 || hypotheses[i].second >= prior.layout.CellCount())
@@ -771,7 +773,7 @@ PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior&
   FilterOptions o = options;
   o.engine = "cpu";  // the host's float weighing
   Mesh lod;
-  Context ctx = BuildContext(scene, MeshAtLod(mesh, o.lod_max_faces, &lod), prior, cls, o);
+  Context ctx = BuildContext(scene, MeshAtLod(mesh, o.lod_max_faces, &lod), prior, cls, o, false);
   std::vector<Particle> ps(seeds.size());
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     if (seeds[i].cell < 0 || seeds[i].cell >= prior.layout.CellCount()) throw Error("polish: seed cell index out of range");
@@ -790,7 +792,7 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   if (options.engine == "hw") return EstimatePoseHw(scene, mesh, prior, cls, options, progress);  // src/hw/engine.cc
   const auto t_start = Clock::now();
   Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
-  Context ctx = BuildContext(scene, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options);
+  Context ctx = BuildContext(scene, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options, true);
   // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
   std::vector<double> cell_mass(prior.layout.CellCount(), 0.0);
   for (int c = 0; c < prior.layout.CellCount(); ++c)
