@@ -199,7 +199,8 @@ int RunBench(int argc, char** argv) {
     const unsigned hw_threads = std::max(1u, std::thread::hardware_concurrency());
     const std::string load_average = LoadAverage().empty() ? "n/a" : LoadAverage();
     std::printf("workload: %s, %zu faces (rendered: %zu%s), at %.2f m in a %dx%d scene (seed %llu); %d particles, "
-                "%d iterations x %d repeats; threads %d%s; z-buffer %s; load average %s\n",
+                "%d iterations x %d repeats, every pixel and particle in each; threads %d%s; z-buffer %s; "
+                "load average %s\n",
                 scene.target.name.c_str(), scene.target.faces.size(), rendered.faces.size(),
                 lod > 0 ? (" with --lod " + std::to_string(lod)).c_str() : "", scene.distance_m, scene.camera.width,
                 scene.camera.height, (unsigned long long)seed, particles, iterations, repeats, threads,
@@ -314,8 +315,10 @@ int RunBench(int argc, char** argv) {
             {"load_average", load_average},
             {"zbuffer", opt.zbuffer},
             {"seed", seed},
+            {"anneal_subsample", opt.anneal_subsample},
+            {"fine_particle_fraction", opt.fine_particle_fraction},
             {"timing", "median over repeats of the mean EstimateResult::iteration_ms (no early stop, 1 restart, "
-                       "no polish); engines interleaved"}}},
+                       "no polish, every pixel and particle in each iteration); engines interleaved"}}},
           {"baseline", engines[0]},
           {"engines", rows},
           {"engines_agree", agree}};

@@ -109,6 +109,8 @@ TEST(BenchCli, TinyRunWritesTableAndJson) {
   EXPECT_EQ(w.at("repeats"), 1);
   EXPECT_EQ(w.at("threads"), 1);
   EXPECT_EQ(w.at("zbuffer"), true);
+  EXPECT_EQ(w.at("anneal_subsample"), 1);  // every pixel and every particle in every iteration
+  EXPECT_EQ(w.at("fine_particle_fraction"), 1.0);
   EXPECT_EQ(w.at("target"), "torus");
   EXPECT_EQ(w.at("mesh_faces"), 2048);  // the ~2000-triangle non-convex default
   EXPECT_EQ(w.at("rendered_faces"), 2048);
