@@ -339,8 +339,12 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}, 1, {}, {}, {}, {}, {}, false};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
-  if (options.engine == "cpu")  // the table of the same arrays every weighing's parameters point at
-    ctx.face_planes = render::BuildFacePlanes(MakeKernelParams(mesh, Eigen::Isometry3d::Identity(), scene.camera));
+  // The cpu engine's pre-cull table of a mesh: of the same arrays every weighing's parameters point at.
+  auto face_planes = [&](const Mesh& m) {
+    return options.engine == "cpu" ? render::BuildFacePlanes(MakeKernelParams(m, Eigen::Isometry3d::Identity(), scene.camera))
+                                   : render::FacePlanes{};
+  };
+  ctx.face_planes = face_planes(mesh);
   const double diameter = mesh.Diameter();
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
@@ -359,12 +363,10 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
         try {
           ctx.coarse_mesh = SimplifyMesh(mesh, budget);
         } catch (const Error&) {
-          ctx.coarse_mesh = Mesh{};  // a mesh meshoptimizer cannot bring to the budget: the full one
+          // A mesh meshoptimizer cannot bring to the budget: coarse_mesh stays empty, the full one is weighed.
         }
       }
-      if (!ctx.coarse_mesh.faces.empty() && options.engine == "cpu")
-        ctx.coarse_face_planes =
-            render::BuildFacePlanes(MakeKernelParams(ctx.coarse_mesh, Eigen::Isometry3d::Identity(), scene.camera));
+      if (!ctx.coarse_mesh.faces.empty()) ctx.coarse_face_planes = face_planes(ctx.coarse_mesh);
     }
   }
   const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();

@@ -184,6 +184,17 @@ struct EasyCase {
     o.restarts = 1;
     return o;
   }
+  // Small, with every weighing countable: all `iterations` run (no stall stop), no polish, no
+  // ICP move (whose parents are weighed again), no niching (the pool always holds the 10 elite,
+  // which keep their weights once the threshold is final).
+  static FilterOptions Countable(int iterations) {
+    FilterOptions o = Small(iterations);
+    o.polish_steps = 0;
+    o.stall_iterations = 0;
+    o.move_probabilities[int(Move::kIcpStep)] = 0;
+    o.region_cap = o.rotation_cap = 1;
+    return o;
+  }
   SynthScene sc;
   Prior prior;
   SceneInput in;
@@ -309,17 +320,12 @@ TEST(ParticleFilterTest, CoarseAnnealingWeighsFewerPixelsAndAnswersAtFullResolut
   EXPECT_EQ(box.Run(o).stats.fragments, box.Run(o1).stats.fragments);
 }
 
-// fine_particle_fraction: once annealing is over each set has round(f·N) particles. Without
-// the ICP move (whose parents are weighed again) every weighing is countable: every particle
-// of an annealing iteration (the threshold changes each time), the whole fine set at the
-// first final-threshold iteration, then its children (the 10 elite keep their weights).
+// fine_particle_fraction: once annealing is over each set has round(f·N) particles. Counted:
+// every particle of an annealing iteration (the threshold changes each time), the whole fine
+// set at the first final-threshold iteration, then its children (the 10 elite keep their weights).
 TEST(ParticleFilterTest, FineSetsHaveTheFineFractionOfTheParticles) {
   const EasyCase box("box", 3);
-  FilterOptions o = EasyCase::Small(6);  // N = 64, 10 elite, iterations 0–2 annealing
-  o.polish_steps = 0;
-  o.stall_iterations = 0;
-  o.move_probabilities[int(Move::kIcpStep)] = 0;
-  o.region_cap = o.rotation_cap = 1;  // no niching: the pool always holds the 10 elite
+  FilterOptions o = EasyCase::Countable(6);  // N = 64, 10 elite, iterations 0–2 annealing
   ASSERT_EQ(filter::AnnealIterations(o), 3);
   o.fine_particle_fraction = 1;
   EXPECT_EQ(box.Run(o).stats.weighings, 3 * 64 + 64 + 2 * (64 - 10));
@@ -339,11 +345,7 @@ TEST(ParticleFilterTest, CoarseIterationsWeighTheSimplifiedMesh) {
   const EasyCase torus("torus", 4);
   const int F = int(torus.sc.target.faces.size());
   ASSERT_GT(F, 1024);
-  FilterOptions o = EasyCase::Small(6);  // N = 64; iterations 0–2 coarse; fine sets of 43
-  o.polish_steps = 0;
-  o.stall_iterations = 0;
-  o.move_probabilities[int(Move::kIcpStep)] = 0;
-  o.region_cap = o.rotation_cap = 1;
+  FilterOptions o = EasyCase::Countable(6);  // N = 64; iterations 0–2 coarse; fine sets of 43
   ASSERT_EQ(filter::CoarseMeshFaces(F, 3), std::max(256, F / 9));
   const std::int64_t Fc = std::int64_t(SimplifyMesh(torus.sc.target, filter::CoarseMeshFaces(F, 3)).faces.size());
   ASSERT_LT(Fc, F);
