@@ -184,11 +184,8 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
 
   const std::size_t nv = std::size_t(k.num_vertices) + 16, cap = (std::size_t(k.num_faces) + 31) / 16 * 16;
   cpu_detail::CoreScratch s;
-  s.vx = Grow(&ws->vx, nv);
-  s.vex_x = Grow(&ws->vexact, 2 * nv);
-  s.vex_y = s.vex_x + nv;
+  s.vrec = AlignTo64(Grow(&ws->vrec, 4 * nv + 16));
   s.vok = Grow(&ws->vok, nv);
-  s.viz = Grow(&ws->viz, nv);
   s.tri_cap = std::int64_t(cap);
   s.tri = AlignTo64(Grow(&ws->tri, cpu_detail::kTriFields * cap + 16));
   s.fast = Grow(&ws->fast, cpu_detail::kFastBins * cap);

@@ -45,10 +45,10 @@ CpuTarget BestCpuTarget();
 // Per-worker scratch memory of the cpu kernel (no global state): grows to the largest mesh
 // and window seen, never shrinks. One per thread; not shareable between concurrent calls.
 struct CpuWorkspace {
-  std::vector<std::int32_t> vx;       // per vertex: snapped x, 1/256 px, or a marker (not fast)
-  std::vector<std::int32_t> vexact;   // per vertex: snapped x, then y (1/256 px), any magnitude
+  std::vector<std::int32_t> vrec;     // per vertex 4 int32 (16 bytes): snapped x for the fast path
+                                      // (1/256 px, or a marker), y, 1/z (float bits, 1/metres),
+                                      // x of any magnitude (1/256 px)
   std::vector<std::int32_t> vok;      // per vertex: 1 = passed the near-plane/off-screen test
-  std::vector<float> viz;             // per vertex: 1/z, 1/metres
   std::vector<std::int32_t> tri;      // setup records of the rastered triangles (see impl)
   std::vector<std::int32_t> fast;     // faces that take the float-exact or int32 raster, by bin
   std::vector<std::int32_t> slow;     // faces that take the exact int64 scalar path
@@ -68,11 +68,9 @@ namespace cpu_detail {
 inline constexpr int kTriFields = 20;  // fields of a triangle's setup record
 inline constexpr int kFastBins = 10;   // raster bins of the fast path
 struct CoreScratch {
-  std::int32_t* vx;      // fast-path vertices: x (kBadX marks the others; y is vex_y)
-  std::int32_t* vex_x;   // any vertex: exact snapped x, y
-  std::int32_t* vex_y;
+  std::int32_t* vrec;    // vertex records (CpuWorkspace::vrec), 16-byte aligned: fast-path x
+                         // (kBadX marks the others), y, 1/z bits, exact x; 16 records of slack
   std::int32_t* vok;
-  float* viz;
   std::int32_t* tri;     // kTriFields × tri_cap int32/float words, 64-byte aligned
   std::int64_t tri_cap;  // a multiple of 16, ≥ num_faces + 16
   std::int32_t* fast;    // kFastBins × tri_cap
