@@ -191,15 +191,12 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
   s.fast = Grow(&ws->fast, cpu_detail::kFastBins * cap);
   s.slow = Grow(&ws->slow, cap);
   s.wide = Grow(&ws->wide, cap);
-  s.zb = nullptr;
-  s.zb_stride = 0;
-  if (k.zbuffer) {
-    // Rows of width + 48 floats (16 of slack before each row, 32 after: a row piece of 16
-    // starting at the last column), 16 floats before row 0, 4 spare rows (the kernel's 4-row
-    // vectors may read and write back up to 3 rows below the window) and 64 floats after.
-    s.zb_stride = std::int64_t(w.width) + 48;
-    s.zb = Grow(&ws->zbuffer, std::size_t(s.zb_stride) * (std::size_t(w.height) + 4) + 80) + 16;
-  }
+  // The raster's window buffer (both modes). Rows of width + 48 floats (16 of slack before
+  // each row, 32 after: a row piece of 16 starting at the last column), 16 floats before row 0,
+  // 4 spare rows (the kernel's 4-row vectors may read and write back up to 3 rows below the
+  // window) and 64 floats after.
+  s.zb_stride = std::int64_t(w.width) + 48;
+  s.zb = Grow(&ws->zbuffer, std::size_t(s.zb_stride) * (std::size_t(w.height) + 4) + 80) + 16;
   constexpr int kFragCap = 1024;  // scored in batches that stay in L1
   s.frag_cap = kFragCap;
   s.frag_idx = Grow(&ws->frag_idx, kFragCap + 16);
