@@ -11,9 +11,11 @@
 //      as 4 rows of 4, 2 rows of 8 or one row of 16 to fit its box; edge functions holding exact
 //      integers in float (int32 for larger triangles, double for the largest); float 1/z
 //      exactly as raster.h; z-buffer mode keeps the max of 1/z per pixel (a window-sized float
-//      buffer in the workspace), z-buffer-free mode scores every fragment on the spot;
-//   4. z-buffer mode: one scoring pass over the covered part of the window (contiguous loads
-//      of scene depth and normals per pixel run, no gathers).
+//      buffer in the workspace), z-buffer-free mode keeps the last fragment per pixel there and
+//      scores the fragments it displaces from a small buffer;
+//   4. one scoring pass over the covered part of the window's buffer (contiguous loads of
+//      scene depth and normals per pixel run, no gathers; the silhouette edge test in z-buffer
+//      mode).
 // Runtime dispatch: one implementation source (cpu_kernel_impl.inc) compiled three times —
 // portable (baseline x86-64 / any target), AVX2, AVX-512 — picked by what the CPU supports.
 // docs/PERFORMANCE.md ("The cpu engine's kernel") has the design notes and the exactness arguments.
@@ -53,8 +55,9 @@ struct CpuWorkspace {
   std::vector<std::int32_t> fast;     // faces that take the float-exact or int32 raster, by bin
   std::vector<std::int32_t> slow;     // faces that take the exact int64 scalar path
   std::vector<std::int32_t> wide;     // faces that take the double row path
-  std::vector<float> zbuffer;         // window-sized max(1/z) per pixel, 0 = empty; all zeros
-                                      // between calls (each call clears what it wrote)
+  std::vector<float> zbuffer;         // window-sized 1/z per pixel, 0 = empty: the max (z-buffer
+                                      // mode) or the last fragment (z-buffer-free mode); all
+                                      // zeros between calls (each call clears what it wrote)
   std::vector<std::int32_t> frag_idx; // fragments waiting to be scored: image index v·width + u,
   std::vector<float> frag_iz;         //   1/z (z-buffer-free mode)
   std::vector<std::int32_t> cand;     // faces kept by the back-face pre-cull (see face_planes.h)

@@ -309,6 +309,48 @@ TEST_P(CpuKernelTarget, MatchesReferenceOnEdgeOnAndPixelAlignedGeometry) {
   EXPECT_GT(fragments_, 10000);
 }
 
+// Without a z-buffer every fragment counts, also where front faces overlap: the fast path
+// keeps one fragment per pixel and hands the displaced ones to its fragment buffer, which must
+// be scored and refilled many times in one call. Layers of large quads and of small triangles
+// (4-, 8- and 16-pixel-wide stamps) stacked at different depths give tens of thousands of
+// displaced fragments.
+TEST_P(CpuKernelTarget, OverlappingLayersWithoutZBufferMatch) {
+  Rng rng(7031);
+  const Camera cam = PinholeCamera(525, 525);
+  Mesh m;
+  m.name = "layers";
+  auto tri = [&](double u0, double v0, double u1, double v1, double u2, double v2, double z) {
+    const std::uint32_t a = PixelVertex(&m, cam, u0, v0, z), b = PixelVertex(&m, cam, u1, v1, z * rng.Uniform(0.98, 1.02)),
+                        c = PixelVertex(&m, cam, u2, v2, z);
+    m.faces.push_back({a, b, c});  // both windings: one of them is front-facing
+    m.faces.push_back({a, c, b});
+  };
+  for (int layer = 0; layer < 8; ++layer) {
+    const double z = 0.8 + 0.05 * layer, du = rng.Uniform(-6, 6), dv = rng.Uniform(-6, 6);
+    tri(250 + du, 180 + dv, 330 + du, 180 + dv, 250 + du, 250 + dv, z);  // a quad of 80 × 70 px
+    tri(330 + du, 180 + dv, 330 + du, 250 + dv, 250 + du, 250 + dv, z);
+    for (int t = 0; t < 60; ++t) {  // small triangles over the same area
+      const double w = rng.Uniform(2, 15), h = rng.Uniform(2, 9), u = rng.Uniform(255, 320), v = rng.Uniform(185, 240);
+      tri(u, v, u + w, v + rng.Uniform(0, h), u + rng.Uniform(0, w), v + h, z + rng.Uniform(-0.02, 0.02));
+    }
+  }
+  const Eigen::Isometry3d T = testing_util::At(0, 0, 1);
+  const DepthImage depth = MakeScene(m, T, cam, rng);
+  const std::vector<float> normals = ComputeSceneNormals(depth, cam);
+  for (const PixelRect& w : {PixelRect{0, 0, 640, 480}, PixelRect{270, 190, 50, 45}}) {
+    for (bool icp : {false, true}) {
+      ScoreKernelParams k = SceneParams(m, T, cam, depth, w, icp ? &normals : nullptr);
+      k.zbuffer = true;
+      RenderWorkspace rws;
+      const std::int64_t nearest = ScoreReference(k, &rws).n_raster;
+      k.zbuffer = false;
+      const std::int64_t all = ScoreReference(k, &rws).n_raster;
+      EXPECT_GT(all - nearest, w.width == 640 ? 30000 : 10000) << "the layers must overlap";
+      Check(k, "window " + std::to_string(w.u0) + (icp ? " icp" : ""));
+    }
+  }
+}
+
 TEST_P(CpuKernelTarget, FarOffScreenVerticesTakeTheExactPathAndMatch) {
   // Huge triangles (vertices projecting beyond ±16384 px, still inside ±2^20 px) and vertices
   // beyond ±2^20 px (skipped): the int64 path of the kernel.
