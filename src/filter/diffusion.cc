@@ -8,7 +8,7 @@
 
 namespace posefilter::filter {
 
-DiffusionContext::DiffusionContext(const Camera& c, const PyramidLayout& l, const std::vector<Volume>& v,
+DiffusionContext::DiffusionContext(const Camera& c, const PyramidLayout& l, const prior::VolumeCache& v,
                                    const FilterOptions& o)
     : camera(c),
       layout(l), volumes(v), opt(o), move_cdf(kNumMoves) {
@@ -47,7 +47,7 @@ int MoveCell(const DiffusionContext& ctx, int cell, Move move, Rng& rng) {
     const int c = std::min(to.cols - 1, int((col + 0.5) * to.cols / from.cols));
     target = L.CellIndex(other, r, c);
   }
-  if (target < 0 || !ctx.volumes[target].valid) return -1;
+  if (target < 0 || !ctx.volumes.Valid(target)) return -1;
   return target;
 }
 
@@ -102,7 +102,7 @@ void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_
     case Move::kOtherLevel: {
       const int target = MoveCell(ctx, p->cell, move, rng);
       if (target >= 0) {
-        const Eigen::Vector3d d = ctx.volumes[target].Centre() - ctx.volumes[p->cell].Centre();
+        const Eigen::Vector3d d = ctx.volumes.Get(target).Centre() - ctx.volumes.Get(p->cell).Centre();
         q.x += d.x();
         q.y += d.y();
         q.z += d.z();

@@ -12,6 +12,7 @@
 #include "posefilter/prior.h"
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
+#include "prior/volume_cache.h"
 
 namespace posefilter::filter {
 
@@ -39,11 +40,11 @@ bool SolveIcpStep(const ScoreKernelResult& r, std::array<double, 6>* step);
 struct DiffusionContext {
   const Camera& camera;
   const PyramidLayout& layout;
-  const std::vector<Volume>& volumes;
+  const prior::VolumeCache& volumes;  // computed on demand: diffusion runs on one thread
   const FilterOptions& opt;
   std::vector<double> move_cdf;  // cumulative, normalised FilterOptions::move_probabilities
 
-  DiffusionContext(const Camera& c, const PyramidLayout& l, const std::vector<Volume>& v, const FilterOptions& o);
+  DiffusionContext(const Camera& c, const PyramidLayout& l, const prior::VolumeCache& v, const FilterOptions& o);
   // The move for a uniform draw u in [0, 1).
   Move PickMove(double u) const;
 };

@@ -14,6 +14,7 @@
 #include "filter/diffusion.h"
 #include "filter/online_sorter.h"
 #include "filter/driver.h"
+#include "prior/volume_cache.h"
 #include "render/cpu_kernel.h"
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
@@ -69,8 +70,9 @@ struct Context {
   const Prior& prior;
   int cls;
   const FilterOptions& opt;
-  std::vector<Volume> volumes;       // heuristic volume per cell (base frame)
-  std::vector<PixelRect> windows;    // window per cell
+  prior::VolumeCache volumes;        // heuristic volume per cell (base frame), computed on demand
+  // Window per cell, computed on demand by PrepareCell (from the serial steps only).
+  mutable std::vector<PixelRect> windows;
   InlierParams inlier;               // this iteration's inlier thresholds (annealed)
   std::vector<float> normals;        // scene normals, 3 per pixel, camera frame (0 = none)
   std::vector<int> hypothesis;       // niching: cells sharing one decoded box share an id
@@ -94,7 +96,22 @@ struct Context {
   Mesh coarse_mesh;  // FilterOptions::anneal_simplify's mesh; empty: the full mesh
   render::FacePlanes coarse_face_planes;  // coarse_mesh's (cpu engine)
   bool coarse = false;
+  double diameter = 0;  // the mesh's, metres (cell windows)
+  mutable std::vector<std::uint8_t> window_ready;  // per cell: windows[c] is set
 };
+
+// Computes cell c's heuristic volume and window if not done yet (round 14: a run uses a few
+// hundred of a pyramid's thousands of cells). Not thread-safe: the serial steps call it, and
+// WeighAll calls it for its particles' cells before its parallel loop.
+void PrepareCell(const Context& ctx, int c) {
+  if (ctx.window_ready[std::size_t(c)]) return;
+  // The object's diameter in pixels at the depth of the cell's volume centre.
+  const Camera& cam = ctx.scene.camera;
+  const double z_cam = ctx.volumes.Valid(c) ? (cam.base_to_camera * ctx.volumes.Get(c).Centre()).z() : 1.0;
+  const double min_side = ctx.opt.min_window_diameters * ctx.diameter * cam.fx / std::max(z_cam, ctx.opt.near_m);
+  ctx.windows[std::size_t(c)] = CellWindow(ctx.prior.boxes[std::size_t(c)], min_side, ctx.opt.max_window_px, cam.width, cam.height);
+  ctx.window_ready[std::size_t(c)] = 1;
+}
 
 // The window a particle is weighed in (ours, FilterOptions::grow_window): its cell's window
 // grown, axis by axis, to contain the projection of the model's bounding box at the
@@ -131,7 +148,7 @@ PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cel
 
 // Listing 7.5: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
 Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
-  const Volume& vol = ctx.volumes[cell];
+  const Volume& vol = ctx.volumes.Get(cell);
   Particle p;
   p.cell = cell;
   const Eigen::Vector3d c = vol.Centre();
@@ -191,6 +208,7 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats,
   std::int64_t faces_total = 0, faces_front = 0, fragments = 0, weighings = 0;
   const int threads = WorkerThreads(ctx.opt.threads);
   if (int(ctx.workspaces.size()) < threads) ctx.workspaces.resize(std::size_t(threads));
+  for (const Particle& p : ps) PrepareCell(ctx, p.cell);  // the windows the workers read
 #pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
   {
     render::CpuWorkspace& ws = ctx.workspaces[std::size_t(omp_get_thread_num())];  // this worker's own
@@ -336,7 +354,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}, 1, {}, {}, {}, {}, {}, false};
+  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}, 1, {}, {}, {}, {}, {}, false, 0, {}};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   // The cpu engine's pre-cull table of a mesh: of the same arrays every weighing's parameters point at.
@@ -346,9 +364,10 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   };
   ctx.face_planes = face_planes(mesh);
   const double diameter = mesh.Diameter();
+  ctx.diameter = diameter;
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
-  ctx.volumes = ComputeHeuristics(scene.depth, scene.camera, prior.boxes, hopt, options.threads);
+  ctx.volumes = prior::VolumeCache(scene.depth, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
   ctx.valid_depth = render::ValidDepthSat(scene.depth.data.data(), scene.depth.width, scene.depth.height);
   if (runs && options.anneal_subsample > 1 && filter::AnnealIterations(options) > 0) {
@@ -372,13 +391,8 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
   for (int i = 0; i < 8; ++i)
     ctx.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  ctx.windows.resize(cells);
-  for (int c = 0; c < cells; ++c) {
-    // The object's diameter in pixels at the depth of the cell's volume centre.
-    const double z_cam = ctx.volumes[c].valid ? (scene.camera.base_to_camera * ctx.volumes[c].Centre()).z() : 1.0;
-    const double min_side = options.min_window_diameters * diameter * scene.camera.fx / std::max(z_cam, options.near_m);
-    ctx.windows[c] = CellWindow(prior.boxes[c], min_side, options.max_window_px, scene.camera.width, scene.camera.height);
-  }
+  ctx.windows.resize(cells);  // PrepareCell fills them in as cells are used
+  ctx.window_ready.assign(std::size_t(cells), 0);
   // Hypotheses for niching: cells whose decoded boxes agree to the pixel share one (all the
   // cells a detection covers carry its box; a cell no detection reaches keeps its anchor).
   std::map<std::array<long, 4>, int> ids;
@@ -798,7 +812,7 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
   std::vector<double> cell_mass(prior.layout.CellCount(), 0.0);
   for (int c = 0; c < prior.layout.CellCount(); ++c)
-    if (ctx.volumes[c].valid) cell_mass[c] = prior.Prob(c, cls);
+    if (ctx.volumes.Valid(c)) cell_mass[c] = prior.Prob(c, cls);
 
   // Independent runs (restarts), each with its own random stream; the best weight wins.
   std::vector<Particle> run_bests;  // seeds of the final polish

@@ -6,10 +6,12 @@
 #include <cstdint>
 #include <numeric>
 #include <tuple>
+#include <utility>
 
 #include "core/threads.h"
 #include "posefilter/error.h"
 #include "prior/quantiles.h"
+#include "prior/volume_cache.h"
 
 namespace posefilter {
 namespace {
@@ -24,10 +26,15 @@ struct Scratch {
   prior::QuantileScratch q;
 };
 
-Volume OneVolume(const DepthImage& depth, const Camera& cam, const Eigen::Matrix3d& R,
-                 const Eigen::Vector3d& t, const Box& b, const HeuristicOptions& opt,
-                 Scratch& s) {
-  Volume vol;
+// The centred regular grid of pixels sampled in a box (at most max_samples of them).
+struct SampleGrid {
+  bool empty = true;  // the box holds no pixel of the image
+  int su = 0, sv = 0;  // first sampled pixel
+  long step = 1, ku = 0, kv = 0;  // pixel step, samples per row and per column
+};
+
+SampleGrid GridOf(const DepthImage& depth, const Box& b, const HeuristicOptions& opt) {
+  SampleGrid g;
   const int W = depth.width, H = depth.height;
   // Pixels whose centre lies in [cx − w/2, cx + w/2) × [cy − h/2, cy + h/2), cut to the image.
   // (Edges are clamped to [−1, size] before the int cast so huge boxes cannot overflow.)
@@ -36,35 +43,63 @@ Volume OneVolume(const DepthImage& depth, const Camera& cam, const Eigen::Matrix
   const int u1 = std::min(W - 1, edge(b.cx + b.w / 2, W) - 1);
   const int v0 = std::max(0, edge(b.cy - b.h / 2, H));
   const int v1 = std::min(H - 1, edge(b.cy + b.h / 2, H) - 1);
-  if (u1 < u0 || v1 < v0) return vol;
+  if (u1 < u0 || v1 < v0) return g;
   const long nu = u1 - u0 + 1, nv = v1 - v0 + 1;
   // Grid step so that at most max_samples pixels are read.
   long step = std::max(1L, long(std::ceil(std::sqrt(double(nu * nv) / opt.max_samples))));
   while (((nu - 1) / step + 1) * ((nv - 1) / step + 1) > opt.max_samples) ++step;
-  const long ku = (nu - 1) / step + 1, kv = (nv - 1) / step + 1;
-  const int su = u0 + int((nu - 1 - (ku - 1) * step) / 2);  // centre the grid in the box
-  const int sv = v0 + int((nv - 1 - (kv - 1) * step) / 2);
+  g.empty = false;
+  g.step = step;
+  g.ku = (nu - 1) / step + 1;
+  g.kv = (nv - 1) / step + 1;
+  g.su = u0 + int((nu - 1 - (g.ku - 1) * step) / 2);  // centre the grid in the box
+  g.sv = v0 + int((nv - 1 - (g.kv - 1) * step) / 2);
+  return g;
+}
+
+// A sampled depth that enters the volume: present and not too far.
+inline bool Usable(double z, const HeuristicOptions& opt) { return z > 0 && z <= opt.max_depth_m; }
+
+// Whether the box has a volume: enough usable samples (OneVolume's `valid`, without the points).
+bool HasVolume(const DepthImage& depth, const Box& b, const HeuristicOptions& opt) {
+  const SampleGrid g = GridOf(depth, b, opt);
+  if (g.empty) return false;
+  int count = 0;
+  for (long j = 0; j < g.kv; ++j) {
+    const float* depth_row = &depth.data[size_t(g.sv + int(j * g.step)) * depth.width];
+    for (long i = 0; i < g.ku; ++i) count += Usable(depth_row[g.su + int(i * g.step)], opt);
+  }
+  return count >= opt.min_valid_pixels;
+}
+
+Volume OneVolume(const DepthImage& depth, const Camera& cam, const Eigen::Matrix3d& R,
+                 const Eigen::Vector3d& t, const Box& b, const HeuristicOptions& opt,
+                 Scratch& s) {
+  Volume vol;
+  const int W = depth.width;
+  const SampleGrid g = GridOf(depth, b, opt);
+  if (g.empty) return vol;
 
   // Per sample: ray direction d = R·((u − cx)/fx, (v − cy)/fy, 1), so the base-frame point is
   // pb = z·d + t (= R·Backproject(u, v, z) + t) and the extended point pe = pb + ext·d/|d|.
   // The column part of d is precomputed per row to keep the inner loop to a few FMAs.
   const double ext = opt.depth_extension_m;
-  const size_t cap = size_t(ku * kv) * (ext > 0 ? 2 : 1);
+  const size_t cap = size_t(g.ku * g.kv) * (ext > 0 ? 2 : 1);
   s.x.resize(cap);
   s.y.resize(cap);
   s.z.resize(cap);
   size_t m = 0;
   int count = 0;
   const Eigen::Vector3d rx = R.col(0) / cam.fx;
-  for (long j = 0; j < kv; ++j) {
-    const int v = sv + int(j * step);
+  for (long j = 0; j < g.kv; ++j) {
+    const int v = g.sv + int(j * g.step);
     const double bv = (v - cam.cy) / cam.fy;
     const Eigen::Vector3d row = bv * R.col(1) + R.col(2) - cam.cx * rx;  // d at u = 0
     const float* depth_row = &depth.data[size_t(v) * W];
-    for (long i = 0; i < ku; ++i) {
-      const int u = su + int(i * step);
+    for (long i = 0; i < g.ku; ++i) {
+      const int u = g.su + int(i * g.step);
       const double z = depth_row[u];
-      if (!(z > 0) || z > opt.max_depth_m) continue;  // missing or too far
+      if (!Usable(z, opt)) continue;  // missing or too far
       ++count;
       const Eigen::Vector3d d = row + double(u) * rx;
       s.x[m] = z * d.x() + t.x();
@@ -93,6 +128,32 @@ Volume OneVolume(const DepthImage& depth, const Camera& cam, const Eigen::Matrix
   return vol;
 }
 
+// ComputeHeuristics's input checks (throw Error naming the problem); returns the camera →
+// base rotation and translation.
+void CheckInputs(const DepthImage& depth, const Camera& camera, const std::vector<Box>& boxes,
+                 const HeuristicOptions& opt, Eigen::Matrix3d* R, Eigen::Vector3d* t) {
+  std::string why;
+  if (!opt.IsValid(&why)) throw Error("heuristic options: " + why);
+  if (!camera.IsValid(&why)) throw Error("heuristics: invalid camera: " + why);
+  if (depth.width != camera.width || depth.height != camera.height ||
+      depth.data.size() != size_t(depth.width) * size_t(depth.height)) {
+    throw Error("heuristics: depth image is " + std::to_string(depth.width) + "×" +
+                std::to_string(depth.height) + " but the camera is " +
+                std::to_string(camera.width) + "×" + std::to_string(camera.height));
+  }
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Box& b = boxes[i];
+    if (!(std::isfinite(b.cx) && std::isfinite(b.cy) && std::isfinite(b.w) &&
+          std::isfinite(b.h) && b.w >= 0 && b.h >= 0)) {
+      throw Error("heuristics: box " + std::to_string(i) +
+                  " is not finite or has a negative size");
+    }
+  }
+  const Eigen::Isometry3d cam_to_base = camera.base_to_camera.inverse();
+  *R = cam_to_base.linear();
+  *t = cam_to_base.translation();
+}
+
 }  // namespace
 
 bool HeuristicOptions::IsValid(std::string* why) const {
@@ -114,26 +175,9 @@ bool HeuristicOptions::IsValid(std::string* why) const {
 std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& camera,
                                       const std::vector<Box>& boxes,
                                       const HeuristicOptions& opt, int threads) {
-  std::string why;
-  if (!opt.IsValid(&why)) throw Error("heuristic options: " + why);
-  if (!camera.IsValid(&why)) throw Error("heuristics: invalid camera: " + why);
-  if (depth.width != camera.width || depth.height != camera.height ||
-      depth.data.size() != size_t(depth.width) * size_t(depth.height)) {
-    throw Error("heuristics: depth image is " + std::to_string(depth.width) + "×" +
-                std::to_string(depth.height) + " but the camera is " +
-                std::to_string(camera.width) + "×" + std::to_string(camera.height));
-  }
-  for (size_t i = 0; i < boxes.size(); ++i) {
-    const Box& b = boxes[i];
-    if (!(std::isfinite(b.cx) && std::isfinite(b.cy) && std::isfinite(b.w) &&
-          std::isfinite(b.h) && b.w >= 0 && b.h >= 0)) {
-      throw Error("heuristics: box " + std::to_string(i) +
-                  " is not finite or has a negative size");
-    }
-  }
-  const Eigen::Isometry3d cam_to_base = camera.base_to_camera.inverse();
-  const Eigen::Matrix3d R = cam_to_base.linear();
-  const Eigen::Vector3d t = cam_to_base.translation();
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  CheckInputs(depth, camera, boxes, opt, &R, &t);
   // Identical boxes share one volume (a detection prior gives every cell overlapping a
   // detection the detection's box): compute each distinct box once.
   std::vector<int> order(boxes.size());
@@ -163,4 +207,38 @@ std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& cam
   return out;
 }
 
+namespace prior {
+
+VolumeCache::VolumeCache(const DepthImage& depth, const Camera& camera, const std::vector<Box>& boxes,
+                         const HeuristicOptions& opt, int threads)
+    : depth_(&depth), camera_(&camera), boxes_(&boxes), opt_(opt) {
+  CheckInputs(depth, camera, boxes, opt, &R_, &t_);
+  const long n = long(boxes.size());
+  valid_.assign(std::size_t(n), 0);
+  volumes_.assign(std::size_t(n), Volume{});
+  done_.assign(std::size_t(n), 0);
+  const int nt = WorkerThreads(threads);
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (n > 256)
+  for (long i = 0; i < n; ++i) valid_[std::size_t(i)] = HasVolume(depth, boxes[std::size_t(i)], opt) ? 1 : 0;
+}
+
+VolumeCache::VolumeCache(std::vector<Volume> volumes)
+    : valid_(volumes.size()), volumes_(std::move(volumes)), done_(volumes_.size(), 1), computed_count_(int(volumes_.size())) {
+  for (std::size_t i = 0; i < volumes_.size(); ++i) valid_[i] = volumes_[i].valid ? 1 : 0;
+}
+
+const Volume& VolumeCache::Get(int i) const {
+  const std::size_t k = std::size_t(i);
+  if (!done_[k]) {
+    if (valid_[k]) {
+      Scratch s;
+      volumes_[k] = OneVolume(*depth_, *camera_, R_, t_, (*boxes_)[k], opt_, s);
+    }
+    done_[k] = 1;
+    ++computed_count_;
+  }
+  return volumes_[k];
+}
+
+}  // namespace prior
 }  // namespace posefilter

@@ -54,7 +54,8 @@ TEST(DiffusionTest, TranslationAndRotationSpreadsDecayLinearlyWithTheBestWeight)
   f.opt.sigma_t0_m = 0.02;
   f.opt.sigma_r0_rad = 0.3;
   f.opt.min_sigma_fraction = 0.05;
-  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
+  const prior::VolumeCache volumes(f.volumes);
+  DiffusionContext ctx(f.camera, f.layout, volumes, f.opt);
   EXPECT_NEAR(Spread(ctx, Move::kTranslateX, 0.0, &Pose6::x), 0.02, 0.0006);
   EXPECT_NEAR(Spread(ctx, Move::kTranslateZ, 0.5, &Pose6::z), 0.01, 0.0003);
   EXPECT_NEAR(Spread(ctx, Move::kTranslateAll, 0.75, &Pose6::y), 0.005, 0.00015);
@@ -73,7 +74,8 @@ TEST(DiffusionTest, TranslationAndRotationSpreadsDecayLinearlyWithTheBestWeight)
 
 TEST(DiffusionTest, FlipsAddPiAndWrap) {
   Fixture f;
-  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
+  const prior::VolumeCache volumes(f.volumes);
+  DiffusionContext ctx(f.camera, f.layout, volumes, f.opt);
   Rng rng(1);
   Particle p = Start();
   ApplyMove(ctx, Move::kFlipYaw, &p, 0.0, rng);
@@ -85,7 +87,8 @@ TEST(DiffusionTest, FlipsAddPiAndWrap) {
 
 TEST(DiffusionTest, CellMovesReachNeighboursAndOtherLevelsAndCarryTheParticle) {
   Fixture f;
-  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
+  const prior::VolumeCache volumes(f.volumes);
+  DiffusionContext ctx(f.camera, f.layout, volumes, f.opt);
   Rng rng(4);
   const int start = f.layout.CellIndex(1, 10, 20);
   int moved = 0;
@@ -123,9 +126,11 @@ TEST(DiffusionTest, CellMovesReachNeighboursAndOtherLevelsAndCarryTheParticle) {
   // A neighbour without a valid volume is never entered.
   for (auto& v : f.volumes) v.valid = false;
   f.volumes[start].valid = true;
+  const prior::VolumeCache only_start(f.volumes);
+  const DiffusionContext ctx_only_start(f.camera, f.layout, only_start, f.opt);
   Particle p = Start();
   p.cell = start;
-  ApplyMove(ctx, Move::kNeighbourCell, &p, 0.0, rng);
+  ApplyMove(ctx_only_start, Move::kNeighbourCell, &p, 0.0, rng);
   EXPECT_EQ(p.cell, start);
   EXPECT_EQ(p.pose.x, Start().pose.x);
 }
@@ -135,7 +140,8 @@ TEST(DiffusionTest, PickMoveFollowsTheProbabilities) {
   f.opt.move_probabilities.fill(0.0);
   f.opt.move_probabilities[int(Move::kRotateYaw)] = 3;
   f.opt.move_probabilities[int(Move::kFlipPitch)] = 1;
-  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
+  const prior::VolumeCache volumes(f.volumes);
+  DiffusionContext ctx(f.camera, f.layout, volumes, f.opt);
   Rng rng(2);
   int yaw = 0, flip = 0;
   for (int i = 0; i < 40000; ++i) {
@@ -157,7 +163,8 @@ TEST(DiffusionTest, AlignDepthShiftsAlongTheViewingRayByTheMeasuredOffset) {
   // A base frame rotated and shifted against the camera.
   f.camera.base_to_camera.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   f.camera.base_to_camera.translation() = Eigen::Vector3d(0.1, -0.05, 0.3);
-  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
+  const prior::VolumeCache volumes(f.volumes);
+  DiffusionContext ctx(f.camera, f.layout, volumes, f.opt);
   Rng rng(1);
   Particle p = Start();
   p.depth_offset = 0.025;
@@ -178,7 +185,8 @@ namespace {
 
 TEST(DiffusionTest, QuarterTurnRotatesNinetyDegreesAboutAnObjectAxis) {
   Fixture f;
-  DiffusionContext ctx(f.camera, f.layout, f.volumes, f.opt);
+  const prior::VolumeCache volumes(f.volumes);
+  DiffusionContext ctx(f.camera, f.layout, volumes, f.opt);
   Rng rng(8);
   for (int i = 0; i < 30; ++i) {
     Particle p = Start();

@@ -7,6 +7,7 @@
 #include "posefilter/heuristics.h"
 #include "posefilter/prior.h"
 #include "prior/heuristics_workload.h"
+#include "prior/volume_cache.h"
 #include "test_util.h"
 
 namespace posefilter {
@@ -228,6 +229,55 @@ TEST(Heuristics, RejectsBadInput) {
   opt = {};
   opt.min_valid_pixels = 0;
   ExpectInvalid(opt, "min_valid_pixels");
+}
+
+// The filter's on-demand volumes (prior::VolumeCache): the validity of every box up front and
+// each volume when first asked for, exactly ComputeHeuristics's values; nothing is computed
+// for a box never asked for.
+TEST(Heuristics, VolumeCacheGivesTheSameVolumesOnDemand) {
+  testing_util::HeuristicsWorkload w = testing_util::ThesisPyramidWorkload();
+  // Holes: missing depth on the left, too far at the top right, so that some cells have no volume.
+  for (int v = 0; v < w.cam.height; ++v)
+    for (int u = 0; u < 260; ++u) w.depth.at(u, v) = 0;
+  for (int v = 0; v < 120; ++v)
+    for (int u = 480; u < 640; ++u) w.depth.at(u, v) = 6.0f;
+  w.boxes.push_back({320, 240, 0, 0});      // empty
+  w.boxes.push_back({-500, 240, 80, 80});   // outside the image
+  w.boxes.push_back({60, 240, 100, 100});   // all missing
+  const std::vector<Volume> all = ComputeHeuristics(w.depth, w.cam, w.boxes, w.opt, 2);
+  const prior::VolumeCache cache(w.depth, w.cam, w.boxes, w.opt, 2);
+  ASSERT_EQ(cache.size(), int(all.size()));
+  EXPECT_EQ(cache.computed(), 0);
+  int valid = 0, asked = 0;
+  for (int i = 0; i < cache.size(); ++i) {
+    ASSERT_EQ(cache.Valid(i), all[std::size_t(i)].valid) << "box " << i;
+    valid += cache.Valid(i);
+  }
+  EXPECT_GT(valid, 1000);
+  EXPECT_LT(valid, cache.size() - 300);
+  for (int i = 0; i < cache.size(); i += 7) {
+    const Volume& v = cache.Get(i);
+    ++asked;
+    const Volume& ref = all[std::size_t(i)];
+    ASSERT_EQ(v.valid, ref.valid) << "box " << i;
+    EXPECT_EQ(v.min, ref.min) << "box " << i;
+    EXPECT_EQ(v.max, ref.max) << "box " << i;
+  }
+  EXPECT_EQ(cache.computed(), asked);
+  cache.Get(0);  // asked before: not computed again
+  EXPECT_EQ(cache.computed(), asked);
+  // A cache of given volumes has them all.
+  const prior::VolumeCache given(all);
+  EXPECT_EQ(given.computed(), given.size());
+  EXPECT_EQ(given.Valid(5), all[5].valid);
+  EXPECT_EQ(given.Get(5).max, all[5].max);
+  // The inputs are checked like ComputeHeuristics's.
+  ExpectError([&] { prior::VolumeCache(DepthImage(320, 240, 1.f), w.cam, w.boxes, w.opt, 1); }, {"320", "640"});
+  const std::vector<Box> bad = {{1, 1, 5, 5}, {std::nan(""), 1, 5, 5}};
+  ExpectError([&] { prior::VolumeCache(w.depth, w.cam, bad, w.opt, 1); }, {"box 1"});
+  HeuristicOptions bad_opt = w.opt;
+  bad_opt.max_samples = 0;
+  ExpectError([&] { prior::VolumeCache(w.depth, w.cam, w.boxes, bad_opt, 1); }, {"max_samples"});
 }
 
 }  // namespace
