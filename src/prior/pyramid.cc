@@ -317,8 +317,17 @@ Prior UniformPrior(const PyramidLayout& layout, const std::vector<std::string>& 
 
 namespace {
 
-std::uint32_t ByteSwap32(std::uint32_t v) {
-  return (v >> 24) | ((v >> 8) & 0xff00u) | ((v << 8) & 0xff0000u) | (v << 24);
+// The file's little-endian float32 values to this machine's order and back (a no-op on
+// little-endian machines).
+void SwapLittleEndian(std::vector<float>* values) {
+  if constexpr (std::endian::native == std::endian::big) {
+    for (float& f : *values) {
+      std::uint32_t u;
+      std::memcpy(&u, &f, 4);
+      u = (u >> 24) | ((u >> 8) & 0xff00u) | ((u << 8) & 0xff0000u) | (u << 24);
+      std::memcpy(&f, &u, 4);
+    }
+  }
 }
 
 }  // namespace
@@ -347,14 +356,7 @@ std::vector<float> ReadRawPyramid(const std::string& path, const PyramidLayout& 
   std::vector<float> raw(n);
   in.read(reinterpret_cast<char*>(raw.data()), std::streamsize(expected));
   if (!in) throw Error(path + ": read error in raw pyramid file");
-  if constexpr (std::endian::native == std::endian::big) {
-    for (float& f : raw) {
-      std::uint32_t u;
-      std::memcpy(&u, &f, 4);
-      u = ByteSwap32(u);
-      std::memcpy(&f, &u, 4);
-    }
-  }
+  SwapLittleEndian(&raw);
   const int per = layout.RawValuesPerCell();
   for (size_t i = 0; i < n; ++i) {
     if (!std::isfinite(raw[i])) {
@@ -376,14 +378,7 @@ void WriteRawPyramid(const std::vector<float>& raw, const PyramidLayout& layout,
                 " values, expected " + std::to_string(n));
   }
   std::vector<float> out = raw;
-  if constexpr (std::endian::native == std::endian::big) {
-    for (float& f : out) {
-      std::uint32_t u;
-      std::memcpy(&u, &f, 4);
-      u = ByteSwap32(u);
-      std::memcpy(&f, &u, 4);
-    }
-  }
+  SwapLittleEndian(&out);
   std::ofstream o(path, std::ios::binary | std::ios::trunc);
   if (!o) throw Error(path + ": cannot open raw pyramid file for writing");
   o.write(reinterpret_cast<const char*>(out.data()), std::streamsize(n * sizeof(float)));
