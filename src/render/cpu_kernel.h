@@ -4,8 +4,8 @@
 // rasterization rules there are binding), with SIMD and a fused render+inlier pipeline:
 //   1. vertex pass: transform + project + snap, 16 vertices per step (bit-identical float ops);
 //      1b. optional back-face pre-cull from per-mesh face planes (face_planes.h): faces proven
-//      culled are dropped before their corners are gathered;
-//   2. face pass: gather, back-face cull, window test, setup of edge functions, 16 faces per
+//      culled are dropped before their corners are loaded;
+//   2. face pass: corner loads (16-byte vertex records), back-face cull, window test, setup of edge functions, 16 faces per
 //      step in int32; front faces in the window are listed by vector shape;
 //   3. raster: per triangle, vectors of 16 pixel centres (AVX-512; 8 AVX2, 4 portable) laid out
 //      as 4 rows of 4, 2 rows of 8 or one row of 16 to fit its box; edge functions holding exact
@@ -107,7 +107,7 @@ bool BuiltAvx512();
 // posefilter::Error when the window does not lie inside the depth image, the depth (or mesh)
 // pointers are missing, or a face index is out of range. `planes` (optional, built from the
 // same mesh arrays, else Error) lets the kernel skip faces proven back-facing before their
-// vertices are gathered; the result is the same with or without it.
+// vertices are loaded; the result is the same with or without it.
 ScoreKernelResult ScoreCpu(const ScoreKernelParams& params, CpuWorkspace* ws, const FacePlanes* planes = nullptr);
 // Scores with a given variant; throws posefilter::Error if this machine cannot run it.
 ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& params, CpuWorkspace* ws,
