@@ -5,8 +5,9 @@
 //   1. vertex pass: transform + project + snap, 16 vertices per step (bit-identical float ops);
 //      1b. optional back-face pre-cull from per-mesh face planes (face_planes.h): faces proven
 //      culled are dropped before their corners are loaded;
-//   2. face pass: corner loads (16-byte vertex records), back-face cull, window test, setup of edge functions, 16 faces per
-//      step in int32; front faces in the window are listed by vector shape;
+//   2. face pass: corner loads (16-byte vertex records), back-face cull, window test, setup of
+//      edge functions, 16 faces per step in int32; front faces in the window are listed by
+//      vector shape;
 //   3. raster: per triangle, vectors of 16 pixel centres (AVX-512; 8 AVX2, 4 portable) laid out
 //      as 4 rows of 4, 2 rows of 8 or one row of 16 to fit its box; edge functions holding exact
 //      integers in float (int32 for larger triangles, double for the largest); float 1/z
