@@ -153,42 +153,17 @@ bool PreCullConstants(const ScoreKernelParams& k, const FacePlanes& p, float c_o
          std::isfinite(c_out[2]);
 }
 
-ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, CpuWorkspace* ws, const FacePlanes* planes) {
-  if (!CpuTargetSupported(target))
-    throw Error(std::string("cpu kernel: this build/CPU cannot run the '") + CpuTargetName(target) + "' variant");
-  ScoreKernelResult r;
-  r.faces_total = k.num_faces;
-  ws->faces_preculled = 0;
-  const PixelRect& w = k.window;
-  if (w.width <= 0 || w.height <= 0) return r;  // as ScoreReference: nothing rendered or counted
-  if (k.num_vertices < 0 || k.num_faces < 0 || (k.num_vertices > 0 && !k.vertices) ||
-      (k.num_faces > 0 && !k.faces))
-    throw Error("cpu kernel: mesh pointers/counts are invalid (vertices/faces)");
-  if (!k.depth || k.depth_width <= 0 || k.depth_height <= 0)
-    throw Error("cpu kernel: no scene depth image (depth/depth_width/depth_height)");
-  if (w.u0 < 0 || w.v0 < 0 || w.u0 + w.width > k.depth_width || w.v0 + w.height > k.depth_height)
-    throw Error("cpu kernel: window " + std::to_string(w.u0) + "," + std::to_string(w.v0) + " " +
-                std::to_string(w.width) + "x" + std::to_string(w.height) + " is not inside the " +
-                std::to_string(k.depth_width) + "x" + std::to_string(k.depth_height) + " depth image");
-  // Outside the fast path's domain (1/z must be positive for the max-1/z z-buffer; images
-  // beyond 2^20 px a side would break the double-exactness bounds, beyond 2^28 pixels the
-  // int32 gather indices; meshes beyond 2^26 faces the int32 offsets of the setup records):
-  // the reference.
-  if (!(k.near_m > 0) || k.depth_width > (1 << 20) || k.depth_height > (1 << 20) ||
-      std::int64_t(k.depth_width) * k.depth_height > (std::int64_t(1) << 28) || k.num_faces > (1 << 26)) {
-    for (int f = 0; f < 3 * k.num_faces; ++f)
-      if (k.faces[f] >= std::uint32_t(k.num_vertices))
-        throw Error("cpu kernel: face " + std::to_string(f / 3) + " has a vertex index out of range");
-    return ScoreReference(k, &ws->reference);
-  }
+namespace cpu_detail {
 
+CoreScratch PrepareScratch(const ScoreKernelParams& k, CpuWorkspace* ws, const FacePlanes* planes) {
+  const PixelRect& w = k.window;
   const std::size_t nv = std::size_t(k.num_vertices) + 16, cap = (std::size_t(k.num_faces) + 31) / 16 * 16;
-  cpu_detail::CoreScratch s;
+  CoreScratch s;
   s.vrec = AlignTo64(Grow(&ws->vrec, 4 * nv + 16));
   s.vok = Grow(&ws->vok, nv);
   s.tri_cap = std::int64_t(cap);
-  s.tri = AlignTo64(Grow(&ws->tri, cpu_detail::kTriFields * cap + 16));
-  s.fast = Grow(&ws->fast, cpu_detail::kFastBins * cap);
+  s.tri = AlignTo64(Grow(&ws->tri, kTriFields * cap + 16));
+  s.fast = Grow(&ws->fast, kFastBins * cap);
   s.slow = Grow(&ws->slow, cap);
   s.wide = Grow(&ws->wide, cap);
   // The raster's window buffer (both modes). Rows of width + 48 floats (16 of slack before
@@ -220,6 +195,41 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, Cpu
       s.cand = Grow(&ws->cand, 4 * (cap + 16));
     }
   }
+  return s;
+}
+
+}  // namespace cpu_detail
+
+ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& k, CpuWorkspace* ws, const FacePlanes* planes) {
+  if (!CpuTargetSupported(target))
+    throw Error(std::string("cpu kernel: this build/CPU cannot run the '") + CpuTargetName(target) + "' variant");
+  ScoreKernelResult r;
+  r.faces_total = k.num_faces;
+  ws->faces_preculled = 0;
+  const PixelRect& w = k.window;
+  if (w.width <= 0 || w.height <= 0) return r;  // as ScoreReference: nothing rendered or counted
+  if (k.num_vertices < 0 || k.num_faces < 0 || (k.num_vertices > 0 && !k.vertices) ||
+      (k.num_faces > 0 && !k.faces))
+    throw Error("cpu kernel: mesh pointers/counts are invalid (vertices/faces)");
+  if (!k.depth || k.depth_width <= 0 || k.depth_height <= 0)
+    throw Error("cpu kernel: no scene depth image (depth/depth_width/depth_height)");
+  if (w.u0 < 0 || w.v0 < 0 || w.u0 + w.width > k.depth_width || w.v0 + w.height > k.depth_height)
+    throw Error("cpu kernel: window " + std::to_string(w.u0) + "," + std::to_string(w.v0) + " " +
+                std::to_string(w.width) + "x" + std::to_string(w.height) + " is not inside the " +
+                std::to_string(k.depth_width) + "x" + std::to_string(k.depth_height) + " depth image");
+  // Outside the fast path's domain (1/z must be positive for the max-1/z z-buffer; images
+  // beyond 2^20 px a side would break the double-exactness bounds, beyond 2^28 pixels the
+  // int32 gather indices; meshes beyond 2^26 faces the int32 offsets of the setup records):
+  // the reference.
+  if (!(k.near_m > 0) || k.depth_width > (1 << 20) || k.depth_height > (1 << 20) ||
+      std::int64_t(k.depth_width) * k.depth_height > (std::int64_t(1) << 28) || k.num_faces > (1 << 26)) {
+    for (int f = 0; f < 3 * k.num_faces; ++f)
+      if (k.faces[f] >= std::uint32_t(k.num_vertices))
+        throw Error("cpu kernel: face " + std::to_string(f / 3) + " has a vertex index out of range");
+    return ScoreReference(k, &ws->reference);
+  }
+
+  const cpu_detail::CoreScratch s = cpu_detail::PrepareScratch(k, ws, planes);
   std::int64_t bad = -1;
   switch (target) {
     case CpuTarget::kPortable: bad = cpu_detail::CorePortable(k, s, &r); break;

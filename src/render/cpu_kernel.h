@@ -95,6 +95,10 @@ struct CoreScratch {
   std::int32_t* cand;        // 4 × (tri_cap + 16)
   std::int64_t* preculled;   // out: faces the pre-cull skipped
 };
+// The views of `ws` for one call with k (grows its buffers; `planes` as for ScoreCpuWith, used
+// when its pre-cull constants are finite). k must lie in the fast path's domain (ScoreCpuWith
+// checks it first). Throws when `planes` was built from another mesh.
+CoreScratch PrepareScratch(const ScoreKernelParams& k, CpuWorkspace* ws, const FacePlanes* planes);
 // Each returns −1, or the index of a face with an out-of-range vertex index (nothing scored).
 std::int64_t CorePortable(const ScoreKernelParams& k, const CoreScratch& s, ScoreKernelResult* r);
 std::int64_t CoreAvx2(const ScoreKernelParams& k, const CoreScratch& s, ScoreKernelResult* r);
