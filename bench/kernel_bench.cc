@@ -4,10 +4,8 @@
 // the tree; with and without the back-face pre-cull), in both z-buffer modes, for tori of 512,
 // 2048 and 8192 triangles.
 //
-// Workload: the torus (R 6 cm, r 2.5 cm) at 0.8 m in front of a wall at 1.2 m, rendered into a
-// 640×480 depth image with the thesis camera; each call scores one of 16 poses near the true
-// one (3 mm deeper and turned by up to ±0.3 rad about varying axes: a mix of inliers, ramp values
-// and misses, as in a converging particle set) inside a 200×200 window, cycling through them.
+// Workload (kernel_setup.h): the 2·n²-triangle torus at 0.8 m in front of a wall; each call
+// scores one of 16 poses near the true one inside a 200×200 window, cycling through them.
 // Counters: fragments/s (counted fragments, N_raster) and particles/s (kernel calls).
 // Run: build with -DPOSEFILTER_BUILD_BENCH=ON, then
 //   build/<dir>/bench/posefilter_bench --benchmark_filter=BM_Kernel
@@ -16,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "kernel_setup.h"
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
 #include "posefilter/synth.h"
@@ -27,44 +26,6 @@
 
 namespace posefilter {
 namespace {
-
-constexpr int kPoses = 16;
-
-// The scene and the kernel parameters of each pose, for an n×n torus (2·n² triangles).
-struct KernelSetup {
-  Mesh mesh;
-  Camera camera;
-  DepthImage depth;
-  std::vector<ScoreKernelParams> params;  // one per pose
-
-  KernelSetup(int n, bool zbuffer) : mesh(MakeTorus(0.06, 0.025, n, n)) {
-    Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
-    truth.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
-    truth.translation() = Eigen::Vector3d(0.01, -0.02, 0.8);
-    depth = DepthImage(camera.width, camera.height, 0.f);
-    RenderDepth(mesh, truth, camera, &depth);
-    for (float& z : depth.data)
-      if (z == 0) z = 1.2f;  // the wall behind
-    Rng rng(17);
-    for (int i = 0; i < kPoses; ++i) {
-      Eigen::Isometry3d T = truth;
-      const double az = rng.Normal(), ay = rng.Normal(), ax = rng.Normal();  // one per statement, as GCC ordered them
-      const Eigen::Vector3d axis(ax, ay, az);
-      T.linear() = truth.linear() * Eigen::AngleAxisd(rng.Uniform(-0.3, 0.3), axis.normalized()).toRotationMatrix();
-      T.translation().z() += 0.003;
-      ScoreKernelParams k = MakeKernelParams(mesh, T, camera);
-      k.window = PixelRect{225, 124, 200, 200};
-      k.depth = depth.data.data();
-      k.depth_width = depth.width;
-      k.depth_height = depth.height;
-      k.zbuffer = zbuffer;
-      params.push_back(k);
-    }
-    // MakeKernelParams keeps pointers into `mesh`: the setup must not be copied or moved.
-  }
-  KernelSetup(const KernelSetup&) = delete;
-  KernelSetup& operator=(const KernelSetup&) = delete;
-};
 
 void SetCounters(benchmark::State& state, std::int64_t fragments, const KernelSetup& s, const std::string& engine) {
   state.counters["fragments/s"] = benchmark::Counter(double(fragments), benchmark::Counter::kIsRate);
