@@ -176,6 +176,7 @@ CoreScratch PrepareScratch(const ScoreKernelParams& k, CpuWorkspace* ws, const F
   s.frag_cap = kFragCap;
   s.frag_idx = Grow(&ws->frag_idx, kFragCap + 16);
   s.frag_iz = Grow(&ws->frag_iz, kFragCap + 16);
+  s.covmask = Grow(&ws->covmask, 3 * (std::size_t(w.width) / 4 + 8));
   s.pc_nx = nullptr;
   s.cand = nullptr;
   s.preculled = &ws->faces_preculled;

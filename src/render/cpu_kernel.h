@@ -62,6 +62,7 @@ struct CpuWorkspace {
   std::vector<std::int32_t> frag_idx; // fragments waiting to be scored: image index v·width + u,
   std::vector<float> frag_iz;         //   1/z (z-buffer-free mode)
   std::vector<std::int32_t> cand;     // faces kept by the back-face pre-cull (see face_planes.h)
+  std::vector<std::uint32_t> covmask; // the scan's coverage bits of three rows of vectors
   std::int64_t faces_preculled = 0;   // last call: faces the pre-cull skipped (0 when off)
   RenderWorkspace reference;          // fallback for parameters outside the fast path's domain
 };
@@ -93,6 +94,7 @@ struct CoreScratch {
   const std::uint32_t *pc_i0, *pc_i1, *pc_i2;
   float pc_c[3], pc_k1, pc_k0;
   std::int32_t* cand;        // 4 × (tri_cap + 16)
+  std::uint32_t* covmask;    // 3 × (window width / 4 + 8): per vector of a scanned row, its covered lanes
   std::int64_t* preculled;   // out: faces the pre-cull skipped
 };
 // The views of `ws` for one call with k (grows its buffers; `planes` as for ScoreCpuWith, used
