@@ -70,34 +70,34 @@ struct Context {
   const Prior& prior;
   int cls;
   const FilterOptions& opt;
-  prior::VolumeCache volumes;        // heuristic volume per cell (base frame), computed on demand
+  prior::VolumeCache volumes{};        // heuristic volume per cell (base frame), computed on demand
   // Window per cell, computed on demand by PrepareCell (from the serial steps only).
-  mutable std::vector<PixelRect> windows;
-  InlierParams inlier;               // this iteration's inlier thresholds (annealed)
-  std::vector<float> normals;        // scene normals, 3 per pixel, camera frame (0 = none)
-  std::vector<int> hypothesis;       // niching: cells sharing one decoded box share an id
+  mutable std::vector<PixelRect> windows{};
+  InlierParams inlier{};               // this iteration's inlier thresholds (annealed)
+  std::vector<float> normals{};        // scene normals, 3 per pixel, camera frame (0 = none)
+  std::vector<int> hypothesis{};       // niching: cells sharing one decoded box share an id
   int hypothesis_count = 0;
-  render::ValidDepthSat valid_depth;  // N_depth of any window in O(1) (summed-area table)
-  std::array<Eigen::Vector3d, 8> bbox_corners;  // the model's bounding box, object frame, m
+  render::ValidDepthSat valid_depth{};  // N_depth of any window in O(1) (summed-area table)
+  std::array<Eigen::Vector3d, 8> bbox_corners{};  // the model's bounding box, object frame, m
   render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
   // The mesh's face planes for the cpu kernel's back-face pre-cull (render/face_planes.h;
   // built once per run, empty for the other engines).
-  render::FacePlanes face_planes;
+  render::FacePlanes face_planes{};
   // One scratch memory per worker thread (cpu kernel; holds the reference's too), kept from
   // one weighing round to the next so that its buffers are allocated and touched once.
-  mutable std::vector<render::CpuWorkspace> workspaces;
+  mutable std::vector<render::CpuWorkspace> workspaces{};
   // The coarse level (FilterOptions::anneal_subsample > 1): the scene on every s-th pixel of
   // every s-th row (pixel (i, j) is the full image's (s·i, s·j); fx, fy, cx, cy divided by s),
   // its valid-depth table and normals. `coarse` selects it for the weighings of the moment.
   int subsample = 1;
-  SceneInput coarse_scene;
-  render::ValidDepthSat coarse_valid_depth;
-  std::vector<float> coarse_normals;
-  Mesh coarse_mesh;  // FilterOptions::anneal_simplify's mesh; empty: the full mesh
-  render::FacePlanes coarse_face_planes;  // coarse_mesh's (cpu engine)
+  SceneInput coarse_scene{};
+  render::ValidDepthSat coarse_valid_depth{};
+  std::vector<float> coarse_normals{};
+  Mesh coarse_mesh{};  // FilterOptions::anneal_simplify's mesh; empty: the full mesh
+  render::FacePlanes coarse_face_planes{};  // coarse_mesh's (cpu engine)
   bool coarse = false;
   double diameter = 0;  // the mesh's, metres (cell windows)
-  mutable std::vector<std::uint8_t> window_ready;  // per cell: windows[c] is set
+  mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
 };
 
 // Computes cell c's heuristic volume and window if not done yet (round 14: a run uses a few
@@ -354,7 +354,13 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{scene, mesh, prior, cls, options, {}, {}, options.inlier, ComputeSceneNormals(scene.depth, scene.camera, options.threads), {}, 0, {}, {}, {}, {}, {}, 1, {}, {}, {}, {}, {}, false, 0, {}};
+  Context ctx{.scene = scene,
+              .mesh = mesh,
+              .prior = prior,
+              .cls = cls,
+              .opt = options,
+              .inlier = options.inlier,
+              .normals = ComputeSceneNormals(scene.depth, scene.camera, options.threads)};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   // The cpu engine's pre-cull table of a mesh: of the same arrays every weighing's parameters point at.
