@@ -1,5 +1,5 @@
 // bench/kernel_setup.h — the score kernel's benchmark workload, shared by the Google Benchmark
-// cases (kernel_bench.cc) and the A/B tool (kernel_ab.cc).
+// cases (kernel_bench.cc, render_bench.cc) and the A/B tool (kernel_ab.cc).
 //
 // The torus (R 6 cm, r 2.5 cm, n×n quads = 2·n² triangles) at 0.8 m in front of a wall at 1.2 m,
 // rendered into a 640×480 depth image with the thesis camera; the poses to score lie near the
@@ -21,6 +21,36 @@ namespace posefilter {
 // Poses of the Google Benchmark cases.
 inline constexpr int kPoses = 16;
 
+// The torus's true pose (object → camera): 0.8 m away, turned by 0.7 rad about (1, 1, 0).
+inline Eigen::Isometry3d BenchTruthPose() {
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  truth.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  truth.translation() = Eigen::Vector3d(0.01, -0.02, 0.8);
+  return truth;
+}
+
+// The depth image of `mesh` at pose T in front of a wall at 1.2 m.
+inline DepthImage DepthBeforeWall(const Mesh& mesh, const Eigen::Isometry3d& T, const Camera& camera) {
+  DepthImage depth(camera.width, camera.height, 0.f);
+  RenderDepth(mesh, T, camera, &depth);
+  for (float& z : depth.data)
+    if (z == 0) z = 1.2f;
+  return depth;
+}
+
+// The kernel parameters of `mesh` at pose T, scored against `depth` inside the 200×200 window
+// of every benchmark. They point into `mesh` and `depth`.
+inline ScoreKernelParams BenchParams(const Mesh& mesh, const Eigen::Isometry3d& T, const Camera& camera,
+                                     const DepthImage& depth, bool zbuffer) {
+  ScoreKernelParams k = MakeKernelParams(mesh, T, camera);
+  k.window = PixelRect{225, 124, 200, 200};
+  k.depth = depth.data.data();
+  k.depth_width = depth.width;
+  k.depth_height = depth.height;
+  k.zbuffer = zbuffer;
+  return k;
+}
+
 // The scene and the kernel parameters of each pose (seeded: the same poses every run).
 struct KernelSetup {
   Mesh mesh;
@@ -29,13 +59,8 @@ struct KernelSetup {
   std::vector<ScoreKernelParams> params;  // one per pose
 
   KernelSetup(int n, bool zbuffer, int poses = kPoses, bool spread = false) : mesh(MakeTorus(0.06, 0.025, n, n)) {
-    Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
-    truth.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
-    truth.translation() = Eigen::Vector3d(0.01, -0.02, 0.8);
-    depth = DepthImage(camera.width, camera.height, 0.f);
-    RenderDepth(mesh, truth, camera, &depth);
-    for (float& z : depth.data)
-      if (z == 0) z = 1.2f;  // the wall behind
+    const Eigen::Isometry3d truth = BenchTruthPose();
+    depth = DepthBeforeWall(mesh, truth, camera);
     Rng rng(17);
     for (int i = 0; i < poses; ++i) {
       Eigen::Isometry3d T = truth;
@@ -49,13 +74,7 @@ struct KernelSetup {
       } else {
         T.translation().z() += 0.003;
       }
-      ScoreKernelParams k = MakeKernelParams(mesh, T, camera);
-      k.window = PixelRect{225, 124, 200, 200};
-      k.depth = depth.data.data();
-      k.depth_width = depth.width;
-      k.depth_height = depth.height;
-      k.zbuffer = zbuffer;
-      params.push_back(k);
+      params.push_back(BenchParams(mesh, T, camera, depth, zbuffer));
     }
     // MakeKernelParams keeps pointers into `mesh`: the setup must not be copied or moved.
   }
