@@ -73,7 +73,6 @@ int main(int argc, char** argv) {
   app.add_option("--precull", precull, "back-face pre-cull from the face planes, as the filter runs it");
   CLI11_PARSE(app, argc, argv);
 
-  using namespace posefilter;
   if (!render::CpuTargetSupported(render::CpuTarget::kAvx512)) {
     std::fprintf(stderr, "posefilter_kernel_ab: needs a build and a CPU with AVX-512\n");
     return 2;
@@ -81,13 +80,12 @@ int main(int argc, char** argv) {
   const KernelSetup setup(n, zbuffer == "on", poses, set == "spread");
   const render::FacePlanes planes = render::BuildFacePlanes(setup.params[0]);
   const render::FacePlanes* pl = precull ? &planes : nullptr;
-  render::CpuWorkspace ws_a, ws_b;
   const CoreFn sides[2] = {render::cpu_detail::CoreAbA, render::cpu_detail::CoreAbB};
-  render::CpuWorkspace* wss[2] = {&ws_a, &ws_b};
+  render::CpuWorkspace ws[2];  // one per side
 
   for (int i = 0; i < poses; ++i) {
-    const ScoreKernelResult a = Score(sides[0], setup.params[i], &ws_a, pl);
-    const ScoreKernelResult b = Score(sides[1], setup.params[i], &ws_b, pl);
+    const ScoreKernelResult a = Score(sides[0], setup.params[i], &ws[0], pl);
+    const ScoreKernelResult b = Score(sides[1], setup.params[i], &ws[1], pl);
     if (!Same(a, b)) {
       std::fprintf(stderr,
                    "posefilter_kernel_ab: A and B differ on pose %d (n_raster %lld / %lld, inlier_sum %.17g / %.17g)\n",
@@ -104,7 +102,7 @@ int main(int argc, char** argv) {
       const int side = (r + pass) % 2;  // A first in even rounds, B first in odd ones
       const auto t0 = std::chrono::steady_clock::now();
       for (int q = 0; q < reps; ++q)
-        for (const ScoreKernelParams& k : setup.params) checksum += double(Score(sides[side], k, wss[side], pl).n_raster);
+        for (const ScoreKernelParams& k : setup.params) checksum += double(Score(sides[side], k, &ws[side], pl).n_raster);
       const std::chrono::duration<double, std::micro> dt = std::chrono::steady_clock::now() - t0;
       us[side].push_back(dt.count() / (double(reps) * poses));
     }
