@@ -70,12 +70,12 @@ struct Context {
   const Prior& prior;
   int cls;
   const FilterOptions& opt;
-  prior::VolumeCache volumes{};        // heuristic volume per cell (base frame), computed on demand
+  prior::VolumeCache volumes{};      // heuristic volume per cell (base frame), computed on demand
   // Window per cell, computed on demand by PrepareCell (from the serial steps only).
   mutable std::vector<PixelRect> windows{};
-  InlierParams inlier{};               // this iteration's inlier thresholds (annealed)
-  std::vector<float> normals{};        // scene normals, 3 per pixel, camera frame (0 = none)
-  std::vector<int> hypothesis{};       // niching: cells sharing one decoded box share an id
+  InlierParams inlier{};             // this iteration's inlier thresholds (annealed)
+  std::vector<float> normals{};      // scene normals, 3 per pixel, camera frame (0 = none)
+  std::vector<int> hypothesis{};     // niching: cells sharing one decoded box share an id
   int hypothesis_count = 0;
   render::ValidDepthSat valid_depth{};  // N_depth of any window in O(1) (summed-area table)
   std::array<Eigen::Vector3d, 8> bbox_corners{};  // the model's bounding box, object frame, m
