@@ -1,4 +1,5 @@
-// posefilter_kernel_ab — compares two builds of the cpu kernel (AVX-512 variant) in one process,
+// posefilter_kernel_ab — compares two builds of the cpu kernel (its AVX-512 variant, or the AVX2
+// one when configured with -DPOSEFILTER_KERNEL_AB_ISA=avx2) in one process,
 // alternating them in short rounds, so that a change of a few per cent shows on a machine whose
 // speed drifts by more than that between runs (the A/B of separate benchmark runs cannot).
 //
@@ -12,7 +13,8 @@
 // --reps times; printed: per-weighing µs of each side (median and minimum over rounds) and the
 // median with quartiles of the per-round ratio B/A. Before timing, every pose is scored by both
 // sides and the results must agree exactly (counts and the inlier and depth-difference sums);
-// otherwise the tool names the pose and exits 1. Exit 2: this CPU or build has no AVX-512.
+// otherwise the tool names the pose and exits 1. Exit 2: this CPU cannot run the sides' instruction
+// set.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -73,8 +75,15 @@ int main(int argc, char** argv) {
   app.add_option("--precull", precull, "back-face pre-cull from the face planes, as the filter runs it");
   CLI11_PARSE(app, argc, argv);
 
-  if (!render::CpuTargetSupported(render::CpuTarget::kAvx512)) {
-    std::fprintf(stderr, "posefilter_kernel_ab: needs a build and a CPU with AVX-512\n");
+#if POSEFILTER_AB_AVX512
+  const render::CpuTarget isa = render::CpuTarget::kAvx512;
+  const char* isa_name = "AVX-512";
+#else
+  const render::CpuTarget isa = render::CpuTarget::kAvx2;
+  const char* isa_name = "AVX2";
+#endif
+  if (!render::CpuTargetSupported(isa)) {
+    std::fprintf(stderr, "posefilter_kernel_ab: needs a build and a CPU with %s\n", isa_name);
     return 2;
   }
   const KernelSetup setup(n, zbuffer == "on", poses, set == "spread");
@@ -108,8 +117,8 @@ int main(int argc, char** argv) {
     }
     ratio.push_back(us[1].back() / us[0].back());
   }
-  std::printf("workload: torus %d faces, %d %s poses, z-buffer %s, pre-cull %s; %d rounds x %d reps (checksum %.0f)\n",
-              2 * n * n, poses, set.c_str(), zbuffer.c_str(), precull ? "on" : "off", rounds, reps, checksum);
+  std::printf("%s; workload: torus %d faces, %d %s poses, z-buffer %s, pre-cull %s; %d rounds x %d reps (checksum %.0f)\n",
+              isa_name, 2 * n * n, poses, set.c_str(), zbuffer.c_str(), precull ? "on" : "off", rounds, reps, checksum);
   for (int side = 0; side < 2; ++side)
     std::printf("%s: %.2f us/weighing (median), %.2f (min)\n", side ? "B" : "A", Quantile(us[side], 0.5),
                 *std::min_element(us[side].begin(), us[side].end()));

@@ -1,7 +1,8 @@
-// One side of posefilter_kernel_ab (kernel_ab.cc): the cpu kernel's AVX-512 variant compiled
-// into a namespace of its own, from the implementation file CMake names in POSEFILTER_AB_IMPL
-// (side A: POSEFILTER_KERNEL_AB_BASE, e.g. a copy of an older cpu_kernel_impl.inc; side B: the
-// tree's). Built with the flags of src/render/cpu_kernel_avx512.cc.
+// One side of posefilter_kernel_ab (kernel_ab.cc): the cpu kernel's AVX-512 or AVX2 variant
+// (POSEFILTER_KERNEL_AB_ISA) compiled into a namespace of its own, from the implementation file
+// CMake names in POSEFILTER_AB_IMPL (side A: POSEFILTER_KERNEL_AB_BASE, e.g. a copy of an older
+// cpu_kernel_impl.inc; side B: the tree's). Built with the flags of
+// src/render/cpu_kernel_avx512.cc or cpu_kernel_avx2.cc.
 #include <cstdint>
 
 #include "render/cpu_kernel.h"
@@ -22,6 +23,11 @@ std::int64_t POSEFILTER_AB_ENTRY(const ScoreKernelParams& k, const CoreScratch& 
 #define POSEFILTER_CPU_NS POSEFILTER_AB_NS
 #define POSEFILTER_CPU_ENTRY POSEFILTER_AB_ENTRY
 #define POSEFILTER_CPU_LANES 8
+#include POSEFILTER_AB_IMPL
+#elif defined(__AVX2__) && defined(__FMA__) && defined(__BMI2__) && defined(__POPCNT__)
+#define POSEFILTER_CPU_NS POSEFILTER_AB_NS
+#define POSEFILTER_CPU_ENTRY POSEFILTER_AB_ENTRY
+#define POSEFILTER_CPU_LANES 4
 #include POSEFILTER_AB_IMPL
 #else
 std::int64_t posefilter::render::cpu_detail::POSEFILTER_AB_ENTRY(const ScoreKernelParams&, const CoreScratch&,
