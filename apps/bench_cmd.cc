@@ -198,14 +198,17 @@ int RunBench(int argc, char** argv) {
     const Mesh& rendered = MeshAtLod(scene.target, lod, &lod_storage);
     const unsigned hw_threads = std::max(1u, std::thread::hardware_concurrency());
     const std::string load_average = LoadAverage().empty() ? "n/a" : LoadAverage();
+    // The variant the `cpu` engine runs here (cpu_isas lists portable, avx2, avx512 in order of
+    // speed, as render::BestCpuTarget picks): tables of different machines say which they measured.
+    const std::string cpu_isa = cpu_isas.empty() ? "none" : cpu_isas.back();
     std::printf("workload: %s, %zu faces (rendered: %zu%s), at %.2f m in a %dx%d scene (seed %llu); %d particles, "
                 "%d iterations x %d repeats, every pixel and particle in each; threads %d%s; z-buffer %s; "
-                "load average %s\n",
+                "cpu engine: %s; load average %s\n",
                 scene.target.name.c_str(), scene.target.faces.size(), rendered.faces.size(),
                 lod > 0 ? (" with --lod " + std::to_string(lod)).c_str() : "", scene.distance_m, scene.camera.width,
                 scene.camera.height, (unsigned long long)seed, particles, iterations, repeats, threads,
                 threads == 0 ? (" (all " + std::to_string(hw_threads) + " cores)").c_str() : "", zbuffer.c_str(),
-                load_average.c_str());
+                cpu_isa.c_str(), load_average.c_str());
     std::fflush(stdout);
 
     std::vector<EngineRun> runs(engines.size());
@@ -312,6 +315,7 @@ int RunBench(int argc, char** argv) {
             {"repeats", repeats},
             {"threads", threads},
             {"hardware_threads", hw_threads},
+            {"cpu_isa", cpu_isa},
             {"load_average", load_average},
             {"zbuffer", opt.zbuffer},
             {"seed", seed},

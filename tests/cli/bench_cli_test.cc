@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "posefilter/filter.h"
+#include "render/cpu_kernel.h"
 #include "test_util.h"
 
 namespace posefilter {
@@ -112,6 +113,10 @@ TEST(BenchCli, TinyRunWritesTableAndJson) {
   EXPECT_EQ(w.at("anneal_subsample"), 1);  // every pixel and every particle in every iteration
   EXPECT_EQ(w.at("fine_particle_fraction"), 1.0);
   EXPECT_EQ(w.at("target"), "torus");
+  // The instruction set `cpu` runs on this machine, in the JSON and on the workload line.
+  const std::string isa = render::CpuTargetName(render::BestCpuTarget());
+  EXPECT_EQ(w.at("cpu_isa"), isa);
+  EXPECT_NE(r.out.find("cpu engine: " + isa + ";"), std::string::npos) << r.out;
   EXPECT_EQ(w.at("mesh_faces"), 2048);  // the ~2000-triangle non-convex default
   EXPECT_EQ(w.at("rendered_faces"), 2048);
   EXPECT_EQ(w.at("image_width"), 640);
