@@ -49,6 +49,7 @@
 #include "posefilter/filter.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/synth.h"
+#include "render/cpu_kernel.h"
 
 namespace posefilter::cli {
 
@@ -198,9 +199,8 @@ int RunBench(int argc, char** argv) {
     const Mesh& rendered = MeshAtLod(scene.target, lod, &lod_storage);
     const unsigned hw_threads = std::max(1u, std::thread::hardware_concurrency());
     const std::string load_average = LoadAverage().empty() ? "n/a" : LoadAverage();
-    // The variant the `cpu` engine runs here (cpu_isas lists portable, avx2, avx512 in order of
-    // speed, as render::BestCpuTarget picks): tables of different machines say which they measured.
-    const std::string cpu_isa = cpu_isas.empty() ? "none" : cpu_isas.back();
+    // The variant the `cpu` engine runs here: tables of different machines say which they measured.
+    const std::string cpu_isa = render::CpuTargetName(render::BestCpuTarget());
     std::printf("workload: %s, %zu faces (rendered: %zu%s), at %.2f m in a %dx%d scene (seed %llu); %d particles, "
                 "%d iterations x %d repeats, every pixel and particle in each; threads %d%s; z-buffer %s; "
                 "cpu engine: %s; load average %s\n",

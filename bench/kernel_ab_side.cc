@@ -20,14 +20,14 @@ std::int64_t POSEFILTER_AB_ENTRY(const ScoreKernelParams& k, const CoreScratch& 
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // as in cpu_kernel_avx512.cc
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
-#define POSEFILTER_CPU_NS POSEFILTER_AB_NS
-#define POSEFILTER_CPU_ENTRY POSEFILTER_AB_ENTRY
 #define POSEFILTER_CPU_LANES 8
-#include POSEFILTER_AB_IMPL
 #elif defined(__AVX2__) && defined(__FMA__) && defined(__BMI2__) && defined(__POPCNT__)
+#define POSEFILTER_CPU_LANES 4
+#endif
+
+#if defined(POSEFILTER_CPU_LANES)
 #define POSEFILTER_CPU_NS POSEFILTER_AB_NS
 #define POSEFILTER_CPU_ENTRY POSEFILTER_AB_ENTRY
-#define POSEFILTER_CPU_LANES 4
 #include POSEFILTER_AB_IMPL
 #else
 std::int64_t posefilter::render::cpu_detail::POSEFILTER_AB_ENTRY(const ScoreKernelParams&, const CoreScratch&,
