@@ -16,6 +16,7 @@
 #include "filter/driver.h"
 #include "prior/volume_cache.h"
 #include "render/cpu_kernel.h"
+#include "render/scene_normals.h"
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
 #include "posefilter/hw_engine.h"
@@ -74,7 +75,9 @@ struct Context {
   // Window per cell, computed on demand by PrepareCell (from the serial steps only).
   mutable std::vector<PixelRect> windows{};
   InlierParams inlier{};             // this iteration's inlier thresholds (annealed)
-  std::vector<float> normals{};      // scene normals, 3 per pixel, camera frame (0 = none)
+  // Scene normals (camera frame, 3 per pixel), computed tile by tile where ICP weighings
+  // render (WeighAll prepares their windows).
+  mutable render::SceneNormalTiles normals{};
   std::vector<int> hypothesis{};     // niching: cells sharing one decoded box share an id
   int hypothesis_count = 0;
   render::ValidDepthSat valid_depth{};  // N_depth of any window in O(1) (summed-area table)
@@ -92,7 +95,7 @@ struct Context {
   int subsample = 1;
   SceneInput coarse_scene{};
   render::ValidDepthSat coarse_valid_depth{};
-  std::vector<float> coarse_normals{};
+  mutable render::SceneNormalTiles coarse_normals{};
   Mesh coarse_mesh{};  // FilterOptions::anneal_simplify's mesh; empty: the full mesh
   render::FacePlanes coarse_face_planes{};  // coarse_mesh's (cpu engine)
   bool coarse = false;
@@ -164,22 +167,32 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
 // Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory. With
 // `icp`, the kernel also sums the ICP normal equations (scene normals passed); the weight
 // does not depend on it.
+// Particle p's transform object → camera (FT without P).
+Eigen::Isometry3d CameraFromObject(const Context& ctx, const Particle& p) {
+  return ctx.scene.camera.base_to_camera * PoseToTransform(p.pose);
+}
+
+// The window a particle at T (object → camera) in `cell` is weighed in: ParticleWindow, on
+// the coarse level's pixel grid while that level is selected.
+PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) {
+  const PixelRect w = ParticleWindow(ctx, T, cell);
+  if (!ctx.coarse) return w;
+  // The coarse pixels i whose full-resolution pixel s·i lies in [u0, u1): ceil(u0 / s) ≤ i < ceil(u1 / s).
+  const int s = ctx.subsample;
+  auto up = [s](int a) { return (a + s - 1) / s; };  // a ≥ 0: windows lie inside the image
+  const int u0 = up(w.u0), u1 = up(w.u0 + w.width);
+  const int v0 = up(w.v0), v1 = up(w.v0 + w.height);
+  return PixelRect{u0, v0, u1 - u0, v1 - v0};
+}
+
 double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
-  const Camera& cam = ctx.scene.camera;
-  const Eigen::Isometry3d T = cam.base_to_camera * PoseToTransform(p.pose);  // FT without P
+  const Eigen::Isometry3d T = CameraFromObject(ctx, p);
   const bool coarse = ctx.coarse;
   const SceneInput& scene = coarse ? ctx.coarse_scene : ctx.scene;
   const Mesh& mesh = coarse && !ctx.coarse_mesh.faces.empty() ? ctx.coarse_mesh : ctx.mesh;
   ScoreKernelParams k = MakeKernelParams(mesh, T, scene.camera);
   k.near_m = float(ctx.opt.near_m);
-  k.window = ParticleWindow(ctx, T, p.cell);
-  if (coarse) {  // the coarse pixels i whose full-resolution pixel s·i lies in [u0, u1): ceil(u0 / s) ≤ i < ceil(u1 / s)
-    const int s = ctx.subsample;
-    auto up = [s](int a) { return (a + s - 1) / s; };  // a ≥ 0: windows lie inside the image
-    const int u0 = up(k.window.u0), u1 = up(k.window.u0 + k.window.width);
-    const int v0 = up(k.window.v0), v1 = up(k.window.v0 + k.window.height);
-    k.window = PixelRect{u0, v0, u1 - u0, v1 - v0};
-  }
+  k.window = WeighWindow(ctx, T, p.cell);
   k.depth = scene.depth.data.data();
   k.depth_width = scene.depth.width;
   k.depth_height = scene.depth.height;
@@ -209,6 +222,13 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats,
   const int threads = WorkerThreads(ctx.opt.threads);
   if (int(ctx.workspaces.size()) < threads) ctx.workspaces.resize(std::size_t(threads));
   for (const Particle& p : ps) PrepareCell(ctx, p.cell);  // the windows the workers read
+  if (icp) {  // the scene normals under the windows of the ICP weighings
+    std::vector<PixelRect> windows;
+    for (const Particle& p : ps)
+      if (!p.scored) windows.push_back(WeighWindow(ctx, CameraFromObject(ctx, p), p.cell));
+    const SceneInput& scene = ctx.coarse ? ctx.coarse_scene : ctx.scene;
+    (ctx.coarse ? ctx.coarse_normals : ctx.normals).Prepare(scene.depth, scene.camera, windows, ctx.opt.threads);
+  }
 #pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
   {
     render::CpuWorkspace& ws = ctx.workspaces[std::size_t(omp_get_thread_num())];  // this worker's own
@@ -360,7 +380,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
               .cls = cls,
               .opt = options,
               .inlier = options.inlier,
-              .normals = ComputeSceneNormals(scene.depth, scene.camera, options.threads)};
+              .normals = render::SceneNormalTiles(scene.depth.width, scene.depth.height)};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   // The cpu engine's pre-cull table of a mesh: of the same arrays every weighing's parameters point at.
@@ -381,7 +401,7 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
     ctx.coarse_scene = SubsampleScene(scene, ctx.subsample);
     const DepthImage& d = ctx.coarse_scene.depth;
     ctx.coarse_valid_depth = render::ValidDepthSat(d.data.data(), d.width, d.height);
-    ctx.coarse_normals = ComputeSceneNormals(d, ctx.coarse_scene.camera, options.threads);
+    ctx.coarse_normals = render::SceneNormalTiles(d.width, d.height);
     if (options.anneal_simplify) {
       const int budget = filter::CoarseMeshFaces(int(mesh.faces.size()), ctx.subsample);
       if (int(mesh.faces.size()) > budget) {
