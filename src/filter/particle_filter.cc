@@ -164,9 +164,6 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   return p;
 }
 
-// Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory. With
-// `icp`, the kernel also sums the ICP normal equations (scene normals passed); the weight
-// does not depend on it.
 // Particle p's transform object → camera (FT without P).
 Eigen::Isometry3d CameraFromObject(const Context& ctx, const Particle& p) {
   return ctx.scene.camera.base_to_camera * PoseToTransform(p.pose);
@@ -185,6 +182,9 @@ PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) 
   return PixelRect{u0, v0, u1 - u0, v1 - v0};
 }
 
+// Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory. With
+// `icp`, the kernel also sums the ICP normal equations (scene normals passed); the weight
+// does not depend on it.
 double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
   const Eigen::Isometry3d T = CameraFromObject(ctx, p);
   const bool coarse = ctx.coarse;
