@@ -164,6 +164,10 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   return p;
 }
 
+// The pixel level weighings use at the moment (Context::coarse): its scene and its normals.
+const SceneInput& LevelScene(const Context& ctx) { return ctx.coarse ? ctx.coarse_scene : ctx.scene; }
+render::SceneNormalTiles& LevelNormals(const Context& ctx) { return ctx.coarse ? ctx.coarse_normals : ctx.normals; }
+
 // Particle p's transform object → camera (FT without P).
 Eigen::Isometry3d CameraFromObject(const Context& ctx, const Particle& p) {
   return ctx.scene.camera.base_to_camera * PoseToTransform(p.pose);
@@ -188,7 +192,7 @@ PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) 
 double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
   const Eigen::Isometry3d T = CameraFromObject(ctx, p);
   const bool coarse = ctx.coarse;
-  const SceneInput& scene = coarse ? ctx.coarse_scene : ctx.scene;
+  const SceneInput& scene = LevelScene(ctx);
   const Mesh& mesh = coarse && !ctx.coarse_mesh.faces.empty() ? ctx.coarse_mesh : ctx.mesh;
   ScoreKernelParams k = MakeKernelParams(mesh, T, scene.camera);
   k.near_m = float(ctx.opt.near_m);
@@ -200,7 +204,7 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   k.zbuffer = ctx.opt.zbuffer;
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
-  k.scene_normals = icp ? (coarse ? ctx.coarse_normals.data() : ctx.normals.data()) : nullptr;
+  k.scene_normals = icp ? LevelNormals(ctx).data() : nullptr;
   const render::FacePlanes* planes = &mesh == &ctx.mesh ? &ctx.face_planes : &ctx.coarse_face_planes;
   *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
@@ -226,8 +230,8 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats,
     std::vector<PixelRect> windows;
     for (const Particle& p : ps)
       if (!p.scored) windows.push_back(WeighWindow(ctx, CameraFromObject(ctx, p), p.cell));
-    const SceneInput& scene = ctx.coarse ? ctx.coarse_scene : ctx.scene;
-    (ctx.coarse ? ctx.coarse_normals : ctx.normals).Prepare(scene.depth, scene.camera, windows, ctx.opt.threads);
+    const SceneInput& scene = LevelScene(ctx);
+    LevelNormals(ctx).Prepare(scene.depth, scene.camera, windows, ctx.opt.threads);
   }
 #pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
   {
@@ -599,7 +603,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   }
 
   res.pose_base = best.pose;
-  res.T_cam_obj = scene.camera.base_to_camera * PoseToTransform(best.pose);
+  res.T_cam_obj = CameraFromObject(ctx, best);
   res.weight = best.weight;
   res.cell = best.cell;
   return res;
