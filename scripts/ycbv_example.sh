@@ -16,7 +16,7 @@
 #   FRAMES      process only the first N frames (default: all)
 #   EXTRA_ARGS  extra `estimate` options, e.g. "--particles 128 --iterations 10" for a quick run
 # The YCB meshes have ~16k faces: with the default filter settings a frame of 3 objects takes a few
-# seconds on 2 cores (docs/PERFORMANCE.md, round 13).
+# seconds on 2 cores (docs/PERFORMANCE.md, "Results").
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"

@@ -90,9 +90,10 @@ ScoreKernelResult ScoreCpu(const ScoreKernelParams& k, CpuWorkspace* ws, const F
   return ScoreCpuWith(BestCpuTarget(), k, ws, planes);
 }
 
-// Proof in brief (docs/PERFORMANCE.md, "Round 11"). Let P_i = R·v_i + t be the exact camera-
-// frame corners (R, t the kernel's floats), N = (v1 − v0) × (v2 − v0) and s = N·(v0 − c) with
-// c = −R⁻¹·t. Then 2·Area of the exact projections is −fx·fy·det(R)·s/(z0·z1·z2) pixels², so
+// Proof in brief (docs/PERFORMANCE.md, "Why the counts are exact"). Let P_i = R·v_i + t be
+// the exact camera-frame corners (R, t the kernel's floats), N = (v1 − v0) × (v2 − v0) and
+// s = N·(v0 − c) with c = −R⁻¹·t. Then 2·Area of the exact projections is
+// −fx·fy·det(R)·s/(z0·z1·z2) pixels², so
 // s > 0 makes it negative with |2·Area| ≥ fx·fy·det(R)·s/z_max³. The kernel's corners differ
 // from the exact projections by at most ε per coordinate (float transform and projection,
 // snapping: ≤ 1/512 px), which moves 2·Area by at most 4ε·(W + H) + 8ε² (W, H: the exact

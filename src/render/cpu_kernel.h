@@ -120,11 +120,11 @@ ScoreKernelResult ScoreCpu(const ScoreKernelParams& params, CpuWorkspace* ws, co
 ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& params, CpuWorkspace* ws,
                                const FacePlanes* planes = nullptr);
 
-// The pre-cull's per-call constants (double arithmetic; docs/PERFORMANCE.md, "Round 11"):
-// the camera centre c in the object frame and the margin k1·len + k0 (metres³) beyond which
-// s = d − N·c proves a face culled after snapping. False when the pose or camera lies outside
-// the proof's assumptions (R not a rotation to 1 %, a vertex possibly at z ≤ 0, fx or fy ≤ 0,
-// anything not finite): the pre-cull is then not used.
+// The pre-cull's per-call constants (double arithmetic; proof in docs/PERFORMANCE.md, "Why the
+// counts are exact"): the camera centre c in the object frame and the margin k1·len + k0 (metres³)
+// beyond which s = d − N·c proves a face culled after snapping. False when the pose or camera lies
+// outside the proof's assumptions (R not a rotation to 1 %, a vertex possibly at z ≤ 0, fx or
+// fy ≤ 0, anything not finite): the pre-cull is then not used.
 bool PreCullConstants(const ScoreKernelParams& params, const FacePlanes& planes, float c[3], float* k1, float* k0);
 
 // Summed-area table of the valid-depth mask (depth > 0): the number of valid depth pixels in

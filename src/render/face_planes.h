@@ -8,8 +8,8 @@
 //   2·Area(projected, pixels²) = −fx·fy·det(R)·s / (z0·z1·z2),   s = N·v0 − N·c,
 // with c = −R⁻¹·t the camera centre in the object frame. The kernel skips a face only when s
 // exceeds a per-call margin that also covers the float transform, the projection and the
-// 1/256 px snapping (proof in docs/PERFORMANCE.md, "Round 11"), so every skipped face is one
-// the reference culls: results are unchanged, bit for bit.
+// 1/256 px snapping (proof in docs/PERFORMANCE.md, "Why the counts are exact"), so every
+// skipped face is one the reference culls: results are unchanged, bit for bit.
 //
 // Built once per mesh (the filter does it per estimate); the kernel checks that the table was
 // built from the mesh it is given (same arrays and counts). A table must be rebuilt when the
