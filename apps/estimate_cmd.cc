@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "filter_cli.h"
 #include "posefilter/error.h"
+#include "posefilter/mask_prior.h"
 #include "posefilter/overlay.h"
 #include "posefilter/prior.h"
 #include "posefilter/scene_io.h"
@@ -46,6 +47,7 @@ std::pair<std::string, std::string> SplitNamedPath(const std::string& arg) {
 int RunEstimate(int argc, char** argv) {
   CLI::App app{"Estimate 6-DoF object poses with the particle filter", "estimate"};
   std::string depth_path, camera_path, prior_arg = "none", classes_path, out_path, overlay_path, rgb_path;
+  std::string mask_path, mask_classes_path;
   std::vector<std::string> mesh_args;
   double depth_scale = 0, unit_scale = 1.0;
   bool quiet = false;
@@ -58,6 +60,12 @@ int RunEstimate(int argc, char** argv) {
   app.add_option("--prior", prior_arg,
                  "stage-1 prior: detections JSON (*.json), raw pyramid file (15x20+30x40+60x80 cells x (classes+5) float32), or 'none'")
       ->capture_default_str();
+  app.add_option("--mask", mask_path,
+                 "instance or label PNG (8/16-bit ids, 0 = background) of a segmentation front end: one estimate per "
+                 "instance whose class has a --mesh, scored against its mask (instead of --prior)");
+  app.add_option("--mask-classes", mask_classes_path,
+                 "class map of --mask: JSON {\"id\": \"class\"} or [class, ...] (ids from 1; default: YCB-Video's "
+                 "label.png ids, 1..21 in the order of the 21 classes)");
   app.add_option("--classes", classes_path, "class list (one per line) of a raw pyramid prior (default: the 21 YCB-Video classes)");
   app.add_option("--out", out_path, "write the results JSON here");
   app.add_option("--overlay", overlay_path, "write an overlay PNG of the estimated poses here");
@@ -83,8 +91,37 @@ int RunEstimate(int argc, char** argv) {
 
     // The prior and its class list.
     const int W = scene.camera.width, H = scene.camera.height;
+    if (!mask_path.empty() && prior_arg != "none")
+      throw Error("--mask and --prior: give one stage-1 prior (a mask's box is its detection)");
+    if (mask_path.empty() && !mask_classes_path.empty()) throw Error("--mask-classes needs --mask");
+    // With a mask: one job per instance of a class with a mesh, each with its own prior.
+    struct Job {
+      const Mesh* mesh;
+      std::vector<std::uint8_t> mask;
+      Prior prior;
+    };
+    std::vector<Job> jobs;
     Prior prior;
-    if (prior_arg == "none") {
+    if (!mask_path.empty()) {
+      const LabelImage labels = LoadLabelPng(mask_path);
+      if (labels.width != W || labels.height != H)
+        throw Error(mask_path + ": mask image is " + std::to_string(labels.width) + "x" + std::to_string(labels.height) +
+                    " but the camera is " + std::to_string(W) + "x" + std::to_string(H));
+      const auto classes_of = mask_classes_path.empty() ? YcbVideoMaskClasses() : ReadMaskClasses(mask_classes_path);
+      const std::vector<InstanceMask> instances = MasksFromLabels(labels, classes_of, mask_path);
+      std::vector<std::string> classes;
+      for (const auto& m : meshes) classes.push_back(m.name);
+      const PyramidLayout layout = PyramidLayout::Thesis(W, H, int(classes.size()));
+      for (const Mesh& mesh : meshes) {
+        bool any = false;
+        for (const InstanceMask& m : instances) {
+          if (m.cls != mesh.name) continue;
+          jobs.push_back({&mesh, m.pixels, PriorFromDetections({MaskDetection(m)}, layout, classes)});
+          any = true;
+        }
+        if (!any) throw Error(mask_path + ": no instance of '" + mesh.name + "' (a --mesh class) in the mask");
+      }
+    } else if (prior_arg == "none") {
       std::vector<std::string> classes;
       for (const auto& m : meshes) classes.push_back(m.name);
       prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
@@ -107,11 +144,17 @@ int RunEstimate(int argc, char** argv) {
     std::vector<ObjectResult> results;
     std::printf("%-20s %9s %9s %9s %8s %8s %8s %7s %5s %8s\n", "object", "x[m]", "y[m]", "z[m]", "roll", "pitch",
                 "yaw", "weight", "iter", "time[ms]");
-    for (const Mesh& mesh : meshes) {
-      const int cls = prior.ClassIndex(mesh.name);
+    if (jobs.empty())
+      for (const Mesh& mesh : meshes) jobs.push_back({&mesh, {}, prior});
+    std::vector<const Mesh*> job_meshes;
+    for (Job& job : jobs) {
+      const Mesh& mesh = *job.mesh;
+      job_meshes.push_back(&mesh);
+      const int cls = job.prior.ClassIndex(mesh.name);
       if (cls < 0) throw Error("object '" + mesh.name + "' is not a class of the prior (see --classes)");
-      if (!(prior.ClassMass(cls) > 0)) throw Error("the prior holds no probability for '" + mesh.name + "'");
-      const EstimateResult r = EstimatePose(scene, mesh, prior, cls, opt, StderrProgress(mesh.name, opt.max_iterations * opt.restarts, quiet));
+      if (!(job.prior.ClassMass(cls) > 0)) throw Error("the prior holds no probability for '" + mesh.name + "'");
+      scene.mask = std::move(job.mask);
+      const EstimateResult r = EstimatePose(scene, mesh, job.prior, cls, opt, StderrProgress(mesh.name, opt.max_iterations * opt.restarts, quiet));
       if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
       ObjectResult o;
       o.obj = mesh.name;
@@ -130,7 +173,7 @@ int RunEstimate(int argc, char** argv) {
       RgbImage img = rgb_path.empty() ? ShadeDepth(scene.depth) : LoadRgbPng(rgb_path);
       if (img.width != W || img.height != H) throw Error(rgb_path + ": RGB image size differs from the camera's");
       for (std::size_t i = 0; i < results.size(); ++i)
-        DrawPoseOverlay(&img, meshes[i], results[i].T_cam_obj, scene.camera, {40, 220, 60});
+        DrawPoseOverlay(&img, *job_meshes[i], results[i].T_cam_obj, scene.camera, {40, 220, 60});
       SaveRgbPng(img, overlay_path);
     }
   });

@@ -89,6 +89,8 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("inlier threshold"), o->inlier.thr1_m, "soft inlier: chi = 1 up to this, 0 from twice it (m)");
   app.add_flag("--hard-inlier", o->inlier.hard, "hard inlier (chi = 1 iff d <= 5 mm) instead of the soft ramp");
   app.add_flag("!--no-zbuffer", o->zbuffer, "thesis mode: back-face culling only, no z-buffer");
+  app.add_flag("!--no-support-plane", o->support_plane,
+               "score against every pixel, the table's too (default: the dominant plane's pixels are left out)");
   app.add_flag("!--no-occlusion-aware", o->occlusion_aware,
                "count occluded rendered pixels in N_raster, as the thesis does");
   add(OptionOf("max_window_px"), o->max_window_px, "maximum window side (pixels)");

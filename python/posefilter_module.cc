@@ -308,6 +308,7 @@ const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
       Field("anneal_subsample", &O::anneal_subsample),
       Field("anneal_simplify", &O::anneal_simplify),
       Field("zbuffer", &O::zbuffer),
+      Field("support_plane", &O::support_plane),
       Field("occlusion_aware", &O::occlusion_aware),
       Field("max_window_px", &O::max_window_px),
       Field("min_window_diameters", &O::min_window_diameters),

@@ -36,6 +36,14 @@ struct RgbImage {
   std::uint8_t* px(int u, int v) { return &data[(size_t(v) * width + u) * 3]; }
 };
 
+// A label or instance-id image (segmentation masks): one unsigned id per pixel, row-major,
+// 0 = background.
+struct LabelImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint16_t> ids;  // width × height
+};
+
 // Reads a 16-bit (or 8-bit) single-channel PNG; metres = value × depth_scale.
 // Throws Error naming the file if missing, not a PNG, corrupt, not single-channel, or if
 // depth_scale is not finite and positive.
@@ -45,6 +53,12 @@ void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth
 // Reads an 8-bit RGB/RGBA/gray PNG as RGB. Throws Error naming the file on failure.
 RgbImage LoadRgbPng(const std::string& path);
 void SaveRgbPng(const RgbImage& image, const std::string& path);
+// Reads an 8- or 16-bit single-channel PNG of ids (e.g. YCB-Video's label.png). Throws Error
+// naming the file if missing, not a PNG, corrupt or not single-channel.
+LabelImage LoadLabelPng(const std::string& path);
+// Writes a 16-bit single-channel PNG. Throws Error naming the file on I/O failure or a size
+// that does not match the ids.
+void SaveLabelPng(const LabelImage& labels, const std::string& path);
 // Writes `pixels` (row-major, width×height bytes) as an 8-bit single-channel PNG, e.g. a label
 // image. Throws Error naming the file if the size does not match or the file cannot be written.
 void SaveGray8Png(const std::vector<std::uint8_t>& pixels, int width, int height, const std::string& path);

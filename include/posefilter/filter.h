@@ -84,6 +84,12 @@ struct FilterOptions {
   // pixels. false = the (LOD) mesh itself on the coarse grid too.
   bool anneal_simplify = true;
   bool zbuffer = true;               // exact z-buffer (false: the thesis's culling-only mode)
+  // Support plane (ours): the pixels of the scene's dominant plane (the table; FindSupportPlane,
+  // posefilter/support_plane.h) are taken out of the scored depth: never an inlier, never an
+  // occluder, not in N_depth, no particle starts there. A thin or flat object's pose laid into
+  // the table, or sunk below it, then explains nothing. false = score against every pixel
+  // (the thesis).
+  bool support_plane = true;
   // Occlusion-aware precision: rendered pixels hidden behind nearer scene depth (beyond the
   // inlier ramp) are left out of N_raster, so a partly occluded object is not penalised for
   // what it cannot show. false = the thesis's N_raster (every rendered pixel).
@@ -195,14 +201,21 @@ struct EstimateResult {
 // Called after each iteration with (iteration index from 0, best weight so far).
 using ProgressFn = std::function<void(int, double)>;
 
-// The scene a filter runs on: depth (camera z, metres, 0 = missing) and the camera.
+// The scene a filter runs on: depth (camera z, metres, 0 = missing) and the camera, and
+// optionally the instance mask of the object looked for.
 struct SceneInput {
   DepthImage depth;
   Camera camera;
+  // Empty, or width × height bytes (row-major): non-zero where a segmentation front end
+  // (Mask R-CNN, SAM, a label image) sees the object. With a mask, only mask pixels can be
+  // inliers and count in N_depth, and particles start from the mask's depth; pixels outside
+  // it never count against a pose that something else hides (docs/ALGORITHM.md, "Mask priors").
+  std::vector<std::uint8_t> mask = {};
 };
 
 // Checks that depth and camera agree in size, the depth holds at least one valid pixel and
-// no NaN/inf/negative value; throws Error naming `what` otherwise.
+// no NaN/inf/negative value, and a mask (if any) has the image's size and at least one
+// pixel; throws Error naming `what` otherwise.
 void ValidateScene(const SceneInput& scene, const std::string& what);
 
 // The scene on a coarser pixel grid (FilterOptions::anneal_subsample): pixel (i, j) of the

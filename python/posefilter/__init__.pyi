@@ -212,7 +212,7 @@ class Estimator:
                  delta: float = ..., edge_band_m: float = ..., inlier_thr1_m: float = ..., inlier_hard: bool = ...,
                  inlier_hard_thr_m: float = ..., anneal_start_m: float = ..., anneal_fraction: float = ...,
                  anneal_subsample: int = ..., anneal_simplify: bool = ...,
-                 zbuffer: bool = ..., occlusion_aware: bool = ..., max_window_px: int = ...,
+                 zbuffer: bool = ..., support_plane: bool = ..., occlusion_aware: bool = ..., max_window_px: int = ...,
                  min_window_diameters: float = ..., grow_window: bool = ..., near_m: float = ..., lod_max_faces: int = ...,
                  init_oversample: int = ..., fine_particle_fraction: float = ..., num_elite: int = ..., resample_pool: float = ..., region_cap: float = ...,
                  rotation_cap: float = ..., tracker_bins: int = ..., sigma_t0_m: float = ..., sigma_r0_rad: float = ...,

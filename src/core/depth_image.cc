@@ -253,6 +253,70 @@ size_t DepthImage::CountValid() const {
   return static_cast<size_t>(std::count_if(data.begin(), data.end(), [](float d) { return d > 0.f; }));
 }
 
+namespace {
+
+// The samples of a single-channel 8- or 16-bit PNG (depth or label image), row-major;
+// `what` names the kind of image in errors.
+std::vector<std::uint16_t> ReadGrayPng(const std::string& path, const char* what, int* width, int* height) {
+  PngReader reader;
+  // Peek at the header first to reject colour images with a clear message before decoding.
+  if (!PngReadHeader(&reader.s, path.c_str(), ReadMode::kRaw)) {
+    throw Error(path + ": cannot read " + what + " PNG: " + reader.s.msg.text);
+  }
+  const PngReadState& h = reader.s;
+  if (h.color_type != PNG_COLOR_TYPE_GRAY) {
+    const char* kind = h.color_type == PNG_COLOR_TYPE_RGB          ? "RGB"
+                       : h.color_type == PNG_COLOR_TYPE_RGB_ALPHA  ? "RGBA"
+                       : h.color_type == PNG_COLOR_TYPE_PALETTE    ? "palette"
+                       : h.color_type == PNG_COLOR_TYPE_GRAY_ALPHA ? "gray+alpha"
+                                                                   : "unknown";
+    throw Error(path + ": " + what + " PNG must be single-channel gray, but it is " + kind);
+  }
+  if (h.bit_depth != 8 && h.bit_depth != 16) {
+    throw Error(path + ": " + what + " PNG must be 8- or 16-bit, but it is " + std::to_string(h.bit_depth) + "-bit");
+  }
+  if (h.width > static_cast<png_uint_32>(std::numeric_limits<int>::max()) ||
+      h.height > static_cast<png_uint_32>(std::numeric_limits<int>::max())) {
+    throw Error(path + ": " + what + " PNG is too large");
+  }
+  const int w = static_cast<int>(h.width), hh = static_cast<int>(h.height);
+  const int bytes_per_px = h.bit_depth / 8;
+  const size_t rowbytes = h.rowbytes;
+  if (static_cast<unsigned long long>(rowbytes) * h.height > (1ull << 32)) {
+    throw Error(path + ": " + what + " PNG is too large");
+  }
+  if (rowbytes != size_t(w) * bytes_per_px) throw Error(path + ": unexpected " + what + " PNG row size");
+  std::vector<std::uint8_t> pixels(rowbytes * hh);
+  std::vector<png_bytep> rows = RowPointers(pixels, size_t(hh), rowbytes);
+  if (!PngReadRows(&reader.s, rows.data())) {
+    throw Error(path + ": corrupt or truncated " + what + " PNG: " + reader.s.msg.text);
+  }
+  const size_t n = size_t(w) * hh;
+  std::vector<std::uint16_t> out(n);
+  if (bytes_per_px == 2) {
+    // 16-bit PNG samples are big-endian in the file (libpng hands them over unswapped).
+    for (size_t i = 0; i < n; ++i) out[i] = std::uint16_t((unsigned(pixels[2 * i]) << 8) | pixels[2 * i + 1]);
+  } else {
+    for (size_t i = 0; i < n; ++i) out[i] = pixels[i];
+  }
+  *width = w;
+  *height = hh;
+  return out;
+}
+
+// Writes 16-bit samples (row-major, w × h) as a single-channel 16-bit PNG.
+void WriteGray16Png(const std::vector<std::uint16_t>& samples, int w, int h, const std::string& path, const char* what) {
+  CheckWritableSize(path, what, w, h, samples.size(), 1, "values");
+  std::vector<std::uint8_t> pixels(2 * samples.size());
+  for (size_t i = 0; i < samples.size(); ++i) {
+    pixels[2 * i] = static_cast<std::uint8_t>(samples[i] >> 8);  // big-endian sample
+    pixels[2 * i + 1] = static_cast<std::uint8_t>(samples[i] & 0xffu);
+  }
+  WritePng(path, what, w, h, 16, PNG_COLOR_TYPE_GRAY, pixels, size_t(w) * 2);
+}
+
+}  // namespace
+
 DepthImage LoadDepthPng(const std::string& path, double depth_scale) {
   if (!std::isfinite(depth_scale) || depth_scale <= 0) {
     throw Error(path + ": depth_scale must be finite and > 0 (got " + std::to_string(depth_scale) +
@@ -262,52 +326,21 @@ DepthImage LoadDepthPng(const std::string& path, double depth_scale) {
     throw Error(path + ": depth_scale " + std::to_string(depth_scale) +
                 " overflows float depths");
   }
-  PngReader reader;
-  // Peek at the header first to reject colour images with a clear message before decoding.
-  if (!PngReadHeader(&reader.s, path.c_str(), ReadMode::kRaw)) {
-    throw Error(path + ": cannot read depth PNG: " + reader.s.msg.text);
-  }
-  const PngReadState& h = reader.s;
-  if (h.color_type != PNG_COLOR_TYPE_GRAY) {
-    const char* kind = h.color_type == PNG_COLOR_TYPE_RGB          ? "RGB"
-                       : h.color_type == PNG_COLOR_TYPE_RGB_ALPHA  ? "RGBA"
-                       : h.color_type == PNG_COLOR_TYPE_PALETTE    ? "palette"
-                       : h.color_type == PNG_COLOR_TYPE_GRAY_ALPHA ? "gray+alpha"
-                                                                   : "unknown";
-    throw Error(path + ": depth PNG must be single-channel gray, but it is " + kind);
-  }
-  if (h.bit_depth != 8 && h.bit_depth != 16) {
-    throw Error(path + ": depth PNG must be 8- or 16-bit, but it is " +
-                std::to_string(h.bit_depth) + "-bit");
-  }
-  if (h.width > static_cast<png_uint_32>(std::numeric_limits<int>::max()) ||
-      h.height > static_cast<png_uint_32>(std::numeric_limits<int>::max())) {
-    throw Error(path + ": depth PNG is too large");
-  }
-  const int w = static_cast<int>(h.width), hh = static_cast<int>(h.height);
-  const int bytes_per_px = h.bit_depth / 8;
-  const size_t rowbytes = h.rowbytes;
-  if (static_cast<unsigned long long>(rowbytes) * h.height > (1ull << 32)) {
-    throw Error(path + ": depth PNG is too large");
-  }
-  if (rowbytes != size_t(w) * bytes_per_px) throw Error(path + ": unexpected depth PNG row size");
-  std::vector<std::uint8_t> pixels(rowbytes * hh);
-  std::vector<png_bytep> rows = RowPointers(pixels, size_t(hh), rowbytes);
-  if (!PngReadRows(&reader.s, rows.data())) {
-    throw Error(path + ": corrupt or truncated depth PNG: " + reader.s.msg.text);
-  }
-  DepthImage depth(w, hh);
-  const size_t n = size_t(w) * hh;
-  if (bytes_per_px == 2) {
-    for (size_t i = 0; i < n; ++i) {
-      // 16-bit PNG samples are big-endian in the file (libpng hands them over unswapped).
-      const unsigned v = (unsigned(pixels[2 * i]) << 8) | pixels[2 * i + 1];
-      depth.data[i] = static_cast<float>(v * depth_scale);
-    }
-  } else {
-    for (size_t i = 0; i < n; ++i) depth.data[i] = static_cast<float>(pixels[i] * depth_scale);
-  }
+  int w = 0, h = 0;
+  const std::vector<std::uint16_t> samples = ReadGrayPng(path, "depth", &w, &h);
+  DepthImage depth(w, h);
+  for (size_t i = 0; i < samples.size(); ++i) depth.data[i] = static_cast<float>(samples[i] * depth_scale);
   return depth;
+}
+
+LabelImage LoadLabelPng(const std::string& path) {
+  LabelImage labels;
+  labels.ids = ReadGrayPng(path, "label", &labels.width, &labels.height);
+  return labels;
+}
+
+void SaveLabelPng(const LabelImage& labels, const std::string& path) {
+  WriteGray16Png(labels.ids, labels.width, labels.height, path, "label");
 }
 
 void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth_scale) {
@@ -315,9 +348,8 @@ void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth
     throw Error(path + ": depth_scale must be finite and > 0 (got " + std::to_string(depth_scale) +
                 ")");
   }
-  CheckWritableSize(path, "depth", depth.width, depth.height, depth.data.size(), 1, "values");
   const size_t n = depth.data.size();
-  std::vector<std::uint8_t> pixels(2 * n);
+  std::vector<std::uint16_t> samples(n);
   for (size_t i = 0; i < n; ++i) {
     const double d = depth.data[i];
     unsigned v = 0;  // missing (0, negative, NaN or inf) → 0
@@ -325,11 +357,9 @@ void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth
       const double q = std::round(d / depth_scale);
       v = q >= 65535.0 ? 65535u : static_cast<unsigned>(q);
     }
-    pixels[2 * i] = static_cast<std::uint8_t>(v >> 8);  // big-endian sample
-    pixels[2 * i + 1] = static_cast<std::uint8_t>(v & 0xffu);
+    samples[i] = static_cast<std::uint16_t>(v);
   }
-  WritePng(path, "depth", depth.width, depth.height, 16, PNG_COLOR_TYPE_GRAY, pixels,
-           size_t(depth.width) * 2);
+  WriteGray16Png(samples, depth.width, depth.height, path, "depth");
 }
 
 RgbImage LoadRgbPng(const std::string& path) {

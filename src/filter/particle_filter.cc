@@ -13,6 +13,7 @@
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
 #include "filter/online_sorter.h"
+#include "filter/scene_prep.h"
 #include "filter/driver.h"
 #include "prior/volume_cache.h"
 #include "render/cpu_kernel.h"
@@ -342,6 +343,15 @@ void ValidateScene(const SceneInput& scene, const std::string& what) {
     valid += z > 0;
   }
   if (valid == 0) throw Error(what + ": depth image has no valid pixel (all zero)");
+  if (!scene.mask.empty()) {
+    if (scene.mask.size() != d.data.size()) {
+      std::ostringstream os;
+      os << what << ": the mask holds " << scene.mask.size() << " pixels but the image " << d.data.size();
+      throw Error(os.str());
+    }
+    if (std::none_of(scene.mask.begin(), scene.mask.end(), [](std::uint8_t m) { return m != 0; }))
+      throw Error(what + ": the mask is empty (no pixel of the object)");
+  }
 }
 
 SceneInput SubsampleScene(const SceneInput& scene, int factor) {
@@ -368,12 +378,14 @@ namespace {
 // Checks the inputs and precomputes volumes, windows and N_depth for every cell.
 // `runs`: the context will run the filter (EstimatePose), so it also gets the coarse level
 // of the annealing iterations; weighing given poses and the polish need only every pixel.
-Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+// `prep` (PrepareScene's, already validated) must outlive the context: the context scores
+// against prep.scoring and reads volumes and N_depth from prep.support.
+Context BuildContext(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                      const FilterOptions& options, bool runs) {
   std::string why;
   if (!options.IsValid(&why)) throw Error("invalid filter option: " + why);
   if (!mesh.IsValid(&why)) throw Error("mesh '" + mesh.name + "': " + why);
-  ValidateScene(scene, "scene");
+  const SceneInput& scene = prep.scoring;
   if (cls < 0 || cls >= int(prior.classes.size())) throw Error("class index out of range for the prior");
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
@@ -397,13 +409,13 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
   ctx.diameter = diameter;
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
-  ctx.volumes = prior::VolumeCache(scene.depth, scene.camera, prior.boxes, hopt, options.threads);
+  ctx.volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
-  ctx.valid_depth = render::ValidDepthSat(scene.depth.data.data(), scene.depth.width, scene.depth.height);
+  ctx.valid_depth = render::ValidDepthSat(prep.support.data.data(), prep.support.width, prep.support.height);
   if (runs && options.anneal_subsample > 1 && filter::AnnealIterations(options) > 0) {
     ctx.subsample = options.anneal_subsample;
     ctx.coarse_scene = SubsampleScene(scene, ctx.subsample);
-    const DepthImage& d = ctx.coarse_scene.depth;
+    const DepthImage d = SubsampleScene(SceneInput{prep.support, scene.camera}, ctx.subsample).depth;
     ctx.coarse_valid_depth = render::ValidDepthSat(d.data.data(), d.width, d.height);
     ctx.coarse_normals = render::SceneNormalTiles(d.width, d.height);
     if (options.anneal_simplify) {
@@ -441,7 +453,8 @@ Context BuildContext(const SceneInput& scene, const Mesh& mesh, const Prior& pri
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
   Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
-  const Context ctx = BuildContext(scene, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options, false);
+  const filter::PreparedScene prep = filter::PrepareScene(scene, options);
+  const Context ctx = BuildContext(prep, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options, false);
   std::vector<Particle> ps(hypotheses.size());
   for (std::size_t i = 0; i < hypotheses.size(); ++i) {
     if (hypotheses[i].second < 0 || hypotheses[i].second >= prior.layout.CellCount())
@@ -819,7 +832,8 @@ PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior&
   FilterOptions o = options;
   o.engine = "cpu";  // the host's float weighing
   Mesh lod;
-  Context ctx = BuildContext(scene, MeshAtLod(mesh, o.lod_max_faces, &lod), prior, cls, o, false);
+  const PreparedScene prep = PrepareScene(scene, o);
+  Context ctx = BuildContext(prep, MeshAtLod(mesh, o.lod_max_faces, &lod), prior, cls, o, false);
   std::vector<Particle> ps(seeds.size());
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     if (seeds[i].cell < 0 || seeds[i].cell >= prior.layout.CellCount()) throw Error("polish: seed cell index out of range");
@@ -838,7 +852,8 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   if (options.engine == "hw") return EstimatePoseHw(scene, mesh, prior, cls, options, progress);  // src/hw/engine.cc
   const auto t_start = Clock::now();
   Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
-  Context ctx = BuildContext(scene, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options, true);
+  const filter::PreparedScene prep = filter::PrepareScene(scene, options);
+  Context ctx = BuildContext(prep, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options, true);
   // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
   std::vector<double> cell_mass(prior.layout.CellCount(), 0.0);
   for (int c = 0; c < prior.layout.CellCount(); ++c)

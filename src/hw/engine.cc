@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "filter/driver.h"
+#include "filter/scene_prep.h"
 #include "hw/cycle_model.h"
 #include "hw/postprocess.h"
 #include "hw/top.h"
@@ -137,8 +138,10 @@ struct IterationProfile {
 
 class HwRunner {
  public:
-  HwRunner(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& opt)
-      : scene_(scene), prior_(prior), cls_(cls), opt_(opt), mem_(new HwMemories) {
+  // `prep`: filter::PrepareScene's (validated): the depth memory holds prep.scoring, the
+  // heuristic volumes come from prep.support. It must outlive the runner.
+  HwRunner(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& opt)
+      : scene_(prep.scoring), support_(prep.support), prior_(prior), cls_(cls), opt_(opt), mem_(new HwMemories) {
     Load(mesh);
   }
 
@@ -246,7 +249,6 @@ class HwRunner {
       throw Error("hw engine: max_window_px " + std::to_string(o.max_window_px) + " exceeds the hardware's 200");
     if (o.near_m < 1.0 / 64) throw Error("hw engine: near_m must be >= 1/64 m (1/W format)");
     if (!mesh_in.IsValid(&why)) throw Error("mesh '" + mesh_in.name + "': " + why);
-    ValidateScene(scene_, "scene");
     const Camera& cam = scene_.camera;
     if (cam.width > kImageWidth || cam.height > kImageHeight)
       throw Error("hw engine: image " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
@@ -325,7 +327,7 @@ class HwRunner {
     const double diameter = mesh_in.Diameter();
     HeuristicOptions hopt = o.heuristics;
     if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
-    const std::vector<Volume> volumes = ComputeHeuristics(scene_.depth, cam, prior_.boxes, hopt, o.threads);
+    const std::vector<Volume> volumes = ComputeHeuristics(support_, cam, prior_.boxes, hopt, o.threads);
     double max_p = 0;
     std::map<std::array<long, 4>, int> ids;
     for (int c = 0; c < kNumCells; ++c) {
@@ -416,6 +418,7 @@ class HwRunner {
   }
 
   const SceneInput& scene_;
+  const DepthImage& support_;
   const Prior& prior_;
   int cls_;
   FilterOptions opt_;
@@ -431,7 +434,8 @@ class HwRunner {
 EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                               const FilterOptions& options, const ProgressFn& progress) {
   const auto t_start = Clock::now();
-  HwRunner runner(scene, mesh, prior, cls, options);
+  const filter::PreparedScene prep = filter::PrepareScene(scene, options);
+  HwRunner runner(prep, mesh, prior, cls, options);
   std::vector<filter::PolishSeed> seeds;  // each run's best particle
   EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
     EstimateResult r = runner.Run(rng, run_progress, nullptr, nullptr, nullptr);
@@ -500,7 +504,8 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
   if (!popt.IsValid(&why)) throw Error("hw-report: invalid profile option: " + why);
   FilterOptions opt = options;
   opt.restarts = 1;
-  HwRunner runner(scene, mesh, prior, cls, opt);
+  const filter::PreparedScene prep = filter::PrepareScene(scene, opt);
+  HwRunner runner(prep, mesh, prior, cls, opt);
   HwMemories& m = runner.mem();
   const int N = opt.num_particles;
   HwProfile prof;

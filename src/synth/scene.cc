@@ -36,6 +36,7 @@
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
 #include "posefilter/synth.h"
+#include "synth/synth_util.h"
 
 namespace posefilter {
 namespace {
@@ -52,22 +53,6 @@ constexpr int kMinTargetPixels = 20;
 
 // ---------------------------------------------------------------------------------------------
 // Geometry helpers.
-
-// Uniformly distributed rotation: a normalised 4-D Gaussian is a uniform unit quaternion.
-Eigen::Matrix3d RandomRotation(Rng& rng) {
-  Eigen::Quaterniond q;
-  double n = 0;
-  do {
-    // One draw per statement: C++ leaves the order of a call's argument evaluations open (GCC
-    // draws the last argument first, Clang the first), so the scene would depend on the
-    // compiler. The order is the one every scene so far was made with (z first).
-    const double z = rng.Normal(), y = rng.Normal(), x = rng.Normal(), w = rng.Normal();
-    q = Eigen::Quaterniond(w, x, y, z);
-    n = q.norm();
-  } while (n < 1e-9);
-  q.coeffs() /= n;
-  return q.toRotationMatrix();
-}
 
 Eigen::Vector3d BoxCentre(const Mesh& m) { return (0.5f * (m.Min() + m.Max())).cast<double>(); }
 
@@ -127,30 +112,9 @@ Eigen::Isometry3d StandOnTable(const Mesh& m, const Table& t, double yaw, const 
 // The table as a grid of 10 cm quads around `centre` (faces towards the camera); quads with a
 // vertex closer than 0.1 m to the camera plane are left out (the renderer skips them anyway).
 Mesh MakeTableMesh(const Table& t, const Eigen::Vector3d& centre) {
-  Mesh m;
+  Mesh m = synth::PlaneGridMesh(centre, t.ex, t.ey, -1.5, 1.5, -1.5, 2.0, 0.1, Eigen::Isometry3d::Identity(), 0.1);
   m.name = "table";
-  constexpr double kStep = 0.1, kA0 = -1.5, kA1 = 1.5, kB0 = -1.5, kB1 = 2.0;
-  const int na = int(std::lround((kA1 - kA0) / kStep)), nb = int(std::lround((kB1 - kB0) / kStep));
-  for (int j = 0; j <= nb; ++j)
-    for (int i = 0; i <= na; ++i) {
-      const Eigen::Vector3d p = centre + t.ex * (kA0 + i * kStep) + t.ey * (kB0 + j * kStep);
-      m.vertices.push_back(p.cast<float>());
-    }
-  auto idx = [&](int i, int j) { return std::uint32_t(j * (na + 1) + i); };
-  for (int j = 0; j < nb; ++j)
-    for (int i = 0; i < na; ++i) {
-      const std::uint32_t a = idx(i, j), b = idx(i + 1, j), c = idx(i + 1, j + 1), d = idx(i, j + 1);
-      bool near = false;
-      for (auto q : {a, b, c, d}) near = near || m.vertices[q].z() < 0.1f;
-      if (near) continue;
-      m.faces.push_back({a, b, c});  // ex × ey = u: counter-clockwise seen from above
-      m.faces.push_back({a, c, d});
-    }
   return m;
-}
-
-std::size_t CountLabel(const std::vector<int>& labels, int label) {
-  return std::size_t(std::count(labels.begin(), labels.end(), label));
 }
 
 // Pixel bbox of the projected vertices (z > 0.05 m only); false when none is in front.
@@ -178,23 +142,9 @@ bool ProjectedBounds(const Mesh& m, const Eigen::Isometry3d& T, const Camera& ca
 // Drops pixels with a valid 4-neighbour more than kEdgeJumpM away in depth (flying pixels and
 // shadowed edges of real depth sensors), computed on the clean depth.
 void DropEdges(DepthImage* depth) {
-  const DepthImage clean = *depth;
-  const int w = clean.width, h = clean.height;
-  for (int v = 0; v < h; ++v)
-    for (int u = 0; u < w; ++u) {
-      const float z = clean.at(u, v);
-      if (z <= 0) continue;
-      const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
-      for (int n = 0; n < 4; ++n) {
-        const int uu = u + du[n], vv = v + dv[n];
-        if (uu < 0 || vv < 0 || uu >= w || vv >= h) continue;
-        const float zn = clean.at(uu, vv);
-        if (zn > 0 && std::fabs(zn - z) > kEdgeJumpM) {
-          depth->at(u, v) = 0;
-          break;
-        }
-      }
-    }
+  const std::vector<std::uint8_t> edge = synth::DepthEdgePixels(*depth, kEdgeJumpM);
+  for (std::size_t i = 0; i < edge.size(); ++i)
+    if (edge[i]) depth->data[i] = 0;
 }
 
 // z += N(0, σ²), σ = noise_sigma_m·(z/1 m)²; then quantised to depth_scale; values that do
@@ -207,30 +157,6 @@ void AddNoiseAndQuantise(DepthImage* depth, double sigma_1m, double depth_scale,
     if (sigma_1m > 0) zn += sigma_1m * zn * zn * rng.Normal();
     const double q = std::round(zn / depth_scale);
     z = (q <= 0 || q * depth_scale > max_z) ? 0.f : float(q * depth_scale);
-  }
-}
-
-// Drops random disc-shaped blobs (radius 2–8 px) until `fraction` of all pixels are covered.
-void DropHoles(DepthImage* depth, double fraction, Rng& rng) {
-  const int w = depth->width, h = depth->height;
-  const std::size_t goal = std::size_t(std::ceil(fraction * double(w) * h));
-  if (goal == 0) return;
-  std::vector<std::uint8_t> hole(std::size_t(w) * h, 0);
-  std::size_t covered = 0;
-  while (covered < goal) {
-    const int cu = int(rng.UniformInt(std::uint64_t(w))), cv = int(rng.UniformInt(std::uint64_t(h)));
-    const double r = rng.Uniform(2.0, 8.0);
-    const int ir = int(std::ceil(r));
-    for (int v = std::max(0, cv - ir); v <= std::min(h - 1, cv + ir) && covered < goal; ++v)
-      for (int u = std::max(0, cu - ir); u <= std::min(w - 1, cu + ir) && covered < goal; ++u) {
-        if ((u - cu) * (u - cu) + (v - cv) * (v - cv) > r * r) continue;
-        auto& hp = hole[std::size_t(v) * w + u];
-        if (!hp) {
-          hp = 1;
-          ++covered;
-          depth->at(u, v) = 0;
-        }
-      }
   }
 }
 
@@ -284,7 +210,7 @@ std::vector<Detection> MakeDetections(const SynthOptions& opt, const Box& gt_box
 // Output helpers.
 
 // The label image as 8-bit gray (labels clamped to [0, 255]).
-void SaveLabelPng(const std::vector<int>& labels, int w, int h, const std::string& path) {
+void SaveLabelsGray8(const std::vector<int>& labels, int w, int h, const std::string& path) {
   std::vector<std::uint8_t> pix(std::size_t(w) * h);
   for (std::size_t i = 0; i < pix.size(); ++i) pix[i] = std::uint8_t(std::clamp(labels[i], 0, 255));
   SaveGray8Png(pix, w, h, path);
@@ -379,7 +305,7 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
   Placed target;
   target.mesh = s.target;
   target.label = kLabelTarget;
-  target.T.linear() = RandomRotation(rng_geom);
+  target.T.linear() = synth::RandomRotation(rng_geom);
   target.T.translation() = c - target.T.linear() * BoxCentre(s.target);
   Table table;
   table.u = Eigen::Vector3d(0, -std::cos(alpha), -std::sin(alpha));
@@ -397,7 +323,7 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
   DepthImage alone_depth(W, H, 0.f);
   std::vector<int> alone_labels(std::size_t(W) * H, kLabelBackground);
   RenderDepth(s.target, target.T, cam, &alone_depth, &alone_labels, kLabelTarget);
-  const std::size_t n_alone = CountLabel(alone_labels, kLabelTarget);
+  const std::size_t n_alone = synth::CountLabel(alone_labels, kLabelTarget);
   if (n_alone < std::size_t(kMinTargetPixels))
     throw Error("synth: the target covers only " + std::to_string(n_alone) +
                 " pixels (camera or target size unsuitable)");
@@ -453,7 +379,7 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
       DepthImage dd = alone_depth;
       std::vector<int> ll = alone_labels;
       RenderDepth(panel.mesh, pose_at(off), cam, &dd, &ll, kLabelOccluder);
-      return double(CountLabel(ll, kLabelTarget)) / double(n_alone);
+      return double(synth::CountLabel(ll, kLabelTarget)) / double(n_alone);
     };
     double lo = 0, hi = width + 0.02;
     double best_off = 0, best_vis = visible(0);
@@ -507,7 +433,7 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
         DepthImage dd = comp_depth;
         std::vector<int> ll = comp_labels;
         RenderDepth(m, T, cam, &dd, &ll, label);
-        const std::size_t lost = CountLabel(comp_labels, kLabelTarget) - CountLabel(ll, kLabelTarget);
+        const std::size_t lost = synth::CountLabel(comp_labels, kLabelTarget) - synth::CountLabel(ll, kLabelTarget);
         if (lost > hidden_budget) continue;
         hidden_budget -= lost;
         comp_depth = std::move(dd);
@@ -533,11 +459,11 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
               &s.labels, kLabelBackground);
   RenderDepth(s.target, target.T, cam, &s.depth, &s.labels, kLabelTarget);
   for (const auto& p : placed) RenderDepth(p.mesh, p.T, cam, &s.depth, &s.labels, p.label);
-  s.occlusion_achieved = 1.0 - double(CountLabel(s.labels, kLabelTarget)) / double(n_alone);
+  s.occlusion_achieved = 1.0 - double(synth::CountLabel(s.labels, kLabelTarget)) / double(n_alone);
 
   if (opt.missing_edges) DropEdges(&s.depth);
   AddNoiseAndQuantise(&s.depth, opt.noise_sigma_m, opt.depth_scale, rng_sensor);
-  DropHoles(&s.depth, opt.hole_fraction, rng_sensor);
+  synth::DropHoles(&s.depth, opt.hole_fraction, rng_sensor);
 
   // 6. Stage-1 prior.
   s.detections = MakeDetections(opt, s.gt_box, s.target.name, s.classes, rng_prior, &s.target_detected);
@@ -568,7 +494,7 @@ void WriteSynthScene(const SynthScene& s, const std::string& dir) {
     os.close();
     if (!os) throw Error(path + ": write failed");
   }
-  SaveLabelPng(s.labels, s.depth.width, s.depth.height, (d / "label.png").string());
+  SaveLabelsGray8(s.labels, s.depth.width, s.depth.height, (d / "label.png").string());
   SaveRgbPng(PreviewImage(s), (d / "rgb.png").string());
   {
     // synth.json: what the accuracy suite and humans want to know about the scene.

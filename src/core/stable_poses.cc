@@ -1,0 +1,239 @@
+// core/stable_poses.cc — convex hull (Debian's libqhull_r), centre of mass, and the stable
+// resting poses of a rigid object with their probabilities (stable_poses.h).
+#include "posefilter/stable_poses.h"
+
+extern "C" {
+#include <libqhull_r/qhull_ra.h>
+}
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numeric>
+
+#include "posefilter/error.h"
+
+namespace posefilter {
+namespace {
+
+// Vertices of a convex polygon (indices into `pts`) in the plane with unit normal n, sorted
+// counter-clockwise seen from the side n points to.
+std::vector<int> SortPolygon(const std::vector<Eigen::Vector3d>& pts, std::vector<int> ids, const Eigen::Vector3d& n) {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int i : ids) centre += pts[std::size_t(i)];
+  centre /= double(ids.size());
+  const Eigen::Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+  std::vector<std::pair<double, int>> by_angle;
+  for (int i : ids) {
+    const Eigen::Vector3d d = pts[std::size_t(i)] - centre;
+    by_angle.push_back({std::atan2(d.dot(e2), d.dot(e1)), i});
+  }
+  std::sort(by_angle.begin(), by_angle.end());
+  std::vector<int> out;
+  for (const auto& [a, i] : by_angle) out.push_back(i);
+  return out;
+}
+
+// Signed distance of p beyond the edge a→b of a CCW polygon with normal n (> 0: outside).
+double BeyondEdge(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& n) {
+  const Eigen::Vector3d edge = b - a;
+  const Eigen::Vector3d out = edge.cross(n);  // outward in-plane normal of a CCW edge
+  const double len = out.norm();
+  return len > 0 ? (p - a).dot(out) / len : 0.0;
+}
+
+}  // namespace
+
+ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points, const std::string& what) {
+  if (points.size() < 4) throw Error(what + ": a convex hull needs at least 4 points (got " + std::to_string(points.size()) + ")");
+  std::vector<coordT> coords;
+  coords.reserve(points.size() * 3);
+  for (const auto& p : points) {
+    if (!p.allFinite()) throw Error(what + ": a point is not finite");
+    coords.insert(coords.end(), {p.x(), p.y(), p.z()});
+  }
+  // qhull reports errors on a stream: an in-memory one, so its message can name `what`.
+  char* err_text = nullptr;
+  std::size_t err_size = 0;
+  FILE* err = open_memstream(&err_text, &err_size);
+  qhT qh_storage;
+  qhT* qh = &qh_storage;
+  qh_zero(qh, err);
+  // Default options: coplanar facets are merged (C-0), so a box has 6 faces, not 12.
+  char options[] = "qhull";
+  const int code = qh_new_qhull(qh, 3, int(points.size()), coords.data(), False, options, nullptr, err);
+  ConvexHull hull;
+  if (code == 0) {
+    std::map<int, int> index;  // qhull point id → hull vertex index
+    vertexT* vertex;
+    FORALLvertices {
+      const int id = qh_pointid(qh, vertex->point);
+      index[id] = int(hull.vertices.size());
+      hull.vertices.push_back(points[std::size_t(id)]);
+    }
+    facetT* facet;
+    FORALLfacets {
+      ConvexHull::Face f;
+      f.normal = Eigen::Vector3d(facet->normal[0], facet->normal[1], facet->normal[2]);
+      f.offset = facet->offset;
+      vertexT **vertexp;
+      std::vector<int> ids;
+      FOREACHvertex_(facet->vertices) ids.push_back(index[qh_pointid(qh, vertex->point)]);
+      f.polygon = SortPolygon(hull.vertices, ids, f.normal);
+      hull.faces.push_back(std::move(f));
+    }
+  }
+  qh_freeqhull(qh, !qh_ALL);
+  int curlong = 0, totlong = 0;
+  qh_memfreeshort(qh, &curlong, &totlong);
+  std::fclose(err);
+  std::string message(err_text ? err_text : "");
+  std::free(err_text);
+  if (code != 0) {
+    const auto eol = message.find('\n', message.find_first_not_of('\n'));
+    throw Error(what + ": no convex hull (the points span no volume?)" +
+                (message.empty() ? "" : ": qhull: " + message.substr(0, std::min<std::size_t>(eol, 160))));
+  }
+  // Areas, volume and centroid: fans of triangles from each face's first vertex, tetrahedra
+  // from an interior point (the mean of the hull vertices).
+  Eigen::Vector3d inner = Eigen::Vector3d::Zero();
+  for (const auto& v : hull.vertices) inner += v;
+  inner /= double(hull.vertices.size());
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (auto& f : hull.faces) {
+    const Eigen::Vector3d& a = hull.vertices[std::size_t(f.polygon[0])];
+    for (std::size_t k = 1; k + 1 < f.polygon.size(); ++k) {
+      const Eigen::Vector3d& b = hull.vertices[std::size_t(f.polygon[k])];
+      const Eigen::Vector3d& c = hull.vertices[std::size_t(f.polygon[k + 1])];
+      f.area += 0.5 * (b - a).cross(c - a).norm();
+      const double vol = std::fabs((a - inner).dot((b - inner).cross(c - inner))) / 6.0;
+      hull.volume += vol;
+      moment += vol * (inner + a + b + c) / 4.0;
+    }
+  }
+  if (!(hull.volume > 0)) throw Error(what + ": the convex hull has no volume");
+  hull.centroid = moment / hull.volume;
+  return hull;
+}
+
+Eigen::Vector3d CentreOfMass(const Mesh& mesh) {
+  std::vector<Eigen::Vector3d> pts;
+  pts.reserve(mesh.vertices.size());
+  for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
+  const ConvexHull hull = ComputeConvexHull(pts, "mesh '" + mesh.name + "'");
+  double volume = 0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  for (const auto& f : mesh.faces) {
+    const Eigen::Vector3d a = pts[f[0]], b = pts[f[1]], c = pts[f[2]];
+    const double v = a.dot(b.cross(c)) / 6.0;  // signed tetrahedron (origin, a, b, c)
+    volume += v;
+    moment += v * (a + b + c) / 4.0;
+  }
+  // Inverted winding flips both sums, so |volume| is what tells a closed surface.
+  if (std::fabs(volume) >= 0.25 * hull.volume) return moment / volume;
+  return hull.centroid;
+}
+
+bool StablePoseOptions::IsValid(std::string* why) const {
+  if (drops < 100) {
+    if (why) *why = "drops must be >= 100";
+    return false;
+  }
+  if (!(min_probability >= 0 && min_probability < 1)) {
+    if (why) *why = "min_probability must be in [0, 1)";
+    return false;
+  }
+  return true;
+}
+
+std::vector<StablePose> ComputeStablePoses(const Mesh& mesh, const StablePoseOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw Error("stable poses: " + why);
+  if (!mesh.IsValid(&why)) throw Error("mesh '" + mesh.name + "': " + why);
+  std::vector<Eigen::Vector3d> pts;
+  for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
+  const ConvexHull hull = ComputeConvexHull(pts, "mesh '" + mesh.name + "'");
+  const Eigen::Vector3d com = CentreOfMass(mesh);
+  const int F = int(hull.faces.size());
+
+  // Per face: height of the centre of mass above it, the foot of the perpendicular, and the
+  // edge it lies furthest beyond (−1: inside, the face is stable).
+  std::vector<double> height(F);
+  std::vector<int> tip_edge(F, -1);
+  for (int f = 0; f < F; ++f) {
+    const ConvexHull::Face& face = hull.faces[std::size_t(f)];
+    height[f] = -(face.normal.dot(com) + face.offset);
+    const Eigen::Vector3d foot = com + height[f] * face.normal;
+    double worst = 0;
+    const int m = int(face.polygon.size());
+    for (int k = 0; k < m; ++k) {
+      const double beyond = BeyondEdge(foot, hull.vertices[std::size_t(face.polygon[k])],
+                                       hull.vertices[std::size_t(face.polygon[(k + 1) % m])], face.normal);
+      if (beyond > worst) worst = beyond, tip_edge[f] = k;
+    }
+  }
+  // The face across edge k of face f: the other face holding both of its vertices.
+  auto across = [&](int f, int k) {
+    const auto& poly = hull.faces[std::size_t(f)].polygon;
+    const int a = poly[std::size_t(k)], b = poly[std::size_t((k + 1) % int(poly.size()))];
+    for (int g = 0; g < F; ++g) {
+      if (g == f) continue;
+      const auto& q = hull.faces[std::size_t(g)].polygon;
+      if (std::find(q.begin(), q.end(), a) != q.end() && std::find(q.begin(), q.end(), b) != q.end()) return g;
+    }
+    return -1;
+  };
+  // Where each face drains: tipping lowers the centre of mass strictly, so the walk ends at a
+  // stable face (the step limit only guards against rounding).
+  std::vector<int> rest(F, -1);
+  for (int f = 0; f < F; ++f) {
+    int g = f;
+    for (int step = 0; step < F && tip_edge[g] >= 0; ++step) {
+      const int next = across(g, tip_edge[g]);
+      if (next < 0 || height[next] >= height[g]) break;
+      g = next;
+    }
+    rest[f] = g;
+  }
+  // Drops: gravity directions g from a Fibonacci sphere; the first face is the one the ray
+  // com + t·g leaves the hull through (capture region = the face's solid angle from com).
+  std::vector<int> count(F, 0);
+  const int n = options.drops;
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const Eigen::Vector3d g(r * std::cos(golden * i), r * std::sin(golden * i), z);
+    int hit = -1;
+    double best_t = 1e300;
+    for (int f = 0; f < F; ++f) {
+      const double along = hull.faces[std::size_t(f)].normal.dot(g);
+      if (along <= 1e-12) continue;
+      const double t = height[f] / along;
+      if (t < best_t) best_t = t, hit = f;
+    }
+    if (hit >= 0) ++count[rest[hit]];
+  }
+  std::vector<StablePose> poses;
+  int kept = 0;
+  for (int f = 0; f < F; ++f)
+    if (count[f] > 0 && double(count[f]) / n >= options.min_probability) kept += count[f];
+  for (int f = 0; f < F; ++f) {
+    if (count[f] == 0 || double(count[f]) / n < options.min_probability) continue;
+    const ConvexHull::Face& face = hull.faces[std::size_t(f)];
+    StablePose p;
+    p.face = f;
+    p.probability = double(count[f]) / kept;
+    p.com_height_m = height[f];
+    // Resting face normal → table −z; the foot of the centre of mass → table origin.
+    const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(face.normal, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d foot = com + height[f] * face.normal;
+    p.T_table_obj.linear() = R;
+    p.T_table_obj.translation() = -R * foot;
+    poses.push_back(p);
+  }
+  std::stable_sort(poses.begin(), poses.end(), [](const StablePose& a, const StablePose& b) { return a.probability > b.probability; });
+  return poses;
+}
+
+}  // namespace posefilter
