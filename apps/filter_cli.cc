@@ -26,7 +26,7 @@ constexpr FieldOption kFieldOptions[] = {
     {"gamma", "--gamma"},           {"inlier threshold", "--inlier-thr"}, {"max_window_px", "--window"},
     {"num_elite", "--elite"},       {"resample_pool", "--pool"},          {"sigma_t0_m", "--sigma-t"},
     {"sigma_r0_rad", "--sigma-r"},  {"seed", "--seed"},                   {"threads", "--threads"},
-    {"delta", "--delta"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"},
+    {"delta", "--delta"},           {"contact", "--contact"}, {"stable_start", "--stable-start"},           {"restarts", "--restarts"},           {"anneal_start_m", "--anneal"},
     {"anneal_subsample", "--anneal-subsample"}, {"anneal_fraction", "--anneal-fraction"},
     {"fine_particle_fraction", "--fine-fraction"},
     {"lod_max_faces", "--lod"},     {"polish_steps", "--polish-steps"},   {"polish_seeds", "--polish-seeds"},
@@ -94,6 +94,9 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   app.add_flag("!--no-occlusion-aware", o->occlusion_aware,
                "count occluded rendered pixels in N_raster, as the thesis does");
   add(OptionOf("max_window_px"), o->max_window_px, "maximum window side (pixels)");
+  app.add_flag("!--no-adaptive-resolution", o->adaptive_resolution,
+               "weigh large objects on every pixel in windows of at most --window pixels (default: every s-th pixel, "
+               "s the smallest stride that fits the object in a window)");
   app.add_flag("!--no-anneal-simplify", o->anneal_simplify,
                "weigh the full mesh on the coarse annealing grid too (not one simplified to faces / N^2)");
   add(OptionOf("fine_particle_fraction"), o->fine_particle_fraction,
@@ -103,6 +106,10 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("sigma_t0_m"), o->sigma_t0_m, "initial diffusion translation sigma (m)");
   add(OptionOf("sigma_r0_rad"), o->sigma_r0_rad, "initial diffusion rotation sigma (rad)");
   add(OptionOf("delta"), o->delta, "silhouette edge penalty weight (0 = off)");
+  add(OptionOf("stable_start"), o->stable_start,
+      "fraction of the initial particles resting on the support plane in a stable pose of the mesh (0 = off)");
+  add(OptionOf("contact"), o->contact,
+      "contact prior: weight lost by a pose floating above or sunk into the support plane (0 = off)");
   add(OptionOf("anneal_start_m"), o->anneal_start_m, "coarse-to-fine: initial inlier threshold (m, 0 = off)");
   add(OptionOf("anneal_fraction"), o->anneal_fraction,
       "coarse-to-fine: fraction of --iterations over which the threshold falls to --inlier-thr");

@@ -31,6 +31,27 @@
 namespace posefilter::cli {
 namespace {
 
+// The weight of the ground-truth pose T_cam_obj, as the filter weighs it (final thresholds),
+// in the best of the cells it could be weighed in: the answer's cell, and every cell whose
+// box holds the projection of the object's centre. Above the answer's weight: a search
+// failure; below: the score prefers a wrong pose.
+double GroundTruthWeight(const SceneInput& input, const Mesh& mesh, const Prior& prior, int cls,
+                         const FilterOptions& o, const Eigen::Isometry3d& T_cam_obj, int answer_cell) {
+  const Pose6 pose = TransformToPose(input.camera.base_to_camera.inverse() * T_cam_obj);
+  const Eigen::Vector3d centre = T_cam_obj * (0.5 * (mesh.Min() + mesh.Max())).cast<double>();
+  std::vector<std::pair<Pose6, int>> hyps = {{pose, answer_cell}};
+  if (centre.z() > 0) {
+    const Eigen::Vector2d uv = input.camera.Project(centre);
+    for (int c = 0; c < prior.layout.CellCount(); ++c) {
+      const Box& b = prior.boxes[std::size_t(c)];
+      if (c != answer_cell && std::fabs(uv.x() - b.cx) <= b.w / 2 && std::fabs(uv.y() - b.cy) <= b.h / 2 && prior.Prob(c, cls) > 1e-4)
+        hyps.push_back({pose, c});
+    }
+  }
+  const std::vector<double> w = WeighPoses(input, mesh, prior, cls, o, hyps);
+  return *std::max_element(w.begin(), w.end());
+}
+
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -78,8 +99,11 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
   nlohmann::json rows = nlohmann::json::array();
   std::vector<double> all_adds, all_times;
   int found = 0, total = 0;
-  std::printf("%6s %-22s %5s %9s %6s %6s %7s %5s %8s\n", "seed", "object", "visib", "ADD-S[mm]", "%diam", "found",
-              "weight", "iter", "time[ms]");
+  // Recall by visible fraction: [0.5, 1], [0.3, 0.5), [0, 0.3).
+  const double kVisibBounds[3] = {0.5, 0.3, 0.0};
+  int visib_n[3] = {0, 0, 0}, visib_found[3] = {0, 0, 0};
+  std::printf("%6s %-22s %5s %9s %6s %6s %7s %7s %5s %8s\n", "seed", "object", "visib", "ADD-S[mm]", "%diam", "found",
+              "weight", "gt_w", "iter", "time[ms]");
   for (int i = 0; i < a.count; ++i) {
     const std::uint64_t seed = a.first_seed + std::uint64_t(i);
     const TableScene scene = world.MakeScene(topt, seed);
@@ -113,7 +137,7 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
       }
       FilterOptions o = opt;
       o.seed = opt.seed + std::uint64_t(i);
-      double adds = std::numeric_limits<double>::infinity(), weight = 0, time_ms = 0;
+      double adds = std::numeric_limits<double>::infinity(), weight = 0, gt_weight = 0, time_ms = 0;
       int iterations = 0;
       bool ok = false;
       if (status == "ok") {
@@ -125,25 +149,32 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
           weight = r.weight;
           iterations = r.iterations;
           time_ms = r.time_ms;
+          gt_weight = GroundTruthWeight(input, model.mesh, prior, prior.ClassIndex(obj.cls), o, obj.T_cam_obj, r.cell);
         } catch (const Error& e) {
           status = e.what();  // counted as not found
         }
       }
       ++total;
       found += ok;
+      for (int b = 0; b < 3; ++b)
+        if (obj.visible_fraction >= kVisibBounds[b]) {
+          ++visib_n[b];
+          visib_found[b] += ok;
+          break;
+        }
       ClassStats& cs = per_class[obj.cls];
       ++cs.n;
       cs.found += ok;
       cs.adds.push_back(adds);
       all_adds.push_back(adds);
       if (time_ms > 0) cs.times.push_back(time_ms), all_times.push_back(time_ms);
-      std::printf("%6llu %-22s %5.2f %9.1f %6.1f %6s %7.3f %5d %8.0f%s%s\n", (unsigned long long)seed, obj.cls.c_str(),
-                  obj.visible_fraction, 1000 * adds, 100 * adds / model.diameter, ok ? "yes" : "NO", weight, iterations,
+      std::printf("%6llu %-22s %5.2f %9.1f %6.1f %6s %7.3f %7.3f %5d %8.0f%s%s\n", (unsigned long long)seed, obj.cls.c_str(),
+                  obj.visible_fraction, 1000 * adds, 100 * adds / model.diameter, ok ? "yes" : "NO", weight, gt_weight, iterations,
                   time_ms, status == "ok" ? "" : "  ", status == "ok" ? "" : status.c_str());
       std::fflush(stdout);
       rows.push_back({{"seed", seed}, {"obj", obj.cls}, {"instance", j + 1}, {"visible_fraction", obj.visible_fraction},
                       {"adds_m", std::isfinite(adds) ? nlohmann::json(adds) : nlohmann::json(nullptr)},
-                      {"diameter_m", model.diameter}, {"found", ok}, {"weight", weight}, {"iterations", iterations},
+                      {"diameter_m", model.diameter}, {"found", ok}, {"weight", weight}, {"gt_weight", gt_weight}, {"iterations", iterations},
                       {"time_ms", time_ms}, {"status", status}});
     }
   }
@@ -163,8 +194,16 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
   mean_ms = all_times.empty() ? 0 : mean_ms / double(all_times.size());
   std::printf("recall (ADD-S < 10%% of diameter): %d/%d = %.1f%%, AUC of ADD-S %.1f, median %.0f ms (mean %.0f ms) per object\n",
               found, total, 100 * recall, 100 * auc, Median(all_times), mean_ms);
+  nlohmann::json by_visib = nlohmann::json::array();
+  std::printf("by visible fraction:");
+  for (int b = 0; b < 3; ++b) {
+    const char* name[3] = {">= 0.5", "0.3-0.5", "< 0.3"};
+    std::printf("  %s: %d/%d", name[b], visib_found[b], visib_n[b]);
+    by_visib.push_back({{"min_visible_fraction", kVisibBounds[b]}, {"n", visib_n[b]}, {"found", visib_found[b]}});
+  }
+  std::printf("\n");
   if (!a.json_path.empty())
-    WriteJson(a.json_path, {{"world", "ycbv"}, {"prior", a.prior_kind}, {"objects", rows}, {"classes", class_rows},
+    WriteJson(a.json_path, {{"world", "ycbv"}, {"by_visible_fraction", by_visib}, {"prior", a.prior_kind}, {"objects", rows}, {"classes", class_rows},
                             {"recall_adds", recall}, {"auc_adds", auc}, {"median_time_ms", Median(all_times)},
                             {"mean_time_ms", mean_ms}});
 }
@@ -233,8 +272,8 @@ int RunSuite(int argc, char** argv) {
     nlohmann::json rows = nlohmann::json::array();
     int found = 0;
     double total_ms = 0;
-    std::printf("%5s %-9s %6s %9s %8s %6s %7s %5s %8s\n", "seed", "target", "occl", "ADD-S[mm]", "%diam", "found",
-                "weight", "iter", "time[ms]");
+    std::printf("%5s %-9s %6s %9s %8s %6s %7s %7s %5s %8s\n", "seed", "target", "occl", "ADD-S[mm]", "%diam", "found",
+                "weight", "gt_w", "iter", "time[ms]");
     for (int i = 0; i < count; ++i) {
       SynthOptions so = synth;
       so.target = targets[i % targets.size()];
@@ -246,19 +285,21 @@ int RunSuite(int argc, char** argv) {
       const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
       FilterOptions o = opt;
       o.seed = opt.seed + i;
-      const EstimateResult r =
-          EstimatePose(SceneInput{scene.depth, scene.camera, {}}, scene.target, prior, prior.ClassIndex(scene.target.name), o);
+      const SceneInput input{scene.depth, scene.camera, {}};
+      const int cls = prior.ClassIndex(scene.target.name);
+      const EstimateResult r = EstimatePose(input, scene.target, prior, cls, o);
+      const double gt_weight = GroundTruthWeight(input, scene.target, prior, cls, o, scene.gt[0].T_cam_obj, r.cell);
       const double diameter = scene.target.Diameter();
       const PoseErrors e = ComputePoseErrors(SamplePoints(scene.target), diameter, r.T_cam_obj, scene.gt[0].T_cam_obj);
       found += e.adds_ok;
       total_ms += r.time_ms;
-      std::printf("%5llu %-9s %6.2f %9.1f %8.1f %6s %7.3f %5d %8.0f\n", (unsigned long long)seed, so.target.c_str(),
+      std::printf("%5llu %-9s %6.2f %9.1f %8.1f %6s %7.3f %7.3f %5d %8.0f\n", (unsigned long long)seed, so.target.c_str(),
                   scene.occlusion_achieved, 1000 * e.adds, 100 * e.adds / diameter, e.adds_ok ? "yes" : "NO", r.weight,
-                  r.iterations, r.time_ms);
+                  gt_weight, r.iterations, r.time_ms);
       std::fflush(stdout);
       rows.push_back({{"seed", seed}, {"target", so.target}, {"occlusion", scene.occlusion_achieved},
                       {"adds_m", e.adds}, {"add_m", e.add}, {"diameter_m", diameter}, {"found", e.adds_ok},
-                      {"rot_deg", e.rot_deg}, {"trans_m", e.trans_m}, {"weight", r.weight},
+                      {"rot_deg", e.rot_deg}, {"trans_m", e.trans_m}, {"weight", r.weight}, {"gt_weight", gt_weight},
                       {"iterations", r.iterations}, {"time_ms", r.time_ms}});
     }
     const double recall = double(found) / count;

@@ -90,11 +90,33 @@ struct FilterOptions {
   // the table, or sunk below it, then explains nothing. false = score against every pixel
   // (the thesis).
   bool support_plane = true;
+  // Contact with the support plane (ours; only where a support plane was found): objects rest
+  // on the table, so a pose whose lowest point (of the mesh's convex hull) floats more than
+  // contact_tolerance_m above the plane, or sinks more than that below it, loses up to
+  // `contact` weight, growing linearly over contact_span_m beyond the tolerance. It breaks
+  // the near-ties between a thin or flat object and a pose laid on a neighbour's face. 0 =
+  // off (objects stacked on others, or no table in view).
+  double contact = 0.15;
+  // Stable starts (ours; only where a support plane was found): this fraction of the initial
+  // particles rest on the plane in one of the mesh's stable poses (posefilter/stable_poses.h,
+  // drawn by probability) with a uniform yaw, above the point of the plane below their cell's
+  // volume centre; the others start as Listing 7.5 says. 0 = off (the thesis).
+  double stable_start = 0.5;
+  double contact_tolerance_m = 0.015;
+  double contact_span_m = 0.03;
   // Occlusion-aware precision: rendered pixels hidden behind nearer scene depth (beyond the
   // inlier ramp) are left out of N_raster, so a partly occluded object is not penalised for
   // what it cannot show. false = the thesis's N_raster (every rendered pixel).
   bool occlusion_aware = true;
   int max_window_px = 200;           // windows are the cell's box clipped to this, pixels
+  // Ours: objects whose projected diameter exceeds 1.25 · max_window_px pixels (a large object
+  // close to a long-focal-length camera) are weighed on every s-th pixel of every s-th row in
+  // windows of up to s · max_window_px pixels, s in [1, 4] the smallest that fits (the coarse
+  // annealing level then uses s · anneal_subsample, and with anneal_simplify a mesh simplified
+  // to faces / s²): the window holds the whole object and a weighing costs what a 200 px one
+  // does. false = every pixel, windows of at most max_window_px (the thesis). The hw engine
+  // ignores it.
+  bool adaptive_resolution = true;
   // Windows are at least this fraction of the object's projected diameter (at the cell's
   // heuristic depth) wide and high, so a box smaller than the object cannot be "explained"
   // by one flat face of it. 0 = the box as it is (thesis).

@@ -6,9 +6,11 @@
 // face's normal, falls inside the face (the object then rests on it without tipping). The
 // probability of a stable pose is the fraction of random drops that end on it: the object
 // is dropped with a uniformly random orientation, first touches the table with the hull
-// face that the downward ray from the centre of mass crosses, and, while that face is not
-// stable, tips over the edge the projected centre of mass lies beyond onto the neighbouring
-// face (the quasi-static model of Moll and Erdmann; "Goldberg et al. 1999, Part feeding").
+// face that the downward ray from the centre of mass crosses (so a face is hit with the
+// probability of its solid angle seen from the centre of mass, over 4π), and, while that
+// face is not stable, tips over the edge the projected centre of mass lies furthest beyond
+// onto the neighbouring face (the quasi-static model of Goldberg et al. 1999, "Part pose
+// statistics"). Computed exactly, face by face (no sampling).
 //
 // Frames and units: the object frame of the mesh, metres. A pose's T_table_obj maps the
 // object frame to a table frame whose z axis is the table's up normal and whose origin is
@@ -53,15 +55,12 @@ Eigen::Vector3d CentreOfMass(const Mesh& mesh);
 struct StablePose {
   Eigen::Isometry3d T_table_obj = Eigen::Isometry3d::Identity();  // object → table frame
   int face = -1;               // index into the hull's faces of the resting face
-  double probability = 0;      // fraction of drops ending here; all poses sum to 1
+  double probability = 0;      // probability of coming to rest here; all poses sum to 1
   double com_height_m = 0;     // height of the centre of mass above the table, metres
 };
 
 struct StablePoseOptions {
-  // Drops simulated (directions from a Fibonacci sphere, so the result is deterministic),
-  // ≥ 100.
-  int drops = 4000;
-  // Poses reached by a smaller fraction of the drops are left out (the others are
+  // Poses with a smaller probability are left out (the others are
   // renormalised), [0, 1).
   double min_probability = 0.0;
   bool IsValid(std::string* why) const;

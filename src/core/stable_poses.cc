@@ -117,11 +117,18 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points, const s
   return hull;
 }
 
-Eigen::Vector3d CentreOfMass(const Mesh& mesh) {
+namespace {
+
+std::vector<Eigen::Vector3d> Points(const Mesh& mesh) {
   std::vector<Eigen::Vector3d> pts;
   pts.reserve(mesh.vertices.size());
   for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
-  const ConvexHull hull = ComputeConvexHull(pts, "mesh '" + mesh.name + "'");
+  return pts;
+}
+
+// CentreOfMass with the mesh's hull already computed.
+Eigen::Vector3d CentreOfMass(const Mesh& mesh, const ConvexHull& hull) {
+  const std::vector<Eigen::Vector3d> pts = Points(mesh);
   double volume = 0;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();
   for (const auto& f : mesh.faces) {
@@ -135,11 +142,22 @@ Eigen::Vector3d CentreOfMass(const Mesh& mesh) {
   return hull.centroid;
 }
 
+// Solid angle of triangle (a, b, c) seen from the origin, steradians (Van Oosterom and
+// Strackee 1983).
+double SolidAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  const double num = std::fabs(a.dot(b.cross(c)));
+  const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+  return 2 * std::atan2(num, den);
+}
+
+}  // namespace
+
+Eigen::Vector3d CentreOfMass(const Mesh& mesh) {
+  return CentreOfMass(mesh, ComputeConvexHull(Points(mesh), "mesh '" + mesh.name + "'"));
+}
+
 bool StablePoseOptions::IsValid(std::string* why) const {
-  if (drops < 100) {
-    if (why) *why = "drops must be >= 100";
-    return false;
-  }
   if (!(min_probability >= 0 && min_probability < 1)) {
     if (why) *why = "min_probability must be in [0, 1)";
     return false;
@@ -151,10 +169,8 @@ std::vector<StablePose> ComputeStablePoses(const Mesh& mesh, const StablePoseOpt
   std::string why;
   if (!options.IsValid(&why)) throw Error("stable poses: " + why);
   if (!mesh.IsValid(&why)) throw Error("mesh '" + mesh.name + "': " + why);
-  std::vector<Eigen::Vector3d> pts;
-  for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
-  const ConvexHull hull = ComputeConvexHull(pts, "mesh '" + mesh.name + "'");
-  const Eigen::Vector3d com = CentreOfMass(mesh);
+  const ConvexHull hull = ComputeConvexHull(Points(mesh), "mesh '" + mesh.name + "'");
+  const Eigen::Vector3d com = CentreOfMass(mesh, hull);
   const int F = int(hull.faces.size());
 
   // Per face: height of the centre of mass above it, the foot of the perpendicular, and the
@@ -173,15 +189,20 @@ std::vector<StablePose> ComputeStablePoses(const Mesh& mesh, const StablePoseOpt
       if (beyond > worst) worst = beyond, tip_edge[f] = k;
     }
   }
-  // The face across edge k of face f: the other face holding both of its vertices.
+  // The face across each edge: faces indexed by their edges' vertex pairs.
+  std::map<std::pair<int, int>, std::vector<int>> by_edge;
+  for (int f = 0; f < F; ++f) {
+    const auto& poly = hull.faces[std::size_t(f)].polygon;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const int a = poly[k], b = poly[(k + 1) % poly.size()];
+      by_edge[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  }
   auto across = [&](int f, int k) {
     const auto& poly = hull.faces[std::size_t(f)].polygon;
     const int a = poly[std::size_t(k)], b = poly[std::size_t((k + 1) % int(poly.size()))];
-    for (int g = 0; g < F; ++g) {
-      if (g == f) continue;
-      const auto& q = hull.faces[std::size_t(g)].polygon;
-      if (std::find(q.begin(), q.end(), a) != q.end() && std::find(q.begin(), q.end(), b) != q.end()) return g;
-    }
+    for (int g : by_edge[{std::min(a, b), std::max(a, b)}])
+      if (g != f) return g;
     return -1;
   };
   // Where each face drains: tipping lowers the centre of mass strictly, so the walk ends at a
@@ -196,34 +217,29 @@ std::vector<StablePose> ComputeStablePoses(const Mesh& mesh, const StablePoseOpt
     }
     rest[f] = g;
   }
-  // Drops: gravity directions g from a Fibonacci sphere; the first face is the one the ray
-  // com + t·g leaves the hull through (capture region = the face's solid angle from com).
-  std::vector<int> count(F, 0);
-  const int n = options.drops;
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const Eigen::Vector3d g(r * std::cos(golden * i), r * std::sin(golden * i), z);
-    int hit = -1;
-    double best_t = 1e300;
-    for (int f = 0; f < F; ++f) {
-      const double along = hull.faces[std::size_t(f)].normal.dot(g);
-      if (along <= 1e-12) continue;
-      const double t = height[f] / along;
-      if (t < best_t) best_t = t, hit = f;
-    }
-    if (hit >= 0) ++count[rest[hit]];
+  // A drop in a uniformly random orientation first lands on the face its downward ray from
+  // the centre of mass leaves the hull through: with the probability of the face's solid
+  // angle seen from the centre of mass (its capture region), over 4π. Faces add theirs to
+  // the stable face they drain to.
+  std::vector<double> mass(F, 0.0);
+  for (int f = 0; f < F; ++f) {
+    const auto& poly = hull.faces[std::size_t(f)].polygon;
+    const Eigen::Vector3d a = hull.vertices[std::size_t(poly[0])] - com;
+    double omega = 0;
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+      omega += SolidAngle(a, hull.vertices[std::size_t(poly[k])] - com, hull.vertices[std::size_t(poly[k + 1])] - com);
+    mass[std::size_t(rest[f])] += omega / (4 * M_PI);
   }
   std::vector<StablePose> poses;
-  int kept = 0;
+  double kept = 0;
   for (int f = 0; f < F; ++f)
-    if (count[f] > 0 && double(count[f]) / n >= options.min_probability) kept += count[f];
+    if (mass[f] > 0 && mass[f] >= options.min_probability) kept += mass[f];
   for (int f = 0; f < F; ++f) {
-    if (count[f] == 0 || double(count[f]) / n < options.min_probability) continue;
+    if (!(mass[f] > 0) || mass[f] < options.min_probability) continue;
     const ConvexHull::Face& face = hull.faces[std::size_t(f)];
     StablePose p;
     p.face = f;
-    p.probability = double(count[f]) / kept;
+    p.probability = mass[f] / kept;
     p.com_height_m = height[f];
     // Resting face normal → table −z; the foot of the centre of mass → table origin.
     const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(face.normal, -Eigen::Vector3d::UnitZ()).toRotationMatrix();

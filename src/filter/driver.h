@@ -9,6 +9,7 @@
 #include "posefilter/filter.h"
 #include "posefilter/pose.h"
 #include "posefilter/rng.h"
+#include "prior/volume_cache.h"
 
 namespace posefilter::filter {
 
@@ -22,6 +23,15 @@ double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its);
 // more faces than that is weighed as it is.
 inline constexpr int kCoarseMinFaces = 256;
 int CoarseMeshFaces(int faces, int subsample);
+
+// The pixel stride of the fine level (FilterOptions::adaptive_resolution): the smallest s in
+// [1, 4] with D / s ≤ 1.25 · max_window_px, D = diameter · max(fx, fy) / z the object's
+// projected diameter in pixels at the depth z of the volume centre of the class's most
+// probable cell (1 when adaptive_resolution is off or no cell has a volume). Objects larger
+// than the window in the image are then weighed on every s-th pixel of every s-th row, in
+// windows s times as large, so the window holds the whole object.
+int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
+               const Camera& camera, double diameter);
 
 // The set size once annealing is over (FilterOptions::fine_particle_fraction):
 // round(fine_particle_fraction · num_particles), at least num_elite + 1, at most num_particles.

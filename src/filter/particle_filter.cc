@@ -23,6 +23,7 @@
 #include "posefilter/hw_engine.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/rng.h"
+#include "posefilter/stable_poses.h"
 
 namespace posefilter {
 namespace {
@@ -65,6 +66,21 @@ int RotationBin(const Pose6& pose) {
   return (za * 2 + zs) * 4 + x_slot * 2 + xs;
 }
 
+// One pixel level: the scoring scene on every factor-th pixel of every factor-th row (pixel
+// (i, j) is the full image's (factor·i, factor·j); fx, fy, cx, cy divided by factor), its
+// N_depth table (of the support depth), its scene normals (computed tile by tile where ICP
+// weighings render), and the mesh weighed there (empty: the context's mesh) with its face
+// planes for the cpu kernel's back-face pre-cull (render/face_planes.h; empty for the
+// reference engine).
+struct Level {
+  int factor = 1;
+  SceneInput scene{};
+  render::ValidDepthSat valid_depth{};
+  mutable render::SceneNormalTiles normals{};
+  Mesh mesh{};
+  render::FacePlanes face_planes{};
+};
+
 // Everything one run needs that does not change between iterations.
 struct Context {
   const SceneInput& scene;
@@ -76,31 +92,29 @@ struct Context {
   // Window per cell, computed on demand by PrepareCell (from the serial steps only).
   mutable std::vector<PixelRect> windows{};
   InlierParams inlier{};             // this iteration's inlier thresholds (annealed)
-  // Scene normals (camera frame, 3 per pixel), computed tile by tile where ICP weighings
-  // render (WeighAll prepares their windows).
-  mutable render::SceneNormalTiles normals{};
   std::vector<int> hypothesis{};     // niching: cells sharing one decoded box share an id
   int hypothesis_count = 0;
-  render::ValidDepthSat valid_depth{};  // N_depth of any window in O(1) (summed-area table)
   std::array<Eigen::Vector3d, 8> bbox_corners{};  // the model's bounding box, object frame, m
   render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
-  // The mesh's face planes for the cpu kernel's back-face pre-cull (render/face_planes.h;
-  // built once per run, empty for the other engines).
-  render::FacePlanes face_planes{};
   // One scratch memory per worker thread (cpu kernel; holds the reference's too), kept from
   // one weighing round to the next so that its buffers are allocated and touched once.
   mutable std::vector<render::CpuWorkspace> workspaces{};
-  // The coarse level (FilterOptions::anneal_subsample > 1): the scene on every s-th pixel of
-  // every s-th row (pixel (i, j) is the full image's (s·i, s·j); fx, fy, cx, cy divided by s),
-  // its valid-depth table and normals. `coarse` selects it for the weighings of the moment.
-  int subsample = 1;
-  SceneInput coarse_scene{};
-  render::ValidDepthSat coarse_valid_depth{};
-  mutable render::SceneNormalTiles coarse_normals{};
-  Mesh coarse_mesh{};  // FilterOptions::anneal_simplify's mesh; empty: the full mesh
-  render::FacePlanes coarse_face_planes{};  // coarse_mesh's (cpu engine)
+  // The pixel levels particles are weighed on (docs/ALGORITHM.md, "Pixel levels"): the fine
+  // level (every fine.factor-th pixel of every fine.factor-th row; 1 = every pixel, more for
+  // objects larger than max_window_px pixels, FilterOptions::adaptive_resolution) for the
+  // answer's weighings, and the coarse level (factor fine.factor · anneal_subsample) for the
+  // annealing iterations; `coarse` selects the level of the moment. Windows are full-image
+  // pixel rectangles, mapped to the level's grid when weighed.
+  Level fine{};
+  Level coarse_level{};
   bool coarse = false;
   double diameter = 0;  // the mesh's, metres (cell windows)
+  // Contact prior (FilterOptions::contact): the support plane (camera frame) and the mesh's
+  // convex-hull vertices (object frame, metres); empty when the prior is off or no plane.
+  SupportPlane plane{};
+  std::vector<Eigen::Vector3d> hull{};
+  // The mesh's stable poses (FilterOptions::stable_start); empty without a support plane.
+  std::vector<StablePose> stable{};
   mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
 };
 
@@ -113,7 +127,8 @@ void PrepareCell(const Context& ctx, int c) {
   const Camera& cam = ctx.scene.camera;
   const double z_cam = ctx.volumes.Valid(c) ? (cam.base_to_camera * ctx.volumes.Get(c).Centre()).z() : 1.0;
   const double min_side = ctx.opt.min_window_diameters * ctx.diameter * cam.fx / std::max(z_cam, ctx.opt.near_m);
-  ctx.windows[std::size_t(c)] = CellWindow(ctx.prior.boxes[std::size_t(c)], min_side, ctx.opt.max_window_px, cam.width, cam.height);
+  ctx.windows[std::size_t(c)] =
+      CellWindow(ctx.prior.boxes[std::size_t(c)], min_side, ctx.opt.max_window_px * ctx.fine.factor, cam.width, cam.height);
   ctx.window_ready[std::size_t(c)] = 1;
 }
 
@@ -145,17 +160,39 @@ PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cel
     *out_size = int(b - a);
   };
   PixelRect r = w;
-  grow(w.u0, w.width, u_lo, u_hi, cam.width, ctx.opt.max_window_px, &r.u0, &r.width);
-  grow(w.v0, w.height, v_lo, v_hi, cam.height, ctx.opt.max_window_px, &r.v0, &r.height);
+  const int cap = ctx.opt.max_window_px * ctx.fine.factor;  // full-image pixels
+  grow(w.u0, w.width, u_lo, u_hi, cam.width, cap, &r.u0, &r.width);
+  grow(w.v0, w.height, v_lo, v_hi, cam.height, cap, &r.v0, &r.height);
   return r;
 }
 
 // Listing 7.5: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
+// Or (ours, FilterOptions::stable_start, with a support plane): resting on the plane in one of
+// the mesh's stable poses (drawn by probability), turned by a uniform yaw about the plane's
+// normal, its centre of mass above the point of the plane below the volume's centre.
 Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   const Volume& vol = ctx.volumes.Get(cell);
   Particle p;
   p.cell = cell;
   const Eigen::Vector3d c = vol.Centre();
+  const double u_start = rng.Uniform();
+  if (!ctx.stable.empty() && u_start < ctx.opt.stable_start) {
+    const double u_pose = rng.Uniform(), yaw = rng.Uniform(-M_PI, M_PI);
+    std::size_t k = 0;
+    for (double acc = ctx.stable[0].probability; k + 1 < ctx.stable.size() && u_pose >= acc;)
+      acc += ctx.stable[++k].probability;
+    const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
+    const Eigen::Vector3d centre = C * c;
+    const Eigen::Vector3d n = ctx.plane.normal;
+    Eigen::Isometry3d T_cam_table = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d ex = n.unitOrthogonal();
+    T_cam_table.linear() << ex, n.cross(ex), n;
+    T_cam_table.translation() = centre - ctx.plane.Height(centre) * n;
+    const Eigen::Isometry3d T_cam_obj =
+        T_cam_table * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * ctx.stable[k].T_table_obj;
+    p.pose = TransformToPose(C.inverse() * T_cam_obj);
+    return p;
+  }
   p.pose.x = c.x();
   p.pose.y = c.y();
   p.pose.z = rng.Uniform(vol.min.z(), vol.max.z());
@@ -165,9 +202,10 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   return p;
 }
 
-// The pixel level weighings use at the moment (Context::coarse): its scene and its normals.
-const SceneInput& LevelScene(const Context& ctx) { return ctx.coarse ? ctx.coarse_scene : ctx.scene; }
-render::SceneNormalTiles& LevelNormals(const Context& ctx) { return ctx.coarse ? ctx.coarse_normals : ctx.normals; }
+// The pixel level weighings use at the moment (Context::coarse), its scene and its normals.
+const Level& CurrentLevel(const Context& ctx) { return ctx.coarse ? ctx.coarse_level : ctx.fine; }
+const SceneInput& LevelScene(const Context& ctx) { return CurrentLevel(ctx).scene; }
+render::SceneNormalTiles& LevelNormals(const Context& ctx) { return CurrentLevel(ctx).normals; }
 
 // Particle p's transform object → camera (FT without P).
 Eigen::Isometry3d CameraFromObject(const Context& ctx, const Particle& p) {
@@ -175,16 +213,27 @@ Eigen::Isometry3d CameraFromObject(const Context& ctx, const Particle& p) {
 }
 
 // The window a particle at T (object → camera) in `cell` is weighed in: ParticleWindow, on
-// the coarse level's pixel grid while that level is selected.
+// the pixel grid of the current level.
 PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) {
   const PixelRect w = ParticleWindow(ctx, T, cell);
-  if (!ctx.coarse) return w;
-  // The coarse pixels i whose full-resolution pixel s·i lies in [u0, u1): ceil(u0 / s) ≤ i < ceil(u1 / s).
-  const int s = ctx.subsample;
+  const int s = CurrentLevel(ctx).factor;
+  if (s == 1) return w;
+  // The level's pixels i whose full-resolution pixel s·i lies in [u0, u1): ceil(u0 / s) ≤ i < ceil(u1 / s).
   auto up = [s](int a) { return (a + s - 1) / s; };  // a ≥ 0: windows lie inside the image
   const int u0 = up(w.u0), u1 = up(w.u0 + w.width);
   const int v0 = up(w.v0), v1 = up(w.v0 + w.height);
   return PixelRect{u0, v0, u1 - u0, v1 - v0};
+}
+
+// The contact prior's penalty of a pose T (object → camera): FilterOptions::contact times the
+// fraction of contact_span_m by which the lowest hull point floats above, or sinks below, the
+// support plane beyond contact_tolerance_m (0 without a plane).
+double ContactPenalty(const Context& ctx, const Eigen::Isometry3d& T) {
+  if (ctx.hull.empty()) return 0.0;
+  double lowest = 1e30;
+  for (const Eigen::Vector3d& v : ctx.hull) lowest = std::min(lowest, ctx.plane.Height(T * v));
+  const double off = std::fabs(lowest) - ctx.opt.contact_tolerance_m;
+  return off > 0 ? ctx.opt.contact * std::min(1.0, off / ctx.opt.contact_span_m) : 0.0;
 }
 
 // Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory. With
@@ -192,9 +241,9 @@ PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) 
 // does not depend on it.
 double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
   const Eigen::Isometry3d T = CameraFromObject(ctx, p);
-  const bool coarse = ctx.coarse;
-  const SceneInput& scene = LevelScene(ctx);
-  const Mesh& mesh = coarse && !ctx.coarse_mesh.faces.empty() ? ctx.coarse_mesh : ctx.mesh;
+  const Level& level = CurrentLevel(ctx);
+  const SceneInput& scene = level.scene;
+  const Mesh& mesh = level.mesh.faces.empty() ? ctx.mesh : level.mesh;
   ScoreKernelParams k = MakeKernelParams(mesh, T, scene.camera);
   k.near_m = float(ctx.opt.near_m);
   k.window = WeighWindow(ctx, T, p.cell);
@@ -206,17 +255,18 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   k.align_band_m = float(ctx.opt.align_band_m);
   k.edge_band_m = float(ctx.opt.edge_band_m);
   k.scene_normals = icp ? LevelNormals(ctx).data() : nullptr;
-  const render::FacePlanes* planes = &mesh == &ctx.mesh ? &ctx.face_planes : &ctx.coarse_face_planes;
+  const render::FacePlanes* planes = &level.face_planes;
   *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
   const double r_raster = n_raster > 0 ? std::min(1.0, I / double(n_raster)) : 0.0;
-  const long nd = long((coarse ? ctx.coarse_valid_depth : ctx.valid_depth).Count(k.window));
+  const long nd = long(level.valid_depth.Count(k.window));
   const double r_depth = nd > 0 ? std::min(1.0, I / double(nd)) : 0.0;
   const double rho = ctx.prior.Prob(p.cell, ctx.cls);
   const double r_edge = out->n_edge > 0 ? double(out->n_edge_continued) / double(out->n_edge) : 0.0;
-  return std::max(0.0, ctx.opt.alpha * r_raster + ctx.opt.beta * r_depth + ctx.opt.gamma * rho - ctx.opt.delta * r_edge);
+  return std::max(0.0, ctx.opt.alpha * r_raster + ctx.opt.beta * r_depth + ctx.opt.gamma * rho - ctx.opt.delta * r_edge -
+                           ContactPenalty(ctx, T));
 }
 
 // Weighs every particle not yet scored (threads over particles; each owns a workspace);
@@ -299,6 +349,10 @@ bool FilterOptions::IsValid(std::string* why) const {
   if (!(region_cap > 0 && region_cap <= 1)) return fail("region_cap must be in (0, 1]");
   if (!(rotation_cap > 0 && rotation_cap <= 1)) return fail("rotation_cap must be in (0, 1]");
   if (!(delta >= 0 && delta <= 1)) return fail("delta must be in [0, 1]");
+  if (!(contact >= 0 && contact <= 1)) return fail("contact must be in [0, 1]");
+  if (!(stable_start >= 0 && stable_start <= 1)) return fail("stable_start must be in [0, 1]");
+  if (!(contact_tolerance_m >= 0 && std::isfinite(contact_tolerance_m))) return fail("contact_tolerance_m must be >= 0");
+  if (!(contact_span_m > 0 && std::isfinite(contact_span_m))) return fail("contact_span_m must be > 0");
   if (!(edge_band_m > 0 && std::isfinite(edge_band_m))) return fail("edge_band_m must be > 0");
   if (!(align_band_m > 0 && std::isfinite(align_band_m))) return fail("align_band_m must be > 0");
   if (init_oversample < 1 || init_oversample > 64) return fail("init_oversample must be in [1, 64]");
@@ -390,46 +444,50 @@ Context BuildContext(const filter::PreparedScene& prep, const Mesh& mesh, const 
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{.scene = scene,
-              .mesh = mesh,
-              .prior = prior,
-              .cls = cls,
-              .opt = options,
-              .inlier = options.inlier,
-              .normals = render::SceneNormalTiles(scene.depth.width, scene.depth.height)};
+  Context ctx{.scene = scene, .mesh = mesh, .prior = prior, .cls = cls, .opt = options, .inlier = options.inlier};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
-  // The cpu engine's pre-cull table of a mesh: of the same arrays every weighing's parameters point at.
-  auto face_planes = [&](const Mesh& m) {
-    return options.engine == "cpu" ? render::BuildFacePlanes(MakeKernelParams(m, Eigen::Isometry3d::Identity(), scene.camera))
-                                   : render::FacePlanes{};
-  };
-  ctx.face_planes = face_planes(mesh);
   const double diameter = mesh.Diameter();
   ctx.diameter = diameter;
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
   ctx.volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
-  ctx.valid_depth = render::ValidDepthSat(prep.support.data.data(), prep.support.width, prep.support.height);
-  if (runs && options.anneal_subsample > 1 && filter::AnnealIterations(options) > 0) {
-    ctx.subsample = options.anneal_subsample;
-    ctx.coarse_scene = SubsampleScene(scene, ctx.subsample);
-    const DepthImage d = SubsampleScene(SceneInput{prep.support, scene.camera}, ctx.subsample).depth;
-    ctx.coarse_valid_depth = render::ValidDepthSat(d.data.data(), d.width, d.height);
-    ctx.coarse_normals = render::SceneNormalTiles(d.width, d.height);
-    if (options.anneal_simplify) {
-      const int budget = filter::CoarseMeshFaces(int(mesh.faces.size()), ctx.subsample);
+  // A pixel level of the given factor: the scene, N_depth table and normals subsampled, and
+  // (factor > 1, anneal_simplify) the mesh simplified to faces / factor² faces (at least
+  // kCoarseMinFaces; a mesh meshoptimizer cannot bring to the budget is weighed as it is).
+  auto make_level = [&](int factor) {
+    Level l;
+    l.factor = factor;
+    l.scene = factor > 1 ? SubsampleScene(scene, factor) : scene;
+    const DepthImage support = factor > 1 ? SubsampleScene(SceneInput{prep.support, scene.camera}, factor).depth : prep.support;
+    l.valid_depth = render::ValidDepthSat(support.data.data(), support.width, support.height);
+    l.normals = render::SceneNormalTiles(support.width, support.height);
+    if (factor > 1 && options.anneal_simplify) {
+      const int budget = filter::CoarseMeshFaces(int(mesh.faces.size()), factor);
       if (int(mesh.faces.size()) > budget) {
         try {
-          ctx.coarse_mesh = SimplifyMesh(mesh, budget);
+          l.mesh = SimplifyMesh(mesh, budget);
         } catch (const Error&) {
-          // A mesh meshoptimizer cannot bring to the budget: coarse_mesh stays empty, the full one is weighed.
         }
       }
-      if (!ctx.coarse_mesh.faces.empty()) ctx.coarse_face_planes = face_planes(ctx.coarse_mesh);
     }
+    // The cpu engine's pre-cull table: of the same arrays every weighing's parameters point at.
+    if (options.engine == "cpu")
+      l.face_planes = render::BuildFacePlanes(
+          MakeKernelParams(l.mesh.faces.empty() ? mesh : l.mesh, Eigen::Isometry3d::Identity(), scene.camera));
+    return l;
+  };
+  ctx.fine = make_level(filter::FineFactor(options, prior, cls, ctx.volumes, scene.camera, diameter));
+  if (runs && options.anneal_subsample > 1 && filter::AnnealIterations(options) > 0)
+    ctx.coarse_level = make_level(ctx.fine.factor * options.anneal_subsample);
+  if (prep.plane.found) ctx.plane = prep.plane;
+  if (options.contact > 0 && prep.plane.found) {
+    std::vector<Eigen::Vector3d> pts;
+    for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
+    ctx.hull = ComputeConvexHull(pts, "mesh '" + mesh.name + "'").vertices;
   }
+  if (runs && options.stable_start > 0 && prep.plane.found) ctx.stable = ComputeStablePoses(mesh);
   const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
   for (int i = 0; i < 8; ++i)
     ctx.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
@@ -491,7 +549,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     ctx.inlier.thr1_m = thr;
     ctx.inlier.hard_thr_m = float(options.inlier.hard_thr_m * thr / options.inlier.thr1_m);
     // Never the run's last possible iteration: its weights are the answer's.
-    const bool coarse = ctx.subsample > 1 && it < anneal_its && it + 1 < options.max_iterations;
+    const bool coarse = ctx.coarse_level.factor > 1 && it < anneal_its && it + 1 < options.max_iterations;
     const bool level_changed = coarse != ctx.coarse;
     ctx.coarse = coarse;
     return changed || level_changed;
@@ -765,6 +823,19 @@ namespace filter {
 int AnnealIterations(const FilterOptions& options) {
   return options.anneal_start_m > options.inlier.thr1_m ? int(std::lround(options.anneal_fraction * options.max_iterations))
                                                          : 0;
+}
+
+int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
+               const Camera& camera, double diameter) {
+  if (!options.adaptive_resolution) return 1;
+  int best = -1;
+  double best_p = 0;
+  for (int c = 0; c < prior.layout.CellCount(); ++c)
+    if (volumes.Valid(c) && prior.Prob(c, cls) > best_p) best = c, best_p = prior.Prob(c, cls);
+  if (best < 0) return 1;
+  const double z = std::max((camera.base_to_camera * volumes.Get(best).Centre()).z(), options.near_m);
+  const double px = diameter * std::max(camera.fx, camera.fy) / z;
+  return std::clamp(int(std::ceil(px / (1.25 * options.max_window_px))), 1, 4);
 }
 
 int CoarseMeshFaces(int faces, int subsample) {

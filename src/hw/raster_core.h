@@ -416,8 +416,8 @@ RC_PARTICLES:
           const int an = yn * kMaxWindow + xn;
           if (mem.zbuf[an] != kZbufEmpty) continue;
           const ap_uint<24> zs = DepthF20(mem.frag[an]);
+          ++acc.n_edge;  // a missing reading next to the outline is a discontinuity: not continued
           if (zs == 0) continue;
-          ++acc.n_edge;
           const ap_uint<25> diff = zs > z ? ap_uint<25>(zs - z) : ap_uint<25>(z - zs);
           if (diff <= band) ++acc.n_edge_continued;
         }

@@ -357,7 +357,7 @@ TableWorld::TableWorld(std::vector<Mesh> meshes) {
     if (!names.insert(m.name).second) throw Error("table world: mesh '" + m.name + "' given twice");
     TableModel model;
     StablePoseOptions so;
-    so.min_probability = 0.005;  // poses reached by < 0.5 % of the drops are left out
+    so.min_probability = 0.005;  // poses below 0.5 % are left out
     model.poses = ComputeStablePoses(m, so);
     model.diameter = m.Diameter();
     model.mesh = std::move(m);

@@ -210,6 +210,10 @@ TEST(LazyIcpTest, IcpOnlyDiffusionReweighsParentsAndMovesChildren) {
   o.stall_iterations = 0;  // all max_iterations iterations (the counts below assume them)
   o.move_probabilities.fill(0.0);
   o.move_probabilities[int(Move::kIcpStep)] = 1;
+  // Every cell keeps a volume (the table's pixels too), so that the 60 particles spread over
+  // many hypotheses, the resampling pool holds num_elite particles and the children below
+  // are N − num_elite per iteration.
+  o.support_plane = false;
   const EstimateResult a = EstimatePose(in, sc.target, prior, cls, o);
   const int children = (o.max_iterations - 1) * (o.num_particles - o.num_elite);
   EXPECT_GT(a.stats.weighings, o.num_particles + children);  // + the parents weighed again

@@ -306,6 +306,30 @@ TEST_P(HwRenderRasterVsReference, SameInputsMatchWithinQuantization) {
               faces_front > 0 ? double(faces_total) / faces_front : 0.0);
 }
 
+// A covered pixel's uncovered neighbour without a depth reading is an edge sample that is
+// not continued, in the hardware as in the reference (sensors drop pixels at depth steps; the
+// support plane's pixels are removed). Here only the object's own pixels keep their depth, so
+// nearly every edge sample of a pose at the ground truth has a missing neighbour.
+TEST(HwRenderRasterEdges, MissingNeighboursAreEdgeSamples) {
+  Scene sc = MakeScene("box", 11);
+  DepthImage only_object = sc.synth.depth;
+  for (std::size_t i = 0; i < only_object.data.size(); ++i)
+    if (sc.synth.labels[i] != 1) only_object.data[i] = 0;
+  sc.depth = MakeHwDepth(only_object);
+  const HwModel model = MakeHwModel(sc.synth.target);
+  const RasterParams prm = MakeRasterParams(true, 1.0 / 256);
+  const Sample s = MakeSample(sc.gt);
+  const Eigen::Vector2d c = sc.cam_q.Project(Eigen::Vector3d(sc.gt.x, sc.gt.y, sc.gt.z));
+  const Window w = SaturatedWindow(int(c.x()), int(c.y()), 200, 200, sc.depth.width, sc.depth.height);
+  const RasterCoreOutput hw = RunOneParticle(s, sc.cam, w, model, sc.depth, prm, nullptr);
+  RenderWorkspace ws;
+  const ScoreKernelResult ref = ScoreReference(ReferenceParams(model.mesh, sc.cam_q, s, w, sc.depth, true, 1.0 / 256), &ws);
+  ASSERT_GT(ref.n_edge, 100);
+  const double cov_tol = 2 + 2 * kSnapShiftPx * FrontEdgeLength(ReferenceParams(model.mesh, sc.cam_q, s, w, sc.depth, true, 1.0 / 256));
+  EXPECT_NEAR(double(hw.n_edge.to_uint64()), double(ref.n_edge), 2 * cov_tol);
+  EXPECT_NEAR(double(hw.n_edge_continued.to_uint64()), double(ref.n_edge_continued), 2 * cov_tol);
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, HwRenderRasterVsReference,
                          ::testing::Values(ModeCase{"lshape", true, 1.0 / 256}, ModeCase{"lshape", false, 1.0 / 256},
                                            ModeCase{"box", true, 0.0123}, ModeCase{"cylinder", false, 0.0123},
