@@ -63,7 +63,7 @@ def test_uint16_depth_needs_a_valid_scale(easy_scene, tiny):
         (dict(inlier_hard_thr_m=-1.0), "inlier_hard_thr_m"),
         (dict(heuristics_max_samples=0), "heuristics_max_samples"),
         (dict(heuristics_percentile_lo=0.9, heuristics_percentile_hi=0.1), "heuristics_percentile_lo"),
-        (dict(move_probabilities=[0.0] * 16), "move_probabilities"),
+        (dict(move_probabilities=[0.0] * 17), "move_probabilities"),
         (dict(restarts=0), "restarts"),
         (dict(threads=-1), "threads"),
         (dict(confidence=float("nan")), "confidence"),

@@ -9,12 +9,18 @@
 namespace posefilter::filter {
 
 DiffusionContext::DiffusionContext(const Camera& c, const PyramidLayout& l, const prior::VolumeCache& v,
-                                   const FilterOptions& o)
-    : camera(c),
-      layout(l), volumes(v), opt(o), move_cdf(kNumMoves) {
+                                   const FilterOptions& o, const SupportPlane* support, const Eigen::Vector3d& pivot_obj)
+    : camera(c), layout(l), volumes(v), opt(o), plane(support && support->found ? support : nullptr), pivot(pivot_obj),
+      move_cdf(kNumMoves) {
+  auto probability = [&](int m) { return m == int(Move::kOnPlane) && !plane ? 0.0 : o.move_probabilities[m]; };
   double total = 0, acc = 0;
-  for (double p : o.move_probabilities) total += p;
-  for (int m = 0; m < kNumMoves; ++m) move_cdf[m] = (acc += o.move_probabilities[m]) / total;
+  for (int m = 0; m < kNumMoves; ++m) total += probability(m);
+  if (!(total > 0)) {  // only kOnPlane was asked for and there is no plane: it is drawn, and changes nothing
+    std::fill(move_cdf.begin(), move_cdf.end(), 0.0);
+    move_cdf.back() = 1.0;
+    return;
+  }
+  for (int m = 0; m < kNumMoves; ++m) move_cdf[m] = (acc += probability(m)) / total;
 }
 
 Move DiffusionContext::PickMove(double u) const {
@@ -145,6 +151,21 @@ void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_
       q.roll = turned.roll;
       q.pitch = turned.pitch;
       q.yaw = turned.yaw;
+      break;
+    }
+    case Move::kOnPlane: {
+      if (!ctx.plane) break;
+      const Eigen::Isometry3d& C = ctx.camera.base_to_camera;
+      const Eigen::Isometry3d T = C * PoseToTransform(q);  // object → camera
+      const Eigen::Vector3d n = ctx.plane->normal, e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+      const double angle = sr * rng.Normal();
+      const double d1 = st * rng.Normal();
+      const double d2 = st * rng.Normal();
+      const Eigen::Vector3d pc = T * ctx.pivot;
+      Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
+      D.linear() = Eigen::AngleAxisd(angle, n).toRotationMatrix();
+      D.translation() = pc - D.linear() * pc + d1 * e1 + d2 * e2;
+      q = TransformToPose(C.inverse() * D * T);
       break;
     }
     case Move::kCount: break;

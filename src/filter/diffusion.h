@@ -12,6 +12,7 @@
 #include "posefilter/prior.h"
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
+#include "posefilter/support_plane.h"
 #include "prior/volume_cache.h"
 
 namespace posefilter::filter {
@@ -36,15 +37,19 @@ struct Particle {
 // fragments or a degenerate system. Steps are clamped to 0.3 rad and 5 cm.
 bool SolveIcpStep(const ScoreKernelResult& r, std::array<double, 6>* step);
 
-// What diffusion reads: the pyramid layout, the heuristic volume of every cell, the options.
+// What diffusion reads: the pyramid layout, the heuristic volume of every cell, the options,
+// and the support plane with the point of the object the kOnPlane move turns about.
 struct DiffusionContext {
   const Camera& camera;
   const PyramidLayout& layout;
   const prior::VolumeCache& volumes;  // computed on demand: diffusion runs on one thread
   const FilterOptions& opt;
+  const SupportPlane* plane;          // null: no support plane (kOnPlane never drawn)
+  Eigen::Vector3d pivot;              // object frame, metres (the model's bounding-box centre)
   std::vector<double> move_cdf;  // cumulative, normalised FilterOptions::move_probabilities
 
-  DiffusionContext(const Camera& c, const PyramidLayout& l, const prior::VolumeCache& v, const FilterOptions& o);
+  DiffusionContext(const Camera& c, const PyramidLayout& l, const prior::VolumeCache& v, const FilterOptions& o,
+                   const SupportPlane* support = nullptr, const Eigen::Vector3d& pivot_obj = Eigen::Vector3d::Zero());
   // The move for a uniform draw u in [0, 1).
   Move PickMove(double u) const;
 };
@@ -57,7 +62,9 @@ int MoveCell(const DiffusionContext& ctx, int cell, Move move, Rng& rng);
 // d = max(1 − best_weight, min_sigma_fraction) (linear decay of §7.6); a flip adds π; a cell
 // move carries the particle by the difference of the two volumes' centres; align-depth moves
 // it along the camera ray through its origin so its depth changes by depth_offset. Angles are
-// wrapped to (−π, π]; the particle is marked unscored.
+// wrapped to (−π, π]; kOnPlane turns the object about the plane's normal through the pivot
+// by σ_r·N(0, 1) and shifts it along two in-plane axes by σ_t·N(0, 1) each, so an object
+// resting on the table stays on it. The particle is marked unscored.
 void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_weight, Rng& rng);
 
 }  // namespace posefilter::filter

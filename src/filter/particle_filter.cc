@@ -9,6 +9,8 @@
 #include <set>
 #include <sstream>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/threads.h"
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
@@ -95,6 +97,13 @@ struct Context {
   std::vector<int> hypothesis{};     // niching: cells sharing one decoded box share an id
   int hypothesis_count = 0;
   std::array<Eigen::Vector3d, 8> bbox_corners{};  // the model's bounding box, object frame, m
+  // The box the polish turns the model in (object frame): its axes (columns, right-handed),
+  // centre and half extents along them. The axis-aligned bounding box, or the box along the
+  // vertices' principal axes when that one is at least 10 % smaller (an elongated model
+  // drawn at an angle to its own axes, as the YCB scissors).
+  Eigen::Matrix3d box_axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d box_centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d box_half = Eigen::Vector3d::Zero();
   render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
   // One scratch memory per worker thread (cpu kernel; holds the reference's too), kept from
   // one weighing round to the next so that its buffers are allocated and touched once.
@@ -113,8 +122,11 @@ struct Context {
   // convex-hull vertices (object frame, metres); empty when the prior is off or no plane.
   SupportPlane plane{};
   std::vector<Eigen::Vector3d> hull{};
-  // The mesh's stable poses (FilterOptions::stable_start); empty without a support plane.
+  // The mesh's stable poses (FilterOptions::stable_start); empty without a support plane. A
+  // stable start stands on the point of the plane below the centre of its cell's visible
+  // surface: surface_volumes are the heuristic volumes without the depth extension.
   std::vector<StablePose> stable{};
+  prior::VolumeCache surface_volumes{};
   mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
 };
 
@@ -169,7 +181,8 @@ PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cel
 // Listing 7.5: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
 // Or (ours, FilterOptions::stable_start, with a support plane): resting on the plane in one of
 // the mesh's stable poses (drawn by probability), turned by a uniform yaw about the plane's
-// normal, its centre of mass above the point of the plane below the volume's centre.
+// normal, its centre of mass above the point of the plane below the centre of the cell's
+// visible surface (the volume without the depth extension).
 Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   const Volume& vol = ctx.volumes.Get(cell);
   Particle p;
@@ -182,7 +195,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
     for (double acc = ctx.stable[0].probability; k + 1 < ctx.stable.size() && u_pose >= acc;)
       acc += ctx.stable[++k].probability;
     const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
-    const Eigen::Vector3d centre = C * c;
+    const Eigen::Vector3d centre = C * ctx.surface_volumes.Get(cell).Centre();
     const Eigen::Vector3d n = ctx.plane.normal;
     Eigen::Isometry3d T_cam_table = Eigen::Isometry3d::Identity();
     const Eigen::Vector3d ex = n.unitOrthogonal();
@@ -487,10 +500,37 @@ Context BuildContext(const filter::PreparedScene& prep, const Mesh& mesh, const 
     for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
     ctx.hull = ComputeConvexHull(pts, "mesh '" + mesh.name + "'").vertices;
   }
-  if (runs && options.stable_start > 0 && prep.plane.found) ctx.stable = ComputeStablePoses(mesh);
+  if (runs && options.stable_start > 0 && prep.plane.found) {
+    ctx.stable = ComputeStablePoses(mesh);
+    HeuristicOptions surface = hopt;
+    surface.depth_extension_m = 0;
+    ctx.surface_volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, surface, options.threads);
+  }
   const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
   for (int i = 0; i < 8; ++i)
     ctx.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  ctx.box_centre = 0.5 * (lo + hi);
+  ctx.box_half = 0.5 * (hi - lo);
+  {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& v : mesh.vertices) mean += v.cast<double>();
+    mean /= double(mesh.vertices.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto& v : mesh.vertices) cov += (v.cast<double>() - mean) * (v.cast<double>() - mean).transpose();
+    Eigen::Matrix3d A = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors();
+    if (A.determinant() < 0) A.col(2) = -A.col(2);
+    Eigen::Vector3d plo = Eigen::Vector3d::Constant(1e30), phi = Eigen::Vector3d::Constant(-1e30);
+    for (const auto& v : mesh.vertices) {
+      const Eigen::Vector3d q = A.transpose() * v.cast<double>();
+      plo = plo.cwiseMin(q);
+      phi = phi.cwiseMax(q);
+    }
+    if ((phi - plo).prod() < 0.9 * (hi - lo).prod() && A.allFinite()) {
+      ctx.box_axes = A;
+      ctx.box_centre = A * (0.5 * (plo + phi));
+      ctx.box_half = 0.5 * (phi - plo);
+    }
+  }
   ctx.windows.resize(cells);  // PrepareCell fills them in as cells are used
   ctx.window_ready.assign(std::size_t(cells), 0);
   // Hypotheses for niching: cells whose decoded boxes agree to the pixel share one (all the
@@ -537,7 +577,8 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   EstimateResult res;
   const FilterOptions& options = ctx.opt;
   const SceneInput& scene = ctx.scene;
-  const filter::DiffusionContext diffusion(scene.camera, ctx.prior.layout, ctx.volumes, options);
+  const filter::DiffusionContext diffusion(scene.camera, ctx.prior.layout, ctx.volumes, options, &ctx.plane,
+                                           0.5 * (ctx.bbox_corners[0] + ctx.bbox_corners[7]));
   // Coarse-to-fine inlier threshold: thr1 falls geometrically from anneal_start_m to its
   // final value over the first anneal_fraction of the iterations, weighed on the coarse pixel
   // grid while it does (anneal_subsample > 1). Sets the threshold and the pixel grid of
@@ -698,7 +739,8 @@ std::vector<Eigen::Matrix3d> CubeRotations() {
 }
 
 // Final polish (ours, FilterOptions::polish_steps): every seed, and with polish_turns each
-// seed turned about the model's bounding-box centre c by the 23 other cube rotations
+// seed turned about the centre c of the model's box (Context::box_axes) by the 23 other
+// rotations of a cube in the box's frame
 // (T' = T·[R_k | c − R_k·c], so the object stays where it is), takes polish_steps ICP steps
 // (the kIcpStep move solved from its own last weighing) at the final inlier threshold. A
 // turned copy whose translation is a little off can thus settle before it is compared, which
@@ -708,27 +750,30 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   const FilterOptions& o = ctx.opt;
   ctx.inlier = o.inlier;  // final thresholds, every pixel, the full mesh
   ctx.coarse = false;
-  const Eigen::Vector3d centre = 0.5 * (ctx.bbox_corners[0] + ctx.bbox_corners[7]);
+  const Eigen::Vector3d centre = ctx.box_centre;
+  const Eigen::Matrix3d& A = ctx.box_axes;
   std::vector<Eigen::Matrix3d> turns = CubeRotations();
   if (!o.polish_turns) turns.resize(1);
   // Pivots: a turn about the centre, and (polish_pivots) the same turn followed by the shift
-  // that puts a corner of the turned bounding box where that corner of the seed's box was —
-  // a turn about an edge or corner, as when an object tips over onto another face. Half
-  // extents e and, turned, e' = |R|·e; corner σ ∈ {±1}³ moves the centre by σ∘(e − e'),
-  // seed's object frame. Turns that keep the box (e' = e) need no shift.
-  const Eigen::Vector3d half = 0.5 * (ctx.bbox_corners[7] - ctx.bbox_corners[0]);
+  // that puts a corner of the turned box where that corner of the seed's box was — a turn
+  // about an edge or corner, as when an object tips over onto another face. Half extents e
+  // and, turned, e' = |R|·e; corner σ ∈ {±1}³ moves the centre by σ∘(e − e') (box frame).
+  // Turns that keep the box (e' = e) need no shift. The turns R are the cube's in the box's
+  // frame: A·R·Aᵀ in the object frame.
+  const Eigen::Vector3d half = ctx.box_half;
   std::vector<Particle> cands;
   for (const Particle& s : seeds)
     for (const Eigen::Matrix3d& R : turns) {
       const Eigen::Vector3d diff = half - R.cwiseAbs() * half;
       const int pivots = o.polish_pivots && diff.norm() > 1e-6 ? 9 : 1;
+      const Eigen::Matrix3d R_obj = A * R * A.transpose();
       for (int k = 0; k < pivots; ++k) {
         Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
-        turn.linear() = R;
-        turn.translation() = centre - R * centre;
+        turn.linear() = R_obj;
+        turn.translation() = centre - R_obj * centre;
         if (k > 0) {
           const Eigen::Vector3d sigma((k - 1) & 1 ? 1.0 : -1.0, (k - 1) & 2 ? 1.0 : -1.0, (k - 1) & 4 ? 1.0 : -1.0);
-          turn.translation() += sigma.cwiseProduct(diff);
+          turn.translation() += A * sigma.cwiseProduct(diff);
         }
         Particle p = s;
         p.pose = TransformToPose(PoseToTransform(s.pose) * turn);
@@ -743,7 +788,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
                       [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
     cands.resize(o.polish_keep);
   }
-  const filter::DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o);
+  const filter::DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o, &ctx.plane, centre);
   Rng unused(0);  // the ICP move draws no random numbers
   std::vector<Particle> path_best(cands.size());  // best weighed state of each candidate
   for (auto& p : path_best) p.weight = -1;
@@ -757,10 +802,18 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   std::sort(path_best.begin(), path_best.end(), [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
 
   // Pattern search (compass search) on the weight itself from the best candidates: each
-  // round tries ±step along the camera's x, y, z and ±angle about the camera axes through
-  // the model centre, moves to the best improvement, and halves step and angle when none
-  // improves; the ICP steps align surfaces, this also aligns the outline (N_depth, edges).
+  // round tries ±step along three axes and ±angle about them through the model centre, moves
+  // to the best improvement, and halves step and angle when none improves; the ICP steps
+  // align surfaces, this also aligns the outline (N_depth, edges). The axes are the support
+  // plane's (two in the plane, its normal) where one was found — an object resting on the
+  // table then slides and turns on it, the moves that align the outline of a thin or flat
+  // object, which point-to-plane ICP on its top face cannot — else the camera's.
   const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns, camera frame
+  if (ctx.plane.found) {
+    const Eigen::Vector3d n = ctx.plane.normal, e1 = n.unitOrthogonal();
+    axes << e1, n.cross(e1), n;
+  }
   struct Climber {
     Particle p;
     double step_m = 0.01, angle_rad = 0.1;
@@ -779,9 +832,9 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
         for (double sign : {-1.0, 1.0}) {
           Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
           if (dof < 3) {
-            D.translation()[dof] = sign * cl.step_m;
+            D.translation() = sign * cl.step_m * axes.col(dof);
           } else {
-            D.linear() = Eigen::AngleAxisd(sign * cl.angle_rad, Eigen::Vector3d::Unit(dof - 3)).toRotationMatrix();
+            D.linear() = Eigen::AngleAxisd(sign * cl.angle_rad, axes.col(dof - 3)).toRotationMatrix();
             D.translation() = pc - D.linear() * pc;
           }
           Particle t = cl.p;
