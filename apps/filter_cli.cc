@@ -123,6 +123,8 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("polish_steps"), o->polish_steps, "final polish: ICP steps per polished candidate (0 = off)");
   app.add_flag("!--no-polish-turns", o->polish_turns, "final polish: do not try the 23 cube turns of each seed");
   app.add_flag("!--no-polish-pivots", o->polish_pivots, "final polish: turn about the box centre only (no edge/corner pivots)");
+  app.add_flag("!--no-polish-stable", o->polish_stable,
+               "final polish: do not try the mesh's stable poses on the support plane at each seed");
   add(OptionOf("polish_seeds"), o->polish_seeds, "final polish: niche leaders per run used as seeds");
   add(OptionOf("polish_climbers"), o->polish_climbers, "final polish: candidates refined by pattern search");
   app.add_flag("!--no-grow-window", o->grow_window, "weigh each particle in its cell's window only (thesis)");

@@ -345,6 +345,7 @@ const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
       Field("polish_turns", &O::polish_turns),
       Field("polish_pivots", &O::polish_pivots),
       Field("polish_keep", &O::polish_keep),
+      Field("polish_stable", &O::polish_stable),
       Field("polish_seeds", &O::polish_seeds),
       Field("polish_climbers", &O::polish_climbers),
       Field("seed", &O::seed),

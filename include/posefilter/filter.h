@@ -180,6 +180,11 @@ struct FilterOptions {
   // copy once, and polish only the best polish_keep copies.
   bool polish_pivots = true;
   int polish_keep = 48;
+  // With a support plane (and stable_start > 0): also stand each seed, at its centre of
+  // mass's point of the plane, in each of the mesh's stable poses of at least 1 % (at most 8),
+  // turned about the plane's normal in 24 steps of 15°; weighed once with the turned copies,
+  // the best polish_keep of all go on.
+  bool polish_stable = true;
   // Seeds per run: the best particle of each (hypothesis, orientation) niche of the run's
   // final set, best first. With turns, each seed costs 24 × (polish_steps + 1) weighings.
   int polish_seeds = 1;

@@ -46,8 +46,8 @@ struct ConvexHull {
 // volume (all on a plane or a line).
 ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points, const std::string& what = "points");
 
-// Centre of mass of the mesh as a solid of uniform density (signed tetrahedra from the
-// origin), object frame, metres. Meshes that do not enclose a volume (open or inconsistently
+// Centre of mass of the mesh as a solid of uniform density (signed tetrahedra), object
+// frame, metres. Meshes that do not enclose a volume (open or inconsistently
 // wound, so that the signed volume is below a quarter of the hull's) use the centroid of
 // the solid convex hull instead. Throws Error like ComputeConvexHull.
 Eigen::Vector3d CentreOfMass(const Mesh& mesh);

@@ -222,7 +222,7 @@ class Estimator:
                  heuristics_depth_extension_m: float = ..., heuristics_max_samples: int = ...,
                  heuristics_max_depth_m: float = ..., heuristics_min_valid_pixels: int = ..., restarts: int = ...,
                  stall_iterations: int = ..., stall_gain: float = ...,
-                 polish_steps: int = ..., polish_turns: bool = ..., polish_pivots: bool = ..., polish_keep: int = ..., polish_seeds: int = ..., polish_climbers: int = ..., seed: int = ...,
+                 polish_steps: int = ..., polish_turns: bool = ..., polish_pivots: bool = ..., polish_keep: int = ..., polish_stable: bool = ..., polish_seeds: int = ..., polish_climbers: int = ..., seed: int = ...,
                  threads: int = ...) -> None: ...
     @property
     def options(self) -> dict[str, Any]: ...

@@ -126,19 +126,22 @@ std::vector<Eigen::Vector3d> Points(const Mesh& mesh) {
   return pts;
 }
 
-// CentreOfMass with the mesh's hull already computed.
+// CentreOfMass with the mesh's hull already computed. Signed tetrahedra from the hull's
+// centroid r (inside the object): the sum is the enclosed volume for a closed surface
+// wherever r is, and stays small for an open one.
 Eigen::Vector3d CentreOfMass(const Mesh& mesh, const ConvexHull& hull) {
   const std::vector<Eigen::Vector3d> pts = Points(mesh);
+  const Eigen::Vector3d r = hull.centroid;
   double volume = 0;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();
   for (const auto& f : mesh.faces) {
-    const Eigen::Vector3d a = pts[f[0]], b = pts[f[1]], c = pts[f[2]];
-    const double v = a.dot(b.cross(c)) / 6.0;  // signed tetrahedron (origin, a, b, c)
+    const Eigen::Vector3d a = pts[f[0]] - r, b = pts[f[1]] - r, c = pts[f[2]] - r;
+    const double v = a.dot(b.cross(c)) / 6.0;
     volume += v;
     moment += v * (a + b + c) / 4.0;
   }
   // Inverted winding flips both sums, so |volume| is what tells a closed surface.
-  if (std::fabs(volume) >= 0.25 * hull.volume) return moment / volume;
+  if (std::fabs(volume) >= 0.25 * hull.volume) return r + moment / volume;
   return hull.centroid;
 }
 

@@ -127,6 +127,7 @@ struct Context {
   // surface: surface_volumes are the heuristic volumes without the depth extension.
   std::vector<StablePose> stable{};
   prior::VolumeCache surface_volumes{};
+  Eigen::Vector3d com_obj = Eigen::Vector3d::Zero();  // the mesh's centre of mass, object frame
   mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
 };
 
@@ -502,6 +503,8 @@ Context BuildContext(const filter::PreparedScene& prep, const Mesh& mesh, const 
   }
   if (runs && options.stable_start > 0 && prep.plane.found) {
     ctx.stable = ComputeStablePoses(mesh);
+    if (!ctx.stable.empty())
+      ctx.com_obj = ctx.stable[0].T_table_obj.inverse() * Eigen::Vector3d(0, 0, ctx.stable[0].com_height_m);
     HeuristicOptions surface = hopt;
     surface.depth_extension_m = 0;
     ctx.surface_volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, surface, options.threads);
@@ -781,8 +784,33 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
         cands.push_back(p);
       }
     }
+  // Stable re-search (polish_stable, with a support plane): each seed's centre of mass
+  // dropped onto the plane, and the object standing there in each of its stable poses of at
+  // least 1 % probability (at most 8), turned about the plane's normal in 24 steps of 15°: an
+  // answer in the wrong stable pose, or the right one turned or flipped, gets the right one.
+  if (o.polish_stable && !ctx.stable.empty()) {
+    const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
+    const Eigen::Vector3d n = ctx.plane.normal, ex = n.unitOrthogonal();
+    for (const Particle& s : seeds) {
+      const Eigen::Vector3d com = C * PoseToTransform(s.pose) * ctx.com_obj;
+      Eigen::Isometry3d T_cam_table = Eigen::Isometry3d::Identity();
+      T_cam_table.linear() << ex, n.cross(ex), n;
+      T_cam_table.translation() = com - ctx.plane.Height(com) * n;
+      for (std::size_t k = 0; k < std::min<std::size_t>(ctx.stable.size(), 8); ++k) {
+        if (ctx.stable[k].probability < 0.01) break;  // most probable first
+        for (int j = 0; j < 24; ++j) {
+          const Eigen::Isometry3d T = T_cam_table * Eigen::AngleAxisd(j * M_PI / 12, Eigen::Vector3d::UnitZ()) *
+                                      ctx.stable[k].T_table_obj;
+          Particle p = s;
+          p.pose = TransformToPose(C.inverse() * T);
+          p.scored = false;
+          cands.push_back(p);
+        }
+      }
+    }
+  }
   // With pivots, weigh every copy once and polish only the best polish_keep of them.
-  if (o.polish_pivots && int(cands.size()) > o.polish_keep) {
+  if ((o.polish_pivots || o.polish_stable) && int(cands.size()) > o.polish_keep) {
     WeighAll(ctx, cands, stats, /*icp=*/true);
     std::partial_sort(cands.begin(), cands.begin() + o.polish_keep, cands.end(),
                       [](const Particle& a, const Particle& b) { return a.weight > b.weight; });

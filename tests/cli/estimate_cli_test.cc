@@ -160,6 +160,63 @@ TEST_F(CliTest, EstimateIsDeterministicPerSeed) {
 // ---------------------------------------------------------------------------------------------
 // estimate: input errors (exit 1, one line naming the file or option).
 
+// estimate --mask: the target's instance mask (the synthetic scene's label 1) with a class
+// map is the whole prior; the pose found lies within 1 cm of the ground truth.
+TEST_F(CliTest, EstimateWithAMaskPrior) {
+  const LabelImage labels = LoadLabelPng(Scene("label.png"));
+  LabelImage mask = labels;
+  for (auto& id : mask.ids) id = id == 1 ? 4 : 0;  // instance id 4
+  SaveLabelPng(mask, Path("mask.png"));
+  WriteFile(Path("classes.json"), R"({"4": "box"})");
+  std::vector<std::string> extra = {"--mesh", Scene("box.ply"), "--mask", Path("mask.png"), "--mask-classes",
+                                    Path("classes.json"), "--out", Path("r.json")};
+  const RunResult r = Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const ObjectResult o = ExpectOneBoxResult(Path("r.json"), 1000);
+  const std::vector<GtObject> gt = ReadGtJson(Scene("gt.json"));
+  EXPECT_LT((o.T_cam_obj.translation() - gt[0].T_cam_obj.translation()).norm(), 0.01);
+}
+
+// Mask priors with a wrong size, unknown ids or no instance, or given with --prior: one
+// line naming the file or option, exit 1.
+TEST_F(CliTest, BadMaskPriorsAreErrorsNamingTheFile) {
+  const LabelImage labels = LoadLabelPng(Scene("label.png"));
+  LabelImage target = labels;
+  for (auto& id : target.ids) id = id == 1 ? 1 : 0;
+  SaveLabelPng(target, Path("target.png"));
+  WriteFile(Path("classes.json"), R"({"1": "box"})");
+  auto run = [&](const std::string& mask, std::vector<std::string> more = {}) {
+    std::vector<std::string> extra = {"--mesh", Scene("box.ply"), "--mask", mask, "--mask-classes", Path("classes.json")};
+    extra.insert(extra.end(), more.begin(), more.end());
+    return Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra));
+  };
+  SaveLabelPng(LabelImage{10, 10, std::vector<std::uint16_t>(100, 1)}, Path("small.png"));
+  ExpectInputError(run(Path("small.png")), "estimate", Path("small.png"));
+  ExpectInputError(run(Path("small.png")), "estimate", "10x10");
+  LabelImage two = target;
+  two.ids[0] = 9;
+  SaveLabelPng(two, Path("two.png"));
+  ExpectInputError(run(Path("two.png")), "estimate", Path("two.png"));
+  ExpectInputError(run(Path("two.png")), "estimate", "mask id 9");
+  LabelImage empty = target;
+  std::fill(empty.ids.begin(), empty.ids.end(), 0);
+  SaveLabelPng(empty, Path("empty.png"));
+  ExpectInputError(run(Path("empty.png")), "estimate", Path("empty.png"));
+  ExpectInputError(run(Path("empty.png")), "estimate", "mask is empty");
+  WriteFile(Path("other.json"), R"({"1": "mug"})");
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"),
+                                    {"--mesh", Scene("box.ply"), "--mask", Path("target.png"), "--mask-classes",
+                                     Path("other.json")})),
+                   "estimate", "no instance of 'box'");
+  ExpectInputError(run(Path("missing.png")), "estimate", Path("missing.png"));
+  ExpectInputError(run(Path("target.png"), {"--prior", Scene("detections.json")}), "estimate", "--prior");
+  WriteFile(Path("bad.json"), "[1, 2]");
+  ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"),
+                                    {"--mesh", Scene("box.ply"), "--mask", Path("target.png"), "--mask-classes",
+                                     Path("bad.json")})),
+                   "estimate", Path("bad.json"));
+}
+
 TEST_F(CliTest, MissingDepthPng) {
   const std::string depth = Path("no_such_depth.png");
   ExpectInputError(Run(EstimateArgs(depth, Scene("camera.json"), {"--mesh", Scene("box.ply")})), "estimate", depth);

@@ -1,0 +1,167 @@
+// Table-top scenes of real meshes seen by the structured-light sensor model
+// (posefilter/table_world.h).
+#include "posefilter/table_world.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "posefilter/synth.h"
+#include "test_util.h"
+
+namespace posefilter {
+namespace {
+
+using testing_util::ExpectError;
+using testing_util::ExpectInvalid;
+
+const TableWorld& World() {
+  static const TableWorld* w =
+      new TableWorld({MakeBox(0.12, 0.08, 0.16, "box"), MakeCylinder(0.04, 0.14, 32, "cylinder"),
+                      MakeLShape(0.14, 0.05, 0.06, "lshape"), MakeTorus(0.06, 0.025, 24, 16, "torus"),
+                      MakeBox(0.18, 0.08, 0.012, "plate")});
+  return *w;
+}
+
+TableScene Scene(std::uint64_t seed) {
+  TableSceneOptions o;
+  o.min_objects = 3;
+  o.max_objects = 5;
+  return World().MakeScene(o, seed);
+}
+
+TEST(TableWorldTest, TheSameSeedMakesTheSameScene) {
+  const TableScene a = Scene(7), b = Scene(7), c = Scene(8);
+  EXPECT_EQ(a.depth.data, b.depth.data);
+  EXPECT_EQ(a.masks, b.masks);
+  ASSERT_EQ(a.objects.size(), b.objects.size());
+  for (std::size_t i = 0; i < a.objects.size(); ++i) EXPECT_EQ(a.objects[i].T_cam_obj.matrix(), b.objects[i].T_cam_obj.matrix());
+  EXPECT_NE(a.depth.data, c.depth.data);
+}
+
+// Every object rests on the table in a stable pose: its lowest point on the plane, the
+// plane facing the camera, objects of distinct classes, none inside another, the camera
+// 0.6–1.3 m from the group.
+TEST(TableWorldTest, ObjectsRestOnTheTableInStablePoses) {
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    const TableScene s = Scene(seed);
+    ASSERT_GE(s.objects.size(), 3u);
+    const Eigen::Vector3d n = s.table_plane.head<3>();
+    EXPECT_NEAR(n.norm(), 1.0, 1e-9);
+    EXPECT_GT(s.table_plane[3], 0.0);  // the camera is above the table
+    EXPECT_GE(s.distance_m, 0.6);
+    EXPECT_LE(s.distance_m, 1.3);
+    std::vector<std::string> classes;
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+      const TableObject& o = s.objects[i];
+      classes.push_back(o.cls);
+      const Mesh& m = World().models()[std::size_t(o.model)].mesh;
+      double lowest = 1e30;
+      for (const auto& v : m.vertices) lowest = std::min(lowest, n.dot(o.T_cam_obj * v.cast<double>()) + s.table_plane[3]);
+      EXPECT_NEAR(lowest, 0.0, 1e-4) << o.cls;
+      // No other object's centre lies within this object's footprint radius of its centre.
+      for (std::size_t j = 0; j < i; ++j)
+        EXPECT_GT((o.T_cam_obj.translation() - s.objects[j].T_cam_obj.translation()).norm(), 0.02);
+    }
+    std::sort(classes.begin(), classes.end());
+    EXPECT_EQ(std::unique(classes.begin(), classes.end()), classes.end());
+  }
+}
+
+// The sensor model: depth rounded to 1 mm, missing depth where the sensor loses it (a few
+// percent up to a third of the image), noise of a few millimetres that grows with depth.
+TEST(TableWorldTest, TheSensorModelRoundsDropsAndAddsNoiseGrowingWithDepth) {
+  const TableScene s = Scene(3);
+  int valid = 0, lost = 0;
+  std::vector<std::pair<double, double>> err;  // (clean z, |z − clean z|) on the table
+  for (std::size_t i = 0; i < s.depth.data.size(); ++i) {
+    const float z = s.depth.data[i], c = s.clean_depth.data[i];
+    if (c <= 0) continue;
+    if (z <= 0) {
+      ++lost;
+      continue;
+    }
+    ++valid;
+    EXPECT_NEAR(z * 1000, std::round(z * 1000), 1e-3);
+    if (s.labels[i] == 0) err.push_back({c, std::fabs(z - c)});
+  }
+  const double lost_fraction = double(lost) / (valid + lost);
+  EXPECT_GT(lost_fraction, 0.01);
+  EXPECT_LT(lost_fraction, 0.35);
+  std::sort(err.begin(), err.end());
+  auto median_error = [](std::vector<std::pair<double, double>>::const_iterator a, std::vector<std::pair<double, double>>::const_iterator b) {
+    std::vector<double> e;
+    for (auto it = a; it != b; ++it) e.push_back(it->second);
+    std::nth_element(e.begin(), e.begin() + std::ptrdiff_t(e.size() / 2), e.end());
+    return e[e.size() / 2];
+  };
+  const auto third = std::ptrdiff_t(err.size() / 3);
+  const double near = median_error(err.begin(), err.begin() + third), far = median_error(err.end() - third, err.end());
+  EXPECT_GT(near, 0.0001);
+  EXPECT_LT(far, 0.01);
+  EXPECT_GT(far, near);
+}
+
+// Targets have a jittered detection each (first, in object order), then the false boxes; a
+// target's instance mask covers its visible pixels up to the outline's noise.
+TEST(TableWorldTest, DetectionsAndMasksOfTheTargets) {
+  const TableScene s = Scene(5);
+  int targets = 0;
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const TableObject& o = s.objects[i];
+    if (!o.target) {
+      EXPECT_EQ(std::count(s.masks.begin(), s.masks.end(), std::uint16_t(i + 1)), 0);
+      continue;
+    }
+    ASSERT_LT(std::size_t(targets), s.detections.size());
+    const Detection& d = s.detections[std::size_t(targets++)];
+    EXPECT_EQ(d.cls, o.cls);
+    EXPECT_GT(BoxIoU(DetectionBox(d), o.box), 0.5);
+    int both = 0, either = 0;
+    for (std::size_t q = 0; q < s.masks.size(); ++q) {
+      const bool in_mask = s.masks[q] == i + 1, in_label = s.labels[q] == int(i) + 1;
+      both += in_mask && in_label;
+      either += in_mask || in_label;
+    }
+    EXPECT_GT(double(both) / either, 0.6) << o.cls;
+  }
+  EXPECT_GT(targets, 0);
+  EXPECT_EQ(s.detections.size(), std::size_t(targets + 2));  // two false boxes by default
+}
+
+TEST(TableWorldTest, BadOptionsAndMeshesAreErrors) {
+  TableSceneOptions o;
+  o.min_objects = 0;
+  ExpectInvalid(o, "min_objects");
+  o = {};
+  o.max_distance_m = 0.5;
+  ExpectInvalid(o, "distance");
+  o = {};
+  o.sensor.hole_fraction = 0.9;
+  ExpectInvalid(o, "sensor.hole_fraction");
+  o = {};
+  o.max_objects = 6;
+  ExpectError([&] { World().MakeScene(o, 1); }, {"max_objects", "5 classes"});
+  ExpectError([] { TableWorld({MakeBox(0.1, 0.1, 0.1, "a"), MakeBox(0.1, 0.1, 0.1, "a")}); }, {"'a'", "twice"});
+  ExpectError([] { TableWorld::LoadYcbVideo("/nonexistent/models"); }, {"/nonexistent/models"});
+}
+
+// The 21 YCB-Video meshes of the shared data (skipped without them): every class has stable
+// poses, and a scene of them writes every file a peer reads.
+TEST(TableWorldTest, TheYcbVideoWorldWritesItsScenes) {
+  const auto models = testing_util::YcbvDataDir() / "models";
+  if (!std::filesystem::exists(models)) GTEST_SKIP() << "no YCB-Video meshes at " << models;
+  const TableWorld w = TableWorld::LoadYcbVideo(models.string());
+  ASSERT_EQ(w.models().size(), 21u);
+  for (const TableModel& m : w.models()) EXPECT_FALSE(m.poses.empty()) << m.mesh.name;
+  const TableScene s = w.MakeScene({}, 1);
+  testing_util::ScratchDir dir("table_world");
+  WriteTableScene(s, dir.Path("scene"));
+  for (const char* f : {"depth.png", "camera.json", "gt.json", "detections.json", "mask.png", "mask_classes.json",
+                        "label.png", "rgb.png", "scene.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir.dir() / "scene" / f)) << f;
+}
+
+}  // namespace
+}  // namespace posefilter
