@@ -30,6 +30,7 @@
 #include "posefilter/filter.h"
 #include "posefilter/heuristics.h"
 #include "posefilter/mesh.h"
+#include "posefilter/mask_prior.h"
 #include "posefilter/metrics.h"
 #include "posefilter/overlay.h"
 #include "posefilter/pose.h"
@@ -515,10 +516,27 @@ class Estimator {
 
   // See the docstring in PYBIND11_MODULE.
   py::object Estimate(py::handle depth, const Camera& camera, py::handle mesh_arg, py::handle prior_arg,
-                      py::handle obj_arg, std::optional<double> depth_scale, py::handle progress) const {
+                      py::handle obj_arg, std::optional<double> depth_scale, py::handle progress,
+                      py::handle mask_arg) const {
     CheckedCamera(camera, "camera");
     SceneInput scene{DepthFrom(depth, depth_scale, &camera, "depth"), camera};
     ValidateScene(scene, "depth");
+    // The object's instance mask (H x W, non-zero = the object): scored against, and its box
+    // is the prior when none is given.
+    InstanceMask mask;
+    if (!mask_arg.is_none()) {
+      if (!py::isinstance<py::array>(mask_arg)) Fail("mask: expected a numpy array (H x W)");
+      const auto a = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(mask_arg);
+      if (!a || a.ndim() != 2 || a.shape(0) != camera.height || a.shape(1) != camera.width) {
+        std::ostringstream os;
+        os << "mask: expected shape (" << camera.height << ", " << camera.width << ") (the camera's height, width)";
+        Fail(os.str());
+      }
+      LabelImage l{camera.width, camera.height, std::vector<std::uint16_t>(std::size_t(camera.width) * camera.height)};
+      for (std::size_t i = 0; i < l.ids.size(); ++i) l.ids[i] = a.data()[i] ? 1 : 0;
+      mask = MasksFromLabels(l, {{1, "mask"}}, "mask").front();
+      scene.mask = mask.pixels;
+    }
 
     // Meshes: one Mesh, or a sequence of them (batch).
     const bool batch = !py::isinstance<Mesh>(mesh_arg);
@@ -534,6 +552,7 @@ class Estimator {
       }
       if (meshes.empty()) Fail("mesh: empty list of meshes");
     }
+    if (!scene.mask.empty() && meshes.size() != 1) Fail("mask: a mask is the instance of one object; give one Mesh");
     // Object names = prior classes: obj (str or list), default the meshes' names.
     std::vector<std::string> objs;
     if (obj_arg.is_none()) {
@@ -552,7 +571,11 @@ class Estimator {
     // The prior: None (uniform), a Prior, a detections JSON path, or a list of detections.
     const int W = camera.width, H = camera.height;
     Prior prior;
-    if (prior_arg.is_none()) {
+    if (prior_arg.is_none() && !scene.mask.empty()) {
+      mask.cls = objs[0];
+      const auto classes = ClassesFor(objs, {});
+      prior = PriorFromDetections({MaskDetection(mask)}, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    } else if (prior_arg.is_none()) {
       const auto classes = ClassesFor(objs, {});
       prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else if (py::isinstance<Prior>(prior_arg)) {
@@ -1109,11 +1132,12 @@ PYBIND11_MODULE(_posefilter, m) {
         return n;
       })
       .def("estimate", &Estimator::Estimate, "depth"_a, "camera"_a, "mesh"_a, "prior"_a = py::none(), py::kw_only(),
-           "obj"_a = py::none(), "depth_scale"_a = py::none(), "progress"_a = py::none(),
+           "obj"_a = py::none(), "depth_scale"_a = py::none(), "progress"_a = py::none(), "mask"_a = py::none(),
            "Pose(s) of mesh (a Mesh → Result; a list of Mesh → BatchResult) in depth (H x W float metres, or "
-           "uint16 with depth_scale). prior: None (uniform), a Prior, a detections JSON path, or a list of "
-           "Detection/dicts. obj: prior class name(s), default the meshes' names. progress(obj, iteration, "
-           "best_weight) is called after each iteration. Runs without the GIL.")
+           "uint16 with depth_scale). prior: None (uniform, or the mask's box), a Prior, a detections JSON path, "
+           "or a list of Detection/dicts. obj: prior class name(s), default the meshes' names. mask: the "
+           "object's instance mask (H x W, non-zero = the object; one Mesh), scored against. progress(obj, "
+           "iteration, best_weight) is called after each iteration. Runs without the GIL.")
       .def("__repr__", [](const Estimator& e) {
         const auto& o = e.options();
         return "Estimator(num_particles=" + std::to_string(o.num_particles) + ", max_iterations=" +

@@ -233,11 +233,11 @@ class Estimator:
     @overload
     def estimate(self, depth: ArrayLike, camera: Camera, mesh: Mesh, prior: PriorLike = None, *,
                  obj: str | None = None, depth_scale: float | None = None,
-                 progress: ProgressFn | None = None) -> Result: ...
+                 progress: ProgressFn | None = None, mask: ArrayLike | None = None) -> Result: ...
     @overload
     def estimate(self, depth: ArrayLike, camera: Camera, mesh: Sequence[Mesh], prior: PriorLike = None, *,
                  obj: Sequence[str] | None = None, depth_scale: float | None = None,
-                 progress: ProgressFn | None = None) -> BatchResult: ...
+                 progress: ProgressFn | None = None, mask: ArrayLike | None = None) -> BatchResult: ...
 
 class SynthScene:
     @property

@@ -118,3 +118,21 @@ def test_progress_callback_sees_every_iteration(easy_scene):
 
     with pytest.raises(RuntimeError, match="stop here"):
         est.estimate(s.depth, s.camera, s.target, s.prior, progress=boom)
+
+
+def test_mask_prior_finds_the_target_and_bad_masks_are_errors(easy_scene):
+    s = easy_scene
+    mask = s.labels == 1  # the target's pixels
+    est = pf.Estimator(seed=1, **SMALL)
+    r = est.estimate(s.depth, s.camera, s.target, mask=mask)  # no prior: the mask's box
+    err = pf.pose_errors(s.target, r.pose, s.gt_poses[0])
+    assert err.adds_ok, err
+    # int masks: non-zero is the object.
+    r_int = est.estimate(s.depth, s.camera, s.target, mask=mask.astype(np.int32) * 7)
+    np.testing.assert_array_equal(r.pose, r_int.pose)
+    with pytest.raises(pf.Error, match="mask: expected shape"):
+        est.estimate(s.depth, s.camera, s.target, mask=mask[:10])
+    with pytest.raises(pf.Error, match="mask is empty"):
+        est.estimate(s.depth, s.camera, s.target, mask=np.zeros_like(mask))
+    with pytest.raises(pf.Error, match="one Mesh"):
+        est.estimate(s.depth, s.camera, [s.target, s.target], mask=mask, obj=["a", "b"])

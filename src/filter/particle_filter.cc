@@ -183,7 +183,8 @@ PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cel
 // Or (ours, FilterOptions::stable_start, with a support plane): resting on the plane in one of
 // the mesh's stable poses (drawn by probability), turned by a uniform yaw about the plane's
 // normal, its centre of mass above the point of the plane below the centre of the cell's
-// visible surface (the volume without the depth extension).
+// visible surface (the volume without the depth extension), moved away from the camera along
+// the plane by a uniform fraction of the object's radius.
 Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   const Volume& vol = ctx.volumes.Get(cell);
   Particle p;
@@ -191,7 +192,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   const Eigen::Vector3d c = vol.Centre();
   const double u_start = rng.Uniform();
   if (!ctx.stable.empty() && u_start < ctx.opt.stable_start) {
-    const double u_pose = rng.Uniform(), yaw = rng.Uniform(-M_PI, M_PI);
+    const double u_pose = rng.Uniform(), yaw = rng.Uniform(-M_PI, M_PI), back = rng.Uniform();
     std::size_t k = 0;
     for (double acc = ctx.stable[0].probability; k + 1 < ctx.stable.size() && u_pose >= acc;)
       acc += ctx.stable[++k].probability;
@@ -201,7 +202,12 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
     Eigen::Isometry3d T_cam_table = Eigen::Isometry3d::Identity();
     const Eigen::Vector3d ex = n.unitOrthogonal();
     T_cam_table.linear() << ex, n.cross(ex), n;
-    T_cam_table.translation() = centre - ctx.plane.Height(centre) * n;
+    // The visible surface's foot, moved away from the camera along the plane by up to the
+    // object's radius: the object lies behind what the camera sees of it (and an occluder in
+    // the box pulls the surface's centre towards the camera).
+    Eigen::Vector3d away = centre - n * n.dot(centre);
+    if (away.norm() > 1e-9) away.normalize();
+    T_cam_table.translation() = centre - ctx.plane.Height(centre) * n + back * 0.5 * ctx.diameter * away;
     const Eigen::Isometry3d T_cam_obj =
         T_cam_table * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * ctx.stable[k].T_table_obj;
     p.pose = TransformToPose(C.inverse() * T_cam_obj);
