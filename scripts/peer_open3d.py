@@ -72,6 +72,19 @@ def auc(errors, cap=0.1):
     return area / cap
 
 
+def sample_surface(mesh, n):
+    """n points uniformly on the mesh's surface (area-weighted faces, fixed seed)."""
+    v = np.asarray(mesh.vertices)
+    f = np.asarray(mesh.triangles)
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    rng = np.random.default_rng(1)
+    face = rng.choice(len(f), size=n, p=area / area.sum())
+    r1, r2 = rng.random(n), rng.random(n)
+    s = np.sqrt(r1)
+    return (1 - s)[:, None] * a[face] + (s * (1 - r2))[:, None] * b[face] + (s * r2)[:, None] * c[face]
+
+
 class Peer:
     """Open3D FPFH + RANSAC + ICP, one model cache per class."""
 
@@ -86,8 +99,8 @@ class Peer:
                 fail("cannot read the mesh of " + cls)
             pts = np.asarray(mesh.vertices)
             diameter = float(np.linalg.norm(pts.max(0) - pts.min(0)))
-            voxel = max(0.004, diameter / 20)
-            pcd = mesh.sample_points_uniformly(number_of_points=20000, seed=1)
+            voxel = max(0.002, diameter / 70)
+            pcd = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(sample_surface(mesh, 20000)))
             down, fpfh = self.features(pcd, voxel)
             self.cache[cls] = (down, fpfh, voxel)
         return self.cache[cls]
@@ -114,8 +127,10 @@ class Peer:
             model, scene, model_fpfh, scene_fpfh, True, dist,
             reg.TransformationEstimationPointToPoint(False), 3,
             [reg.CorrespondenceCheckerBasedOnEdgeLength(0.9), reg.CorrespondenceCheckerBasedOnDistance(dist)],
-            reg.RANSACConvergenceCriteria(100000, 0.999))
-        icp = reg.registration_icp(model, scene, 0.5 * voxel, result.transformation,
+            reg.RANSACConvergenceCriteria(1000000, 0.999))
+        icp = reg.registration_icp(model, scene, 1.5 * voxel, result.transformation,
+                                   reg.TransformationEstimationPointToPlane())
+        icp = reg.registration_icp(model, scene, 0.5 * voxel, icp.transformation,
                                    reg.TransformationEstimationPointToPlane())
         return np.asarray(icp.transformation), icp.fitness
 
