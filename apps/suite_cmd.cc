@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -80,11 +81,11 @@ struct TableSuiteArgs {
 // The YCB-Video table-top suite (--world ycbv).
 void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const FilterOptions& opt) {
   namespace fs = std::filesystem;
+  const std::vector<std::string> ycbv = YcbVideoClassNames();
+  for (const std::string& c : a.classes)
+    if (std::find(ycbv.begin(), ycbv.end(), c) == ycbv.end()) throw Error("--targets: '" + c + "' is not a YCB-Video class");
   const TableWorld world = TableWorld::LoadYcbVideo(a.models_dir);
   const std::vector<std::string> classes = world.ClassNames();
-  for (const std::string& c : a.classes)
-    if (std::find(classes.begin(), classes.end(), c) == classes.end())
-      throw Error("--targets: '" + c + "' is not a YCB-Video class");
   // Model points for ADD-S: the dataset's official point sets where present, else the mesh's.
   std::vector<std::vector<Eigen::Vector3f>> points;
   for (const TableModel& m : world.models()) {
@@ -259,7 +260,17 @@ int RunSuite(int argc, char** argv) {
       if (app.count("--min-distance")) table.min_distance_m = synth.min_distance_m;
       if (app.count("--max-distance")) table.max_distance_m = synth.max_distance_m;
       std::string why;
-      if (!table.IsValid(&why)) throw Error("invalid scene option: " + why);
+      if (!table.IsValid(&why)) {
+        // The options' names in the message, as the user typed them.
+        const std::pair<const char*, const char*> names[] = {
+            {"min_objects", "--min-objects"},     {"max_objects", "--max-objects"},
+            {"min_distance_m", "--min-distance"}, {"max_distance_m", "--max-distance"},
+            {"box_jitter_px", "--box-jitter"},    {"false_positives", "--false-positives"},
+            {"box_scale_min", "--box-scale-min"}, {"box_scale_max", "--box-scale-max"}};
+        for (const auto& [field, option] : names)
+          for (std::size_t at; (at = why.find(field)) != std::string::npos;) why.replace(at, std::strlen(field), option);
+        throw Error("invalid scene option: " + why);
+      }
       ta.classes = targets;
       ta.count = count;
       ta.first_seed = first_seed;

@@ -2,6 +2,10 @@
 # Installs every build/test dependency of posefilter from Debian packages.
 # Idempotent: packages already installed are not touched, and apt-get runs only when
 # something is missing. Needs root (or sudo) on a Debian 12 machine.
+#
+# usage: scripts/setup.sh [peers]
+#   peers: also the peer methods the benchmarks compare with (python3-open3d for
+#          scripts/peer_open3d.py); not needed to build or test.
 set -euo pipefail
 
 PACKAGES=(
@@ -11,6 +15,12 @@ PACKAGES=(
   python3 python3-dev python3-numpy python3-pytest pybind11-dev python3-matplotlib
   libsystemc-dev libmeshoptimizer-dev libqhull-dev clang-tools
 )
+
+case "${1:-}" in
+  "") ;;
+  peers) PACKAGES+=(python3-open3d python3-scipy) ;;
+  *) echo "setup: unknown argument '$1' (usage: scripts/setup.sh [peers])" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${PACKAGES[@]}"; do

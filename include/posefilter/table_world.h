@@ -107,6 +107,7 @@ struct TableScene {
   std::vector<std::uint16_t> masks;
   std::vector<TableObject> objects;
   std::vector<Detection> detections;  // targets' (first, in object order) then false ones
+  std::vector<std::string> classes;   // the world's classes (the prior's class list)
   Eigen::Vector4d table_plane = Eigen::Vector4d::Zero();  // camera frame: n·x + d = 0, n up
   double distance_m = 0, elevation_deg = 0;
 };
@@ -136,7 +137,8 @@ class TableWorld {
 };
 
 // Writes a scene to `dir` (created): depth.png (16-bit, depth_scale), camera.json, gt.json
-// (every object; "target" flags), detections.json, mask.png (16-bit instance ids) and
+// (every object), detections.json, prior.pyr with classes.txt (the detections as a raw
+// pyramid over the world's classes), mask.png (16-bit instance ids) and
 // mask_classes.json ({"id": class}), label.png (visible objects, 8-bit), rgb.png (shaded
 // depth for humans), scene.json (targets, visible fractions, the table plane).
 // Throws Error naming the path on I/O failure.

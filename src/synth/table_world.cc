@@ -576,6 +576,7 @@ TableScene TableWorld::MakeScene(const TableSceneOptions& opt, std::uint64_t see
   }
   if (s.depth.empty()) throw Error("table scene " + std::to_string(seed) + ": no view shows an object well enough");
   s.objects = objects;
+  s.classes = ClassNames();
   const Eigen::Vector3d n = T_C_W.linear() * Eigen::Vector3d::UnitZ();
   s.table_plane << n, -n.dot(T_C_W.translation());
 
@@ -630,6 +631,17 @@ void WriteTableScene(const TableScene& s, const std::string& dir) {
   WriteGtJson(gt, (d / "gt.json").string());
   WriteDetectionsJson(s.detections, (d / "detections.json").string());
   const int W = s.depth.width, H = s.depth.height;
+  // The same detections as a raw pyramid over every class of the world (`estimate --prior
+  // prior.pyr --classes classes.txt`).
+  {
+    const PyramidLayout layout = PyramidLayout::Thesis(W, H, int(s.classes.size()));
+    WriteRawPyramid(DetectionsToRawPyramid(s.detections, layout, s.classes), layout, (d / "prior.pyr").string());
+    const std::string path = (d / "classes.txt").string();
+    std::ofstream os(path, std::ios::trunc);
+    for (const auto& c : s.classes) os << c << "\n";
+    os.close();
+    if (!os) throw Error(path + ": write failed");
+  }
   SaveLabelPng(LabelImage{W, H, s.masks}, (d / "mask.png").string());
   std::vector<std::uint8_t> lab(s.labels.size());
   for (std::size_t q = 0; q < lab.size(); ++q) lab[q] = std::uint8_t(std::clamp(s.labels[q], 0, 255));

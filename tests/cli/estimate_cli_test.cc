@@ -371,6 +371,38 @@ TEST_F(CliTest, SynthAndSuiteNameTheSceneOption) {
   ExpectInputError(Run({"suite", "--count", "1", "--min-distance", "0.1"}), "suite",
                    "--min-distance (min_distance_m): must be in [0.2, 5] m");
   ExpectInputError(Run({"suite", "--count", "1", "--false-positives", "-1"}), "suite", "--false-positives");
+  ExpectInputError(Run({"suite", "--world", "ycbv", "--min-objects", "0"}), "suite", "--min-objects");
+  ExpectInputError(Run({"suite", "--world", "ycbv", "--max-distance", "0.4"}), "suite", "--max-distance");
+  ExpectInputError(Run({"suite", "--world", "ycbv", "--targets", "giraffe"}), "suite", "'giraffe'");
+  ExpectInputError(Run({"suite", "--world", "ycbv", "--models", Path("no_models")}), "suite", Path("no_models"));
+  ExpectUsageError(Run({"suite", "--world", "moon"}), "--world");
+  ExpectUsageError(Run({"suite", "--world", "ycbv", "--prior", "hints"}), "--prior");
+}
+
+// The YCB table-top suite on one scene of the shared meshes (skipped without them): the table
+// and the JSON hold every target with its ground-truth weight, and the per-class summary.
+TEST_F(CliTest, SuiteOnTheYcbTableTopWorld) {
+  const fs::path models = testing_util::YcbvDataDir() / "models";
+  if (!fs::exists(models)) GTEST_SKIP() << "no YCB-Video meshes at " << models;
+  for (const char* prior : {"boxes", "masks"}) {
+    const std::string json = Path(std::string("suite_") + prior + ".json");
+    const RunResult r = Run({"suite", "--world", "ycbv", "--models", models.string(), "--count", "1", "--prior", prior,
+                             "--particles", "64", "--iterations", "6", "--restarts", "1", "--polish-steps", "2",
+                             "--write-scenes", Path("scenes"), "--json", json});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("recall (ADD-S < 10% of diameter)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("AUC of ADD-S"), std::string::npos);
+    const nlohmann::json j = nlohmann::json::parse(testing_util::ReadFile(json));
+    EXPECT_EQ(j["prior"], prior);
+    ASSERT_FALSE(j["objects"].empty());
+    for (const auto& o : j["objects"]) {
+      EXPECT_GE(o["visible_fraction"].get<double>(), 0.1);
+      EXPECT_GE(o["gt_weight"].get<double>(), 0.0);
+      EXPECT_EQ(o["status"], "ok");
+    }
+    EXPECT_FALSE(j["classes"].empty());
+    EXPECT_TRUE(fs::exists(Path("scenes") + "/scene_000001/mask.png"));
+  }
 }
 
 TEST_F(CliTest, UnknownSubcommand) {

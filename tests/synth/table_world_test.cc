@@ -158,7 +158,7 @@ TEST(TableWorldTest, TheYcbVideoWorldWritesItsScenes) {
   const TableScene s = w.MakeScene({}, 1);
   testing_util::ScratchDir dir("table_world");
   WriteTableScene(s, dir.Path("scene"));
-  for (const char* f : {"depth.png", "camera.json", "gt.json", "detections.json", "mask.png", "mask_classes.json",
+  for (const char* f : {"depth.png", "camera.json", "gt.json", "detections.json", "prior.pyr", "classes.txt", "mask.png", "mask_classes.json",
                         "label.png", "rgb.png", "scene.json"})
     EXPECT_TRUE(std::filesystem::exists(dir.dir() / "scene" / f)) << f;
 }
