@@ -46,6 +46,7 @@
 #include "commands.h"
 #include "filter_cli.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/filter.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/synth.h"
@@ -144,7 +145,7 @@ int RunBench(int argc, char** argv) {
   app.add_option("--threads", threads, "worker threads: scoring, scene normals, heuristic volumes (0 = all cores)")->capture_default_str();
   app.add_option("--zbuffer", zbuffer, "on: exact z-buffer; off: the thesis's culling-only mode")->capture_default_str();
   app.add_option("--lod", lod, "render the mesh simplified to at most this many faces (0 = full mesh)")->capture_default_str();
-  app.add_option("--seed", seed, "seed of the scene and of the filter")->capture_default_str();
+  app.add_option("--seed", seed, "seed of the scene and of the filter")->capture_default_str()->check(SeedValidator());
   app.add_option("--target", target, "object kind of the scene (box, cylinder, lshape, torus)")->capture_default_str();
   app.add_option("--json", json_path, "also write the results as JSON to this file");
   app.add_flag("--quiet", quiet, "no progress on stderr");
@@ -184,11 +185,7 @@ int RunBench(int argc, char** argv) {
     synth.target = target;
     std::string why;
     if (!synth.IsValid(&why)) throw Error("--target: " + why);
-    std::ofstream json_out;
-    if (!json_path.empty()) {  // fail before the measurement, not after it
-      json_out.open(json_path);
-      if (!json_out) throw Error(json_path + ": cannot write (--json)");
-    }
+    CheckOutputPaths({{json_path, "--json"}}, {});  // fail before the measurement, not after it
 
     // ---- Workload.
     const SynthScene scene = MakeSynthScene(synth, seed);
@@ -300,7 +297,7 @@ int RunBench(int argc, char** argv) {
     std::printf("speedup = median ms/iteration of %s / that of the engine, same run. check run (initial set, same "
                 "poses for all float engines; hw draws its own): fragments %s\n",
                 engines[0].c_str(), agree ? "agree" : "DIFFER");
-    if (json_out.is_open()) {
+    if (!json_path.empty()) {
       const nlohmann::json doc = {
           {"workload",
            {{"target", scene.target.name},
@@ -326,8 +323,7 @@ int RunBench(int argc, char** argv) {
           {"baseline", engines[0]},
           {"engines", rows},
           {"engines_agree", agree}};
-      json_out << doc.dump(1) << "\n";
-      if (!json_out) throw Error(json_path + ": write failed (--json)");
+      WriteFileAtomically(json_path, [&](std::ostream& out) { out << doc.dump(1) << "\n"; });
     }
     if (!agree) throw Error("engines disagree on the fragments of the check run (see the table)");
   });

@@ -1,5 +1,6 @@
 #include "cli_util.h"
 
+#include <filesystem>
 #include <iostream>
 
 #include "posefilter/error.h"
@@ -35,6 +36,31 @@ std::string NameSynthOption(const std::string& why) {
   for (const auto& [field, option] : kNames)
     if (why.rfind(field, 0) == 0) return std::string(option) + " (" + field + "): " + why.substr(why.find(' ') + 1);
   return why;
+}
+
+std::vector<std::pair<std::string, std::string>> ParseNamedPaths(const std::vector<std::string>& args,
+                                                                 const std::string& option, bool require_name) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& arg : args) {
+    const auto eq = arg.find('=');
+    std::string name, path;
+    if (eq == std::string::npos) {
+      if (require_name) throw Error(option + ": expected NAME=PATH, got '" + arg + "' (no '=')");
+      name = std::filesystem::path(arg).stem().string();
+      path = arg;
+    } else {
+      name = arg.substr(0, eq);
+      path = arg.substr(eq + 1);
+      if (name.empty()) throw Error(option + ": empty NAME in '" + arg + "' (expected NAME=PATH)");
+      if (path.empty()) throw Error(option + ": empty PATH in '" + arg + "' (expected NAME=PATH)");
+    }
+    for (const auto& [seen, seen_path] : out)
+      if (seen == name)
+        throw Error(option + ": NAME '" + name + "' given twice (" + seen_path + " and " + path +
+                    "); give each its own name, NAME=PATH");
+    out.emplace_back(name, path);
+  }
+  return out;
 }
 
 }  // namespace posefilter::cli

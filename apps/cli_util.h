@@ -4,6 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace posefilter::cli {
 
@@ -16,5 +18,11 @@ int RunApp(CLI::App& app, int argc, char** argv, const std::function<void()>& bo
 // CLI option that sets it ("--min-distance (min_distance_m): must ..."); unchanged when no
 // option sets the field. Used by the commands that make synthetic scenes (synth, suite).
 std::string NameSynthOption(const std::string& why);
+
+// Arguments "NAME=PATH" (or, unless require_name, "PATH" with name = the file's stem) of a
+// repeatable option, in order, as {name, path}. Throws Error naming `option` for a malformed
+// argument or a name given twice.
+std::vector<std::pair<std::string, std::string>> ParseNamedPaths(const std::vector<std::string>& args,
+                                                                 const std::string& option, bool require_name = false);
 
 }  // namespace posefilter::cli

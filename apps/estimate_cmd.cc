@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "filter_cli.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/mask_prior.h"
 #include "posefilter/overlay.h"
 #include "posefilter/prior.h"
@@ -32,14 +33,6 @@ std::vector<std::string> ReadClassList(const std::string& path) {
   }
   if (classes.empty()) throw Error(path + ": class list is empty");
   return classes;
-}
-
-// "NAME=PATH" or "PATH" (name = the file's stem).
-std::pair<std::string, std::string> SplitNamedPath(const std::string& arg) {
-  const auto eq = arg.find('=');
-  if (eq == std::string::npos) return {std::filesystem::path(arg).stem().string(), arg};
-  if (eq == 0 || eq + 1 == arg.size()) throw Error("--mesh '" + arg + "': expected NAME=PATH or PATH");
-  return {arg.substr(0, eq), arg.substr(eq + 1)};
 }
 
 }  // namespace
@@ -76,24 +69,45 @@ int RunEstimate(int argc, char** argv) {
   return RunApp(app, argc, argv, [&] {
     CheckFilterOptions(opt);
     if (!(unit_scale > 0)) throw Error("--unit-scale must be > 0");
+    const auto mesh_list = ParseNamedPaths(mesh_args, "--mesh");
+    const bool json_prior = std::filesystem::path(prior_arg).extension() == ".json";
+    if (!mask_path.empty() && prior_arg != "none")
+      throw Error("--mask and --prior: give one stage-1 prior (a mask's box is its detection)");
+    if (mask_path.empty() && !mask_classes_path.empty()) throw Error("--mask-classes needs --mask");
+    if (!classes_path.empty() && (prior_arg == "none" || json_prior || !mask_path.empty()))
+      throw Error("--classes names the classes of a raw pyramid --prior; it does not apply to " +
+                  std::string(!mask_path.empty() ? "--mask" : json_prior ? "a detections JSON" : "--prior none"));
+    if (!rgb_path.empty() && overlay_path.empty()) throw Error("--rgb is the background of --overlay; give --overlay too");
+    // Every output is checked before the work: writable, and none of the inputs.
+    std::vector<NamedPath> inputs = {{depth_path, "--depth"}, {camera_path, "--camera"},
+                                     {rgb_path, "--rgb"},     {mask_path, "--mask"},
+                                     {mask_classes_path, "--mask-classes"}, {classes_path, "--classes"}};
+    if (prior_arg != "none") inputs.push_back({prior_arg, "--prior"});
+    for (const auto& [name, path] : mesh_list) inputs.push_back({path, "--mesh"});
+    CheckOutputPaths({{out_path, "--out"}, {overlay_path, "--overlay"}}, inputs);
     CameraFile cam = ReadCameraJson(camera_path);
     if (depth_scale == 0) depth_scale = cam.depth_scale;
     if (!(depth_scale > 0)) throw Error("--depth-scale must be > 0");
     SceneInput scene{LoadDepthPng(depth_path, depth_scale), cam.camera};
     ValidateScene(scene, depth_path);
+    // The overlay's background, read now so that a bad --rgb fails before the estimate.
+    RgbImage background;
+    if (!rgb_path.empty()) {
+      background = LoadRgbPng(rgb_path);
+      if (background.width != scene.camera.width || background.height != scene.camera.height)
+        throw Error(rgb_path + ": RGB image is " + std::to_string(background.width) + "x" +
+                    std::to_string(background.height) + " but the camera is " + std::to_string(scene.camera.width) +
+                    "x" + std::to_string(scene.camera.height) + " (--rgb)");
+    }
 
     std::vector<Mesh> meshes;
-    for (const auto& arg : mesh_args) {
-      auto [name, path] = SplitNamedPath(arg);
+    for (const auto& [name, path] : mesh_list) {
       meshes.push_back(LoadMesh(path, unit_scale));
       meshes.back().name = name;
     }
 
     // The prior and its class list.
     const int W = scene.camera.width, H = scene.camera.height;
-    if (!mask_path.empty() && prior_arg != "none")
-      throw Error("--mask and --prior: give one stage-1 prior (a mask's box is its detection)");
-    if (mask_path.empty() && !mask_classes_path.empty()) throw Error("--mask-classes needs --mask");
     // With a mask: one job per instance of a class with a mesh, each with its own prior.
     struct Job {
       const Mesh* mesh;
@@ -125,15 +139,13 @@ int RunEstimate(int argc, char** argv) {
       std::vector<std::string> classes;
       for (const auto& m : meshes) classes.push_back(m.name);
       prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
-    } else if (std::filesystem::path(prior_arg).extension() == ".json") {
+    } else if (json_prior) {
       const std::vector<Detection> dets = ReadDetectionsJson(prior_arg);
-      std::vector<std::string> classes;
-      std::set<std::string> seen;
-      auto add = [&](const std::string& c) {
-        if (seen.insert(c).second) classes.push_back(c);
-      };
-      for (const auto& m : meshes) add(m.name);
-      for (const auto& d : dets) add(d.cls);
+      std::vector<std::string> names;
+      for (const auto& m : meshes) names.push_back(m.name);
+      for (const auto& w : CheckDetectionsForObjects(dets, names, W, H, prior_arg))
+        std::fprintf(stderr, "posefilter estimate: warning: %s\n", w.c_str());
+      const std::vector<std::string> classes = ClassesForObjects(names, dets);
       prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else {
       const std::vector<std::string> classes = classes_path.empty() ? YcbVideoClassNames() : ReadClassList(classes_path);
@@ -170,8 +182,7 @@ int RunEstimate(int argc, char** argv) {
     }
     if (!out_path.empty()) WriteResultsJson(results, out_path);
     if (!overlay_path.empty()) {
-      RgbImage img = rgb_path.empty() ? ShadeDepth(scene.depth) : LoadRgbPng(rgb_path);
-      if (img.width != W || img.height != H) throw Error(rgb_path + ": RGB image size differs from the camera's");
+      RgbImage img = rgb_path.empty() ? ShadeDepth(scene.depth) : std::move(background);
       for (std::size_t i = 0; i < results.size(); ++i)
         DrawPoseOverlay(&img, *job_meshes[i], results[i].T_cam_obj, scene.camera, {40, 220, 60});
       SaveRgbPng(img, overlay_path);

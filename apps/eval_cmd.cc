@@ -29,6 +29,7 @@
 #include "posefilter/bop.h"
 #include "posefilter/bop_metrics.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/mesh.h"
 #include "posefilter/metrics.h"
 #include "posefilter/scene_io.h"
@@ -39,20 +40,10 @@ namespace {
 // Largest number of mesh vertices used as model points when no --points file is given.
 constexpr int kMaxMeshPoints = 2000;
 
-// Parses repeated "NAME=PATH" values of `option` into name → path; throws Error on a value
-// without '=', an empty NAME or PATH, or a NAME given twice.
-std::map<std::string, std::string> ParseNamePaths(const std::vector<std::string>& values,
-                                                  const std::string& option) {
+// NAME=PATH arguments of `option` by name (ParseNamedPaths, names required).
+std::map<std::string, std::string> ParseNamePaths(const std::vector<std::string>& values, const std::string& option) {
   std::map<std::string, std::string> out;
-  for (const auto& v : values) {
-    const auto eq = v.find('=');
-    if (eq == std::string::npos)
-      throw Error(option + ": expected NAME=PATH, got '" + v + "' (no '=')");
-    const std::string name = v.substr(0, eq), path = v.substr(eq + 1);
-    if (name.empty()) throw Error(option + ": empty NAME in '" + v + "'");
-    if (path.empty()) throw Error(option + ": empty PATH in '" + v + "'");
-    if (!out.emplace(name, path).second) throw Error(option + ": NAME '" + name + "' given twice");
-  }
+  for (const auto& [name, path] : ParseNamedPaths(values, option, /*require_name=*/true)) out[name] = path;
   return out;
 }
 
@@ -224,11 +215,7 @@ void RunDatasetEval(const std::string& dataset_dir, const std::string& split, co
                               {"mspd_px", Finite(t.mspd_px)},
                               {"vsd", v}});
   }
-  std::ofstream out(json_path);
-  if (!out) throw Error(json_path + ": cannot open for writing (--json)");
-  out << j.dump(2) << "\n";
-  out.flush();
-  if (!out) throw Error(json_path + ": write failed (--json)");
+  WriteFileAtomically(json_path, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
 }
 
 }  // namespace
@@ -282,6 +269,12 @@ int RunEval(int argc, char** argv) {
   });
 
   return RunApp(app, argc, argv, [&] {
+    {
+      std::vector<NamedPath> inputs = {{results_path, "--results"}, {gt_path, "--gt"}, {targets_path, "--targets"}};
+      for (const auto& spec : mesh_specs) inputs.push_back({spec.substr(spec.find('=') + 1), "--mesh"});
+      for (const auto& spec : point_specs) inputs.push_back({spec.substr(spec.find('=') + 1), "--points"});
+      CheckOutputPaths({{json_path, "--json"}}, inputs);
+    }
     if (dataset_opt->count() > 0) {
       if (!std::isfinite(threshold) || threshold <= 0)
         throw Error("--threshold must be a finite number > 0 (fraction of the diameter), got " +
@@ -402,11 +395,7 @@ int RunEval(int argc, char** argv) {
         j["objects"].push_back(std::move(o));
       }
       j["unmatched_results"] = unmatched;
-      std::ofstream out(json_path);
-      if (!out) throw Error(json_path + ": cannot open for writing (--json)");
-      out << j.dump(2) << "\n";
-      out.flush();
-      if (!out) throw Error(json_path + ": write failed (--json)");
+      WriteFileAtomically(json_path, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
     }
   });
 }

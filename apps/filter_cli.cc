@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstddef>
 #include <cstdio>
@@ -72,6 +73,20 @@ std::string NameOptions(const std::string& why) {
 
 }  // namespace
 
+CLI::Validator SeedValidator() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const std::string range = "must be an integer in [0, 18446744073709551615] (got '" + text + "')";
+        if (text.empty() || text.size() > 20 || !std::all_of(text.begin(), text.end(), [](unsigned char c) {
+              return std::isdigit(c) != 0;
+            }))
+          return range;
+        if (text.size() == 20 && text > "18446744073709551615") return range;
+        return "";
+      },
+      "SEED");
+}
+
 void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   // A value option whose --help shows its default.
   auto add = [&app](const char* name, auto& value, const char* help) {
@@ -128,7 +143,8 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   add(OptionOf("polish_seeds"), o->polish_seeds, "final polish: niche leaders per run used as seeds");
   add(OptionOf("polish_climbers"), o->polish_climbers, "final polish: candidates refined by pattern search");
   app.add_flag("!--no-grow-window", o->grow_window, "weigh each particle in its cell's window only (thesis)");
-  add(OptionOf("seed"), o->seed, "random seed (same seed, same poses)");
+  add(OptionOf("seed"), o->seed, "random seed (same seed, same poses), an integer in [0, 2^64 - 1]")
+      ->check(SeedValidator());
   add(OptionOf("threads"), o->threads, "worker threads: scoring, scene normals, heuristic volumes (0 = all cores)");
 }
 

@@ -13,6 +13,9 @@ namespace posefilter::cli {
 // --hard-inlier, --no-zbuffer, --window, --elite, --pool, --sigma-t, --sigma-r, --seed,
 // --threads, --engine on `app`, writing into `opt` (defaults = FilterOptions defaults).
 void AddFilterOptions(CLI::App& app, FilterOptions* opt);
+// Checks a --seed value before CLI11 converts it: digits only, at most 2^64 - 1 (so "-1" and
+// "1e23" are errors, not 2^64 - 1).
+CLI::Validator SeedValidator();
 // Validates after parsing; throws Error naming the option ("--alpha ...: ...").
 void CheckFilterOptions(const FilterOptions& opt);
 // A progress callback printing "<obj>: iteration i/N, best weight w" to stderr (rewritten in

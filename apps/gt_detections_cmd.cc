@@ -16,8 +16,10 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "filter_cli.h"
 #include "posefilter/bop.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/mesh.h"
 #include "posefilter/prior.h"
 #include "posefilter/projection.h"
@@ -28,24 +30,6 @@ namespace posefilter::cli {
 namespace {
 
 // "NAME=PATH" or "PATH" (name = the file's stem) → name → path; a name given twice → Error.
-std::map<std::string, std::string> ParseMeshArgs(const std::vector<std::string>& args) {
-  std::map<std::string, std::string> out;
-  for (const auto& arg : args) {
-    const auto eq = arg.find('=');
-    std::string name, path;
-    if (eq == std::string::npos) {
-      name = std::filesystem::path(arg).stem().string();
-      path = arg;
-    } else {
-      if (eq == 0 || eq + 1 == arg.size()) throw Error("--mesh '" + arg + "': expected NAME=PATH or PATH");
-      name = arg.substr(0, eq);
-      path = arg.substr(eq + 1);
-    }
-    if (!out.emplace(name, path).second) throw Error("--mesh: object '" + name + "' given twice");
-  }
-  return out;
-}
-
 }  // namespace
 
 int RunGtDetections(int argc, char** argv) {
@@ -65,7 +49,7 @@ int RunGtDetections(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--jitter", jitter_px, "σ of the box centre and size noise, pixels (0 = exact boxes)")
       ->capture_default_str();
-  app.add_option("--seed", seed, "seed of the jitter (same seed, same boxes)")->capture_default_str();
+  app.add_option("--seed", seed, "seed of the jitter (same seed, same boxes)")->capture_default_str()->check(SeedValidator());
   app.add_option("--score", score, "score of every detection, [0, 1]")->capture_default_str();
   app.add_option("--out", out_path, "write the detections JSON here")->required();
   app.add_flag("--quiet", quiet, "print nothing on stdout");
@@ -76,7 +60,13 @@ int RunGtDetections(int argc, char** argv) {
       throw Error("--jitter must be in [0, 1000] pixels, got " + std::to_string(jitter_px));
     if (!std::isfinite(score) || score < 0 || score > 1)
       throw Error("--score must be in [0, 1], got " + std::to_string(score));
-    const auto mesh_paths = ParseMeshArgs(mesh_args);
+    std::map<std::string, std::string> mesh_paths;
+    std::vector<NamedPath> inputs = {{gt_path, "--gt"}, {camera_path, "--camera"}};
+    for (const auto& [name, path] : ParseNamedPaths(mesh_args, "--mesh")) {
+      mesh_paths[name] = path;
+      inputs.push_back({path, "--mesh"});
+    }
+    CheckOutputPaths({{out_path, "--out"}}, inputs);
 
     const CameraFile cam = ReadCameraJson(camera_path);
     std::string why;

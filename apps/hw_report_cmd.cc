@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "filter_cli.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/hw_engine.h"
 #include "posefilter/metrics.h"
 #include "posefilter/synth.h"
@@ -73,6 +74,7 @@ int RunHwReport(int argc, char** argv) {
   return RunApp(app, argc, argv, [&] {
     if (opt.engine != "hw") throw Error("--engine: hw-report models the hw engine only");
     CheckFilterOptions(opt);
+    CheckOutputPaths({{json_path, "--json"}}, {});
     std::string pwhy;
     if (!popt.IsValid(&pwhy)) throw Error("invalid hw-report option: " + pwhy);
     SynthOptions so;
@@ -159,9 +161,7 @@ int RunHwReport(int argc, char** argv) {
           {"models", models},
           {"thesis", {{"init_tracker_saving", kThesisInitRatio}, {"resample_tracker_saving", kThesisResampleRatio},
                       {"faces_ratio", kThesisFacesRatio}}}};
-      std::ofstream out(json_path);
-      if (!out) throw Error(json_path + ": cannot write");
-      out << j.dump(1) << "\n";
+      WriteFileAtomically(json_path, [&](std::ostream& out) { out << j.dump(1) << "\n"; });
     }
   });
 }

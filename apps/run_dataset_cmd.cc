@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <set>
@@ -28,6 +29,8 @@
 #include "filter_cli.h"
 #include "posefilter/bop.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
+#include "posefilter/file_io.h"
 #include "posefilter/filter.h"
 #include "posefilter/prior.h"
 #include "posefilter/rng.h"
@@ -69,6 +72,50 @@ void PrintProgress(int done, int total, int scene_id, int im_id, double elapsed_
   std::fprintf(stderr, "%s[%s] %d/%d images  scene %d image %d  elapsed %s  ETA %s%s", tty ? "\r" : "", bar.c_str(),
                done, total, scene_id, im_id, Duration(elapsed_s).c_str(), Duration(eta).c_str(), tty ? "   " : "\n");
   std::fflush(stderr);
+}
+
+// "scene_id,im_id" of a CSV row (its first two fields), or "" when the text has fewer.
+std::string ImageKeyOfRow(const std::string& row) {
+  const std::size_t a = row.find(',');
+  if (a == std::string::npos) return "";
+  const std::size_t b = row.find(',', a + 1);
+  return b == std::string::npos ? "" : row.substr(0, b);
+}
+
+// Appends write an image's rows with one write and undo a failed one, so only a crash of the
+// machine mid-write can leave a torn last row. It is cut off, and so are the complete rows of
+// its image (or, when the fragment is too short to name its image, those of the last image),
+// so that image is estimated again, whole.
+void DropTornImage(const std::string& csv, bool quiet) {
+  const std::string torn = TrimTornLastLine(csv);
+  if (torn.empty()) return;
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(csv, std::ios::binary);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+  }
+  std::string key = ImageKeyOfRow(torn);
+  if (key.empty() && lines.size() > 1) key = ImageKeyOfRow(lines.back());
+  std::size_t dropped = 0;
+  if (!key.empty()) {
+    std::vector<std::string> kept;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      if (i > 0 && ImageKeyOfRow(lines[i]) == key) {
+        ++dropped;
+        continue;
+      }
+      kept.push_back(lines[i]);
+    }
+    if (dropped > 0)
+      WriteFileAtomically(csv, [&](std::ostream& out) {
+        for (const auto& l : kept) out << l << "\n";
+      });
+  }
+  if (!quiet)
+    std::fprintf(stderr,
+                 "run-dataset: %s ended in a torn row (%zu bytes, a crash while writing); removed it and %zu "
+                 "complete row(s) of its image, which is estimated again\n",
+                 csv.c_str(), torn.size(), dropped);
 }
 
 }  // namespace
@@ -114,6 +161,8 @@ int RunRunDataset(int argc, char** argv) {
       throw Error("--gt-box-score must be in [0, 1], got " + std::to_string(gt_box_score));
     if (app.count("--limit") && limit < 1) throw Error("--limit must be ≥ 1, got " + std::to_string(limit));
     const bool use_dets = det_opt->count() > 0, use_gt = gt_opt->count() > 0;
+    // The CSV is appended to (it is its own resume state), never one of the other inputs.
+    CheckOutputPaths({{out_path, "--out"}}, {{detections_path, "--detections"}, {targets_path, "--targets"}});
 
     const Dataset ds = OpenDataset(dataset_dir, split, targets_path);
     if (ds.targets.empty())
@@ -121,8 +170,11 @@ int RunRunDataset(int argc, char** argv) {
                   " and no ground truth)");
 
     std::map<std::pair<int, int>, std::vector<BopDetection>> dets_by_image;
-    if (use_dets)
-      for (const BopDetection& d : ReadBopDetections(detections_path)) dets_by_image[{d.scene_id, d.im_id}].push_back(d);
+    if (use_dets) {
+      const std::vector<BopDetection> all = ReadBopDetections(detections_path);
+      if (all.empty()) throw Error(detections_path + ": holds no detections (--detections)");
+      for (const BopDetection& d : all) dets_by_image[{d.scene_id, d.im_id}].push_back(d);
+    }
 
     // Images with targets, in order; then --limit.
     std::map<std::pair<int, int>, std::vector<DatasetTarget>> targets;
@@ -131,7 +183,9 @@ int RunRunDataset(int argc, char** argv) {
     for (const auto& [key, t] : targets) images.push_back(key);
     if (limit > 0 && int(images.size()) > limit) images.resize(limit);
 
-    // Resume: images already in the CSV.
+    // Resume: a torn last row (a crash mid-append) is removed with its image's rows, then the
+    // images already in the CSV are skipped.
+    DropTornImage(out_path, quiet);
     std::set<std::pair<int, int>> done;
     std::error_code ec;
     if (std::filesystem::exists(out_path, ec) && std::filesystem::file_size(out_path, ec) > 0)

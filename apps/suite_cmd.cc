@@ -24,6 +24,7 @@
 #include "filter_cli.h"
 #include "posefilter/bop_metrics.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/mask_prior.h"
 #include "posefilter/metrics.h"
 #include "posefilter/synth.h"
@@ -61,11 +62,7 @@ double Median(std::vector<double> v) {
 }
 
 void WriteJson(const std::string& path, const nlohmann::json& j) {
-  std::ofstream out(path);
-  if (!out) throw Error(path + ": cannot write");
-  out << j.dump(1) << "\n";
-  out.close();
-  if (!out) throw Error(path + ": write failed");
+  WriteFileAtomically(path, [&](std::ostream& out) { out << j.dump(1) << "\n"; });
 }
 
 struct TableSuiteArgs {
@@ -229,7 +226,7 @@ int RunSuite(int argc, char** argv) {
       ->check(CLI::IsMember({"shapes", "ycbv"}))
       ->capture_default_str();
   app.add_option("--count", count, "number of scenes")->capture_default_str();
-  app.add_option("--first-seed", first_seed, "scene i uses seed first_seed + i")->capture_default_str();
+  app.add_option("--first-seed", first_seed, "scene i uses seed first_seed + i")->capture_default_str()->check(SeedValidator());
   app.add_option("--targets", targets, "shapes: object kinds, used in turn; ycbv: the classes estimated (default all)")
       ->delimiter(',');
   app.add_option("--occlusions", occlusions, "shapes: occlusion levels, used in turn")->delimiter(',');
@@ -254,6 +251,7 @@ int RunSuite(int argc, char** argv) {
   return RunApp(app, argc, argv, [&] {
     CheckFilterOptions(opt);
     if (count < 1) throw Error("--count must be >= 1");
+    CheckOutputPaths({{json_path, "--json"}}, {{ta.models_dir, "--models"}, {ta.write_dir, "--write-scenes"}});
     if (world == "ycbv") {
       table.box_jitter_px = synth.box_jitter_px;
       table.false_positives = synth.false_positives;

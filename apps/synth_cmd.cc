@@ -10,6 +10,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "filter_cli.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh.h"
 #include "posefilter/synth.h"
@@ -27,7 +28,7 @@ int RunSynth(int argc, char** argv) {
   bool no_missing_edges = false;
   app.add_option("--out", out_dir, "output folder (scenes go to OUT/scene_000, ...)")->required();
   app.add_option("--count", count, "number of scenes")->capture_default_str();
-  app.add_option("--seed", seed, "seed of the first scene (scene i uses seed + i)")->capture_default_str();
+  app.add_option("--seed", seed, "seed of the first scene (scene i uses seed + i)")->capture_default_str()->check(SeedValidator());
   auto* target_opt =
       app.add_option("--target", opt.target, "object kind: box, cylinder, lshape or torus")->capture_default_str();
   auto* mesh_opt = app.add_option("--mesh", mesh_path, "a user mesh (.ply/.obj/.stl) as the target; class = file stem");

@@ -466,16 +466,10 @@ std::vector<Detection> DetectionsFrom(py::handle h) {
   return out;
 }
 
-// The class list of a detection prior: the objects' names first, then the detections' classes
-// (first appearance), as `posefilter estimate` builds it.
-std::vector<std::string> ClassesFor(const std::vector<std::string>& objs, const std::vector<Detection>& dets) {
-  std::vector<std::string> classes;
-  std::set<std::string> seen;
-  for (const auto& o : objs)
-    if (seen.insert(o).second) classes.push_back(o);
-  for (const auto& d : dets)
-    if (seen.insert(d.cls).second) classes.push_back(d.cls);
-  return classes;
+// Each message as a Python UserWarning (an exception if the warnings filter makes it one).
+void WarnAll(const std::vector<std::string>& messages) {
+  for (const auto& m : messages)
+    if (PyErr_WarnEx(PyExc_UserWarning, m.c_str(), 1) != 0) throw py::error_already_set();
 }
 
 int ClassOf(const Prior& prior, py::handle cls) {
@@ -573,21 +567,23 @@ class Estimator {
     Prior prior;
     if (prior_arg.is_none() && !scene.mask.empty()) {
       mask.cls = objs[0];
-      const auto classes = ClassesFor(objs, {});
+      const auto classes = ClassesForObjects(objs, {});
       prior = PriorFromDetections({MaskDetection(mask)}, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else if (prior_arg.is_none()) {
-      const auto classes = ClassesFor(objs, {});
+      const auto classes = ClassesForObjects(objs, {});
       prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else if (py::isinstance<Prior>(prior_arg)) {
       prior = prior_arg.cast<Prior>();
     } else if (py::isinstance<py::str>(prior_arg) || py::hasattr(prior_arg, "__fspath__")) {
       const std::string path = py::str(py::module_::import("os").attr("fspath")(prior_arg));
       const auto dets = ReadDetectionsJson(path);
-      const auto classes = ClassesFor(objs, dets);
+      WarnAll(CheckDetectionsForObjects(dets, objs, W, H, path));
+      const auto classes = ClassesForObjects(objs, dets);
       prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else if (py::isinstance<py::sequence>(prior_arg)) {
       const auto dets = DetectionsFrom(prior_arg);
-      const auto classes = ClassesFor(objs, dets);
+      WarnAll(CheckDetectionsForObjects(dets, objs, W, H, "prior"));
+      const auto classes = ClassesForObjects(objs, dets);
       prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else {
       throw py::type_error("prior: expected None, a Prior, a detections JSON path or a list of detections");
@@ -991,7 +987,7 @@ PYBIND11_MODULE(_posefilter, m) {
   m.def("prior_from_detections", [layout_for](py::handle detections, py::handle layout, std::optional<std::vector<std::string>> classes,
                                               double floor_prob, double max_box_px) {
     const auto dets = DetectionsFrom(detections);
-    const auto cls = classes ? *classes : ClassesFor({}, dets);
+    const auto cls = classes ? *classes : ClassesForObjects({}, dets);
     DetectionPriorOptions opt;
     opt.floor_prob = floor_prob, opt.max_box_px = max_box_px;
     return PriorFromDetections(dets, layout_for(layout, int(cls.size())), cls, opt);

@@ -206,11 +206,12 @@ std::string FormatBopCsvRow(const BopResult& r);
 // without 7 fields, R without 9 / t without 3 numbers, a non-number or non-finite value, R not
 // a rotation (‖RᵀR − I‖ > 1e-3 or det < 0), or two rows of one image with different times.
 std::vector<BopResult> ReadBopResultsCsv(const std::string& path);
-// Writes header + rows (replacing the file).
+// Writes header + rows (replacing the file atomically, file_io.h).
 void WriteBopResultsCsv(const std::vector<BopResult>& results, const std::string& path);
-// Appends rows to `path`, writing the header first when the file is missing or empty, then
-// flushes and closes it (so a later crash keeps them). Throws Error naming the file on I/O
-// failure.
+// Appends rows to `path` (the header first when the file is missing or empty) with one write,
+// flushed to disk (AppendFileDurably), so a killed process leaves all of them or none; a failed
+// write is undone. Throws Error naming the file on I/O failure, or when the file does not end
+// with a newline (a torn last row: run-dataset removes it on resume).
 void AppendBopResultsCsv(const std::vector<BopResult>& results, const std::string& path);
 
 }  // namespace posefilter

@@ -19,8 +19,10 @@ struct Camera {
   // C of eq. 6.9: maps points in the robot base frame to the camera frame.
   Eigen::Isometry3d base_to_camera = Eigen::Isometry3d::Identity();
 
-  // True when sizes are positive, focal lengths positive and finite, the principal point
-  // finite, and base_to_camera a finite rigid transform. Names the violated constraint.
+  // True when sizes are positive, the focal lengths give a field of view in [0.5, 175] degrees
+  // along each axis, the principal point lies within one image side of the image
+  // (cx in [-width, 2·width], cy likewise), and base_to_camera is a finite rigid transform.
+  // Names the violated constraint.
   bool IsValid(std::string* why) const;
 
   // Camera-frame point (metres) → pixel coordinates. z must be > 0.

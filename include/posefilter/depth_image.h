@@ -44,9 +44,9 @@ struct LabelImage {
   std::vector<std::uint16_t> ids;  // width × height
 };
 
-// Reads a 16-bit (or 8-bit) single-channel PNG; metres = value × depth_scale.
-// Throws Error naming the file if missing, not a PNG, corrupt, not single-channel, or if
-// depth_scale is not finite and positive.
+// Reads a 16-bit single-channel PNG; metres = value × depth_scale.
+// Throws Error naming the file if missing, not a PNG, corrupt, not single-channel, not 16-bit
+// (an 8-bit PNG is a preview image, not depth), or if depth_scale is not finite and positive.
 DepthImage LoadDepthPng(const std::string& path, double depth_scale);
 // Writes a 16-bit PNG with value = round(metres / depth_scale), clamped to 65535; missing → 0.
 void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth_scale);

@@ -55,7 +55,7 @@ struct FilterOptions {
   // "avx2", "portable" to force one (same results; for measuring what another machine gets).
   std::string cpu_isa = "auto";
   int num_particles = 510;           // N (thesis design: 510; GRIP: 625)
-  int max_iterations = 17;           // stop a run after this many weighings
+  int max_iterations = 17;           // stop a run after this many weighings; [1, 100000]
   double confidence = 0.9;           // stop when the best weight reaches this, in (0, 1]
   // Weight of eq. 7.4: α·I/N_raster + β·I/N_depth + γ·ρ; each ≥ 0, α + β + γ = 1.
   double alpha = 0.2;
@@ -192,7 +192,7 @@ struct FilterOptions {
   // (±1 cm / ±0.1 rad along camera axes, halved down to 0.5 mm when nothing improves).
   int polish_climbers = 4;
   std::uint64_t seed = 1;            // every random stream derives from this
-  int threads = 0;                   // worker threads (scoring, scene normals, heuristic volumes); 0 = all cores
+  int threads = 0;                   // worker threads (scoring, scene normals, heuristic volumes); 0 = all cores, at most 4 per hardware thread
   bool IsValid(std::string* why) const;
 };
 

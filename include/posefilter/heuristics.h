@@ -45,7 +45,8 @@ struct HeuristicOptions {
 // centre (u, v) lies in [cx − w/2, cx + w/2) × [cy − h/2, cy + h/2); boxes are cut to the
 // image). Throws Error if the options or camera are invalid, the depth image's size differs
 // from the camera's, or a box is not finite (naming its index). `threads`: worker threads over
-// the boxes (0 or less = all cores); the result does not depend on it.
+// the boxes (0 or less = all cores, capped at 4 per hardware thread); the result does not
+// depend on it.
 std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& camera,
                                       const std::vector<Box>& boxes,
                                       const HeuristicOptions& opt = {}, int threads = 0);

@@ -18,7 +18,11 @@ struct Mesh {
   std::vector<Eigen::Vector3f> vertices;             // object frame, metres
   std::vector<std::array<std::uint32_t, 3>> faces;   // vertex indices, CCW from outside
 
-  // Non-empty, every index in range, every coordinate finite.
+  // Largest coordinate any object may have (metres): a mesh beyond it is in the wrong units.
+  static constexpr float kMaxCoordinate = 1000.f;
+
+  // Non-empty, every index in range, every coordinate finite and within ±kMaxCoordinate, and
+  // at least one face of non-zero area.
   bool IsValid(std::string* why) const;
   // Largest distance between two vertices, metres: exact (O(V²)) up to 4096 vertices;
   // above that, exact over a deterministic 4096-vertex subsample (a lower bound).

@@ -162,6 +162,20 @@ Prior PriorFromDetections(const std::vector<Detection>& detections, const Pyrami
                           const std::vector<std::string>& classes,
                           const DetectionPriorOptions& opt = {});
 
+// The class list of a prior made for the objects `objects` from `detections`: the objects' names
+// first, then the detections' other classes, each once, in order of first appearance.
+std::vector<std::string> ClassesForObjects(const std::vector<std::string>& objects,
+                                           const std::vector<Detection>& detections);
+
+// Checks detections against the objects to estimate on a width × height image. Throws Error,
+// starting with `source` (the file or argument), when no object has a detection on the image (the
+// prior would say nothing about any of them; the message lists both sets of names). Returns a
+// warning, also starting with `source`, for each detection wholly off the image and for each
+// object without a detection on it (its prior is the uniform floor).
+std::vector<std::string> CheckDetectionsForObjects(const std::vector<Detection>& detections,
+                                                   const std::vector<std::string>& objects, int width, int height,
+                                                   const std::string& source);
+
 // No prior: Prob = 1/CellCount for every cell and class; boxes = anchor boxes clipped.
 Prior UniformPrior(const PyramidLayout& layout, const std::vector<std::string>& classes,
                    double max_box_px = 200);

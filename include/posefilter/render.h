@@ -115,7 +115,8 @@ ScoreKernelParams MakeKernelParams(const Mesh& mesh, const Eigen::Isometry3d& T_
 // Unit normals of the scene surface (camera frame, facing the camera), 3 floats per depth
 // pixel, from central differences of the back-projected depth; zero on the image border,
 // where a 4-neighbour is missing, or across a depth step of more than 2 cm. `threads`: worker
-// threads over the rows (0 or less = all cores); the result does not depend on it.
+// threads over the rows (0 or less = all cores, capped at 4 per hardware thread); the result
+// does not depend on it.
 std::vector<float> ComputeSceneNormals(const DepthImage& depth, const Camera& camera, int threads = 0);
 
 // The reference score kernel: readable float/int64 C++, the executable spec.

@@ -167,10 +167,24 @@ def prior_heatmap(prior, cls, path, n_samples: int = 510, seed: int = 1, depth=N
 
 def load_eval_json(path) -> dict:
     """Per-object errors of a ``posefilter eval --json`` file as arrays (metres; NaN = missing):
-    {"obj", "add", "adds", "diameter"}."""
-    with open(os.fspath(path)) as f:
+    {"obj", "add", "adds", "diameter"}. Reads both kinds of file: single-scene (``--gt``; one
+    entry per object under "objects") and dataset (``--dataset``; one entry per ground-truth
+    instance under "instances", its diameter from the "objects" table by obj_id)."""
+    path = os.fspath(path)
+    with open(path) as f:
         j = json.load(f)
-    objs = j["objects"]
+    if "instances" in j:  # eval --dataset
+        diam = {o["obj_id"]: o.get("diameter_mm") for o in j.get("objects", [])}
+        objs = []
+        for t in j["instances"]:
+            if t.get("obj_id") not in diam:
+                raise ValueError(f"{path}: instance of obj_id {t.get('obj_id')} has no entry in \"objects\"")
+            objs.append({"obj": str(t["obj_id"]), "add_mm": t.get("add_mm"), "adds_mm": t.get("adds_mm"),
+                         "diameter_mm": diam[t["obj_id"]]})
+    elif "objects" in j:
+        objs = j["objects"]
+    else:
+        raise ValueError(f"{path}: not a posefilter eval --json file (no \"objects\" or \"instances\")")
 
     def col(key):
         return np.array([np.nan if o.get(key) is None else o[key] * 1e-3 for o in objs], dtype=float)

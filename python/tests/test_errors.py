@@ -66,6 +66,8 @@ def test_uint16_depth_needs_a_valid_scale(easy_scene, tiny):
         (dict(move_probabilities=[0.0] * 17), "move_probabilities"),
         (dict(restarts=0), "restarts"),
         (dict(threads=-1), "threads"),
+        (dict(threads=100000), r"threads must be in \[0, \d+\]"),
+        (dict(max_iterations=10**9), r"max_iterations must be in \[1, 100000\]"),
         (dict(confidence=float("nan")), "confidence"),
         (dict(anneal_subsample=5), "anneal_subsample"),
         (dict(fine_particle_fraction=0.0), "fine_particle_fraction"),
@@ -104,6 +106,16 @@ def test_bad_estimate_arguments(easy_scene, tiny):
     s = easy_scene
     with pytest.raises(ValueError, match="not a class of the prior"):
         tiny.estimate(s.depth, s.camera, s.target, s.prior, obj="teapot")
+    # A name no detection carries: the prior would say nothing about it.
+    with pytest.raises(ValueError, match=r"prior: no detection on the image is of an object's class \(objects: giraffe"):
+        tiny.estimate(s.depth, s.camera, s.target, s.detections, obj="giraffe")
+    # One object with detections, one without: a warning for the second.
+    with pytest.warns(UserWarning, match="no detection of 'giraffe' on the image"):
+        tiny.estimate(s.depth, s.camera, [s.target, s.target], s.detections, obj=["torus", "giraffe"])
+    # A detection wholly off the image is named.
+    off = list(s.detections) + [{"class": "torus", "score": 0.5, "bbox": [-900.0, -900.0, 50.0, 50.0]}]
+    with pytest.warns(UserWarning, match="wholly outside the 640x480 image"):
+        tiny.estimate(s.depth, s.camera, s.target, off)
     with pytest.raises(ValueError, match="2 names for 1 meshes"):
         tiny.estimate(s.depth, s.camera, [s.target], s.prior, obj=["a", "b"])
     with pytest.raises(ValueError, match="empty list"):

@@ -104,3 +104,35 @@ def test_plots_script_recall_on_cli_eval(tiny_run, tmp_path):
     bad = subprocess.run([sys.executable, str(ROOT / "scripts" / "plots.py"), "recall", "--out", str(out),
                           str(d / "missing.json")], env=env, capture_output=True, text=True)
     assert bad.returncode != 0 and "missing.json" in bad.stderr
+
+
+def test_plots_script_recall_on_dataset_eval(tmp_path):
+    """scripts/plots.py recall on an `eval --dataset --json` file: one entry per ground-truth
+    instance (a missing estimate counts as a failure), diameters from the per-object table."""
+    ev = {"dataset": "ds", "format": "bop", "split": "test",
+          "overall": {"obj_id": 0, "name": "all", "diameter_mm": 0.0},
+          "objects": [{"obj_id": 1, "name": "obj_000001", "diameter_mm": 100.0},
+                      {"obj_id": 2, "name": "obj_000002", "diameter_mm": 200.0}],
+          "instances": [{"scene_id": 1, "im_id": 1, "obj_id": 1, "gt_index": 0, "estimated": True,
+                         "add_mm": 5.0, "adds_mm": 4.0, "mssd_mm": 5.0, "mspd_px": 1.0, "vsd": []},
+                        {"scene_id": 1, "im_id": 1, "obj_id": 2, "gt_index": 1, "estimated": True,
+                         "add_mm": 50.0, "adds_mm": 30.0, "mssd_mm": 50.0, "mspd_px": 9.0, "vsd": []},
+                        {"scene_id": 1, "im_id": 2, "obj_id": 2, "gt_index": 0, "estimated": False,
+                         "add_mm": None, "adds_mm": None, "mssd_mm": None, "mspd_px": None, "vsd": []}]}
+    path = tmp_path / "eval_dataset.json"
+    path.write_text(json.dumps(ev))
+    table = plots.load_eval_json(path)
+    np.testing.assert_allclose(table["diameter"], [0.1, 0.2, 0.2])
+    # ADD-S below 0.1 diameter: 4 mm of 100 (yes), 30 mm of 200 (no), missing (no).
+    np.testing.assert_allclose(plots.recall_at(table["adds"], table["diameter"], np.array([0.1, 0.2])), [1 / 3, 2 / 3])
+    out = tmp_path / "recall.png"
+    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "plots.py"), "recall", "--out", str(out), str(path)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert_png(str(out))
+    # A JSON that is no eval output: a one-line error naming the file, no traceback.
+    other = tmp_path / "other.json"
+    other.write_text('{"detections": []}')
+    bad = subprocess.run([sys.executable, str(ROOT / "scripts" / "plots.py"), "recall", "--out", str(out), str(other)],
+                         capture_output=True, text=True)
+    assert bad.returncode != 0 and "other.json" in bad.stderr and "Traceback" not in bad.stderr

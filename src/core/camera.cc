@@ -16,6 +16,43 @@ constexpr int kMaxImageSide = 100000;
 // matrices typed with 4–6 decimals in a JSON file, tight enough to catch a scale or a shear.
 constexpr double kRotationTolerance = 1e-3;
 
+// Plausible field of view along each image axis, degrees: a focal length outside this range
+// (fx = 1e300, or fx in millimetres for a 640-pixel image) is a unit or typing error, not a
+// lens. fov = 2·atan(side / (2·f)), so f must lie in [side / (2·tan(max/2)), side / (2·tan(min/2))].
+constexpr double kMinFovDeg = 0.5;
+constexpr double kMaxFovDeg = 175.0;
+
+// The principal point may lie outside a cropped image, but not further than one image side
+// beyond either edge: cx in [−width, 2·width], cy in [−height, 2·height].
+constexpr double kPrincipalPointMargin = 1.0;
+
+bool FocalIsPlausible(const char* name, double f, int side, std::string* why) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double lo = side / (2.0 * std::tan(kMaxFovDeg * kPi / 360.0));
+  const double hi = side / (2.0 * std::tan(kMinFovDeg * kPi / 360.0));
+  if (f >= lo && f <= hi) return true;
+  if (why != nullptr) {
+    std::ostringstream os;
+    os << name << " = " << f << " pixels gives a field of view outside [" << kMinFovDeg << ", "
+       << kMaxFovDeg << "] degrees for a " << side << "-pixel side; " << name << " must be in ["
+       << lo << ", " << hi << "] (focal length in pixels, not millimetres)";
+    *why = os.str();
+  }
+  return false;
+}
+
+bool PrincipalPointIsPlausible(const char* name, double c, int side, std::string* why) {
+  const double lo = -kPrincipalPointMargin * side, hi = (1.0 + kPrincipalPointMargin) * side;
+  if (c >= lo && c <= hi) return true;
+  if (why != nullptr) {
+    std::ostringstream os;
+    os << name << " = " << c << " pixels is more than one image side outside a " << side
+       << "-pixel image; " << name << " must be in [" << lo << ", " << hi << "]";
+    *why = os.str();
+  }
+  return false;
+}
+
 bool Fail(std::string* why, const std::string& message) {
   if (why != nullptr) *why = message;
   return false;
@@ -36,6 +73,11 @@ bool Camera::IsValid(std::string* why) const {
   if (!std::isfinite(fy) || fy <= 0) return Fail(why, "fy must be finite and > 0");
   if (!std::isfinite(cx)) return Fail(why, "cx must be finite");
   if (!std::isfinite(cy)) return Fail(why, "cy must be finite");
+  if (!FocalIsPlausible("fx", fx, width, why) || !FocalIsPlausible("fy", fy, height, why) ||
+      !PrincipalPointIsPlausible("cx", cx, width, why) ||
+      !PrincipalPointIsPlausible("cy", cy, height, why)) {
+    return false;
+  }
 
   const Eigen::Matrix4d& m = base_to_camera.matrix();
   if (!m.allFinite()) return Fail(why, "base_to_camera must be finite");

@@ -10,6 +10,7 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 
 namespace posefilter {
 
@@ -97,6 +99,39 @@ class PngReader {
   PngReadState s;
 };
 
+// Walks the chunk list (length, type, data, CRC) from just after the signature to IEND or the
+// end of the file, then seeks back. libpng allocates an ancillary chunk (text, ICC profile) whole
+// before reading it, so a length field beyond the end of the file (a 1.9 GB zTXt chunk in an
+// 80-byte file) made it allocate gigabytes: such a file is rejected here first. Returns false
+// with s->msg set on such a chunk.
+bool PngChunksFitFile(PngReadState* s) {
+  const long start = std::ftell(s->fp);
+  long end = -1;
+  if (start >= 0 && std::fseek(s->fp, 0, SEEK_END) == 0) end = std::ftell(s->fp);
+  long pos = start;
+  while (end >= 0 && end - pos >= 8) {
+    unsigned char h[8];
+    if (std::fseek(s->fp, pos, SEEK_SET) != 0 || std::fread(h, 1, 8, s->fp) != 8) break;
+    const unsigned long len = (static_cast<unsigned long>(h[0]) << 24) | (static_cast<unsigned long>(h[1]) << 16) |
+                              (static_cast<unsigned long>(h[2]) << 8) | h[3];
+    if (len > static_cast<unsigned long>(end - pos - 8)) {
+      char type[5] = {0, 0, 0, 0, 0};
+      for (int k = 0; k < 4; ++k) type[k] = std::isalpha(h[4 + k]) ? static_cast<char>(h[4 + k]) : '?';
+      std::snprintf(s->msg.text, sizeof(s->msg.text),
+                    "chunk \"%s\" at byte %ld says %lu bytes, but the file ends %ld bytes later (truncated or corrupt)",
+                    type, pos, len, end - pos - 8);
+      return false;
+    }
+    if (std::memcmp(h + 4, "IEND", 4) == 0) break;
+    pos += 12 + static_cast<long>(len);
+  }
+  if (start < 0 || std::fseek(s->fp, start, SEEK_SET) != 0) {
+    std::snprintf(s->msg.text, sizeof(s->msg.text), "cannot seek in the file");
+    return false;
+  }
+  return true;
+}
+
 // Opens the file, checks the signature and reads the header. For kRgb8 it also sets up the
 // conversion to 8-bit RGB. Returns false with s->msg set on failure.
 // Only trivially destructible locals: see the file comment.
@@ -111,6 +146,7 @@ bool PngReadHeader(PngReadState* s, const char* path, ReadMode mode) {
     std::snprintf(s->msg.text, sizeof(s->msg.text), "not a PNG file");
     return false;
   }
+  if (!PngChunksFitFile(s)) return false;
   s->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s->msg, PngErrorFn, PngWarningFn);
   if (!PngCreateInfo(s->png, &s->info, &s->msg)) return false;
   if (setjmp(png_jmpbuf(s->png))) return false;
@@ -148,6 +184,26 @@ bool PngReadRows(PngReadState* s, png_bytep* rows) {
   return true;
 }
 
+// Throws unless the file is large enough for the image its header announces: deflate expands
+// at most 1032:1, so a PNG of N bytes holds at most 1032·N bytes of (unfiltered) pixel data.
+// Checked before the pixel buffer is allocated, so a corrupt or hostile header (a 100-byte file
+// saying 8196 × 196608 pixels) cannot make the reader allocate gigabytes.
+void CheckPngFitsFile(PngReadState* s, const std::string& path, const char* what) {
+  const long here = std::ftell(s->fp);
+  long size = -1;
+  if (here >= 0 && std::fseek(s->fp, 0, SEEK_END) == 0) size = std::ftell(s->fp);
+  if (size < 0 || std::fseek(s->fp, here, SEEK_SET) != 0) throw Error(path + ": cannot read " + what + " PNG");
+  const int channels = (s->color_type & PNG_COLOR_MASK_PALETTE) != 0 ? 1
+                       : ((s->color_type & PNG_COLOR_MASK_COLOR) != 0 ? 3 : 1) +
+                             ((s->color_type & PNG_COLOR_MASK_ALPHA) != 0 ? 1 : 0);
+  const unsigned long long row_bits = static_cast<unsigned long long>(s->width) * channels * s->bit_depth;
+  const unsigned long long raw_bytes = (row_bits + 7) / 8 * s->height;
+  if (raw_bytes > 1032ull * static_cast<unsigned long long>(size)) {
+    throw Error(path + ": corrupt or truncated " + what + " PNG: its header says " + std::to_string(s->width) + "x" +
+                std::to_string(s->height) + " pixels, more than a " + std::to_string(size) + "-byte file can hold");
+  }
+}
+
 // Opens `path`, reads the header and all rows. Returns the raw transformed rows, packed.
 std::vector<std::uint8_t> ReadPngPixels(const std::string& path, const char* what, ReadMode mode,
                                         PngReader* reader) {
@@ -156,6 +212,7 @@ std::vector<std::uint8_t> ReadPngPixels(const std::string& path, const char* wha
     throw Error(path + ": cannot read " + what + " PNG: " + s->msg.text);
   }
   if (s->width == 0 || s->height == 0) throw Error(path + ": " + what + " PNG has zero size");
+  CheckPngFitsFile(s, path, what);
   // Guard the allocation against absurd headers (libpng already caps sides at 1e6).
   const unsigned long long total = static_cast<unsigned long long>(s->rowbytes) * s->height;
   if (total > (1ull << 32)) throw Error(path + ": " + what + " PNG is too large");
@@ -171,7 +228,6 @@ std::vector<std::uint8_t> ReadPngPixels(const std::string& path, const char* wha
 // Writing.
 
 struct PngWriteState {
-  FILE* fp = nullptr;
   png_structp png = nullptr;
   png_infop info = nullptr;
   PngMessage msg;
@@ -184,25 +240,18 @@ class PngWriter {
   PngWriter& operator=(const PngWriter&) = delete;
   ~PngWriter() {
     if (s.png != nullptr) png_destroy_write_struct(&s.png, s.info != nullptr ? &s.info : nullptr);
-    if (s.fp != nullptr) std::fclose(s.fp);
   }
   PngWriteState s;
 };
 
-// Writes a whole non-interlaced image. color_type PNG_COLOR_TYPE_GRAY or _RGB. Rows must already
-// be in PNG byte order (16-bit samples big-endian).
-bool PngWriteAll(PngWriteState* s, const char* path, png_uint_32 w, png_uint_32 h, int bit_depth,
+// Writes a whole non-interlaced image to the open file `fp`. color_type PNG_COLOR_TYPE_GRAY or
+// _RGB. Rows must already be in PNG byte order (16-bit samples big-endian).
+bool PngWriteAll(PngWriteState* s, FILE* fp, png_uint_32 w, png_uint_32 h, int bit_depth,
                  int color_type, png_bytep* rows) {
-  s->fp = std::fopen(path, "wb");
-  if (s->fp == nullptr) {
-    std::snprintf(s->msg.text, sizeof(s->msg.text), "cannot open for writing (%s)",
-                  std::strerror(errno));
-    return false;
-  }
   s->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s->msg, PngErrorFn, PngWarningFn);
   if (!PngCreateInfo(s->png, &s->info, &s->msg)) return false;
   if (setjmp(png_jmpbuf(s->png))) return false;
-  png_init_io(s->png, s->fp);
+  png_init_io(s->png, fp);
   png_set_IHDR(s->png, s->info, w, h, bit_depth, color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(s->png, s->info);
@@ -223,28 +272,14 @@ void CheckWritableSize(const std::string& path, const char* what, int w, int h, 
 void WritePng(const std::string& path, const char* what, int w, int h, int bit_depth,
               int color_type, std::vector<std::uint8_t>& pixels, size_t rowbytes) {
   std::vector<png_bytep> rows = RowPointers(pixels, static_cast<size_t>(h), rowbytes);
-  PngWriter writer;
-  bool ok = PngWriteAll(&writer.s, path.c_str(), static_cast<png_uint_32>(w),
-                        static_cast<png_uint_32>(h), bit_depth, color_type, rows.data());
-  const bool file_created = writer.s.fp != nullptr;
-  if (writer.s.png != nullptr) {
-    png_destroy_write_struct(&writer.s.png, writer.s.info != nullptr ? &writer.s.info : nullptr);
-  }
-  writer.s.png = nullptr;
-  writer.s.info = nullptr;
-  if (file_created) {
-    // Close here rather than in the destructor to catch a failed flush (e.g. a full disk).
-    const bool closed = std::fclose(writer.s.fp) == 0;
-    writer.s.fp = nullptr;
-    if (ok && !closed) {
-      std::snprintf(writer.s.msg.text, sizeof(writer.s.msg.text), "write failed on close");
-      ok = false;
-    }
-  }
-  if (!ok) {
-    if (file_created) std::remove(path.c_str());  // do not leave a truncated PNG behind
-    throw Error(path + ": cannot write " + what + " PNG: " + writer.s.msg.text);
-  }
+  // Written to a temporary file and renamed (file_io.h): never a truncated PNG at `path`.
+  WriteFileAtomicallyC(path, [&](FILE* fp, std::string* error) {
+    PngWriter writer;
+    const bool ok = PngWriteAll(&writer.s, fp, static_cast<png_uint_32>(w), static_cast<png_uint_32>(h),
+                                bit_depth, color_type, rows.data());
+    if (!ok) *error = std::string("cannot write ") + what + " PNG: " + writer.s.msg.text;
+    return ok;
+  });
 }
 
 }  // namespace
@@ -257,7 +292,8 @@ namespace {
 
 // The samples of a single-channel 8- or 16-bit PNG (depth or label image), row-major;
 // `what` names the kind of image in errors.
-std::vector<std::uint16_t> ReadGrayPng(const std::string& path, const char* what, int* width, int* height) {
+std::vector<std::uint16_t> ReadGrayPng(const std::string& path, const char* what, int* width, int* height,
+                                       bool require_16_bit = false) {
   PngReader reader;
   // Peek at the header first to reject colour images with a clear message before decoding.
   if (!PngReadHeader(&reader.s, path.c_str(), ReadMode::kRaw)) {
@@ -275,6 +311,10 @@ std::vector<std::uint16_t> ReadGrayPng(const std::string& path, const char* what
   if (h.bit_depth != 8 && h.bit_depth != 16) {
     throw Error(path + ": " + what + " PNG must be 8- or 16-bit, but it is " + std::to_string(h.bit_depth) + "-bit");
   }
+  if (require_16_bit && h.bit_depth != 16) {
+    throw Error(path + ": " + what + " PNG must be 16-bit, but it is " + std::to_string(h.bit_depth) +
+                "-bit (an 8-bit image holds 256 levels: a preview, not a depth map)");
+  }
   if (h.width > static_cast<png_uint_32>(std::numeric_limits<int>::max()) ||
       h.height > static_cast<png_uint_32>(std::numeric_limits<int>::max())) {
     throw Error(path + ": " + what + " PNG is too large");
@@ -286,6 +326,7 @@ std::vector<std::uint16_t> ReadGrayPng(const std::string& path, const char* what
     throw Error(path + ": " + what + " PNG is too large");
   }
   if (rowbytes != size_t(w) * bytes_per_px) throw Error(path + ": unexpected " + what + " PNG row size");
+  CheckPngFitsFile(&reader.s, path, what);
   std::vector<std::uint8_t> pixels(rowbytes * hh);
   std::vector<png_bytep> rows = RowPointers(pixels, size_t(hh), rowbytes);
   if (!PngReadRows(&reader.s, rows.data())) {
@@ -327,7 +368,7 @@ DepthImage LoadDepthPng(const std::string& path, double depth_scale) {
                 " overflows float depths");
   }
   int w = 0, h = 0;
-  const std::vector<std::uint16_t> samples = ReadGrayPng(path, "depth", &w, &h);
+  const std::vector<std::uint16_t> samples = ReadGrayPng(path, "depth", &w, &h, /*require_16_bit=*/true);
   DepthImage depth(w, h);
   for (size_t i = 0; i < samples.size(); ++i) depth.data[i] = static_cast<float>(samples[i] * depth_scale);
   return depth;

@@ -1,9 +1,12 @@
 // core/mesh.cc — mesh validation, bounds, diameter, loading (assimp) and binary PLY writing.
 #include "posefilter/mesh.h"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <bit>
@@ -18,6 +21,7 @@
 #include <system_error>
 
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 
 namespace posefilter {
 
@@ -81,7 +85,13 @@ bool Mesh::IsValid(std::string* why) const {
     if (!vertices[i].allFinite()) {
       return fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
     }
+    if (vertices[i].cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      return fail("vertex " + std::to_string(i) + " lies " + std::to_string(vertices[i].cwiseAbs().maxCoeff()) +
+                  " from the origin, beyond the +-" + std::to_string(int(kMaxCoordinate)) +
+                  " of any object (wrong unit scale?)");
+    }
   }
+  bool any_area = false;
   for (size_t f = 0; f < faces.size(); ++f) {
     for (std::uint32_t idx : faces[f]) {
       if (idx >= vertices.size()) {
@@ -89,7 +99,13 @@ bool Mesh::IsValid(std::string* why) const {
                     " but the mesh has " + std::to_string(vertices.size()) + " vertices");
       }
     }
+    if (!any_area) {
+      const Eigen::Vector3d a = vertices[faces[f][0]].cast<double>(), b = vertices[faces[f][1]].cast<double>(),
+                            c = vertices[faces[f][2]].cast<double>();
+      any_area = (b - a).cross(c - a).norm() > 0;
+    }
   }
+  if (!any_area) return fail("every face is degenerate (zero area): nothing to render");
   return true;
 }
 
@@ -225,9 +241,10 @@ class PlyParser {
           }
           const double n = ReadScalar(p.count_type);
           if (!std::isfinite(n) || n < 0 || n != std::floor(n)) Fail("bad list length");
-          const std::uint64_t count = static_cast<std::uint64_t>(n);
           // Each item takes at least one byte (binary) or one character plus a separator.
-          if (count > bytes_.size() - pos_) Fail("list length exceeds the file (truncated?)");
+          // Compared as a double first: a float/double count can exceed the uint64 range.
+          if (n > static_cast<double>(bytes_.size() - pos_)) Fail("list length exceeds the file (truncated?)");
+          const std::uint64_t count = static_cast<std::uint64_t>(n);
           const bool keep = int(k) == iface;
           if (keep) corners.clear();
           for (std::uint64_t c = 0; c < count; ++c) {
@@ -423,9 +440,24 @@ Mesh LoadPly(const std::string& path, double unit_scale) {
   return PlyParser(path, ss.str()).Parse(unit_scale);
 }
 
+// assimp opens the files a mesh names (an OBJ's "mtllib", a glTF's buffers) through its IO
+// system. This one opens regular files only: an mtllib naming a directory made assimp 5.2 leak
+// the stream it had opened and fail the whole load (found by fuzz/mesh_obj_fuzz), and one naming
+// /dev/zero or a FIFO could stall it. A refused material file is a missing one to assimp: it
+// falls back to its default material (posefilter uses the geometry alone).
+class RegularFilesIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    std::error_code ec;
+    if (file == nullptr || !std::filesystem::is_regular_file(file, ec)) return nullptr;
+    return Assimp::DefaultIOSystem::Open(file, mode);
+  }
+};
+
 // Everything but PLY goes through assimp (see LoadMesh for why PLY does not).
 Mesh LoadWithAssimp(const std::string& path, double unit_scale) {
   Assimp::Importer importer;
+  importer.SetIOHandler(new RegularFilesIOSystem);  // the importer owns and deletes it
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
   if (scene == nullptr) {
@@ -551,11 +583,7 @@ void SaveMeshPly(const Mesh& mesh, const std::string& path) {
     out.push_back(3);
     for (std::uint32_t idx : f) PutLe32(out, idx);
   }
-  std::ofstream os(path, std::ios::binary | std::ios::trunc);
-  if (!os) throw Error(path + ": cannot open for writing");
-  os.write(out.data(), static_cast<std::streamsize>(out.size()));
-  os.close();
-  if (!os) throw Error(path + ": write failed");
+  WriteFileAtomically(path, [&](std::ostream& os) { os.write(out.data(), static_cast<std::streamsize>(out.size())); });
 }
 
 }  // namespace posefilter

@@ -19,6 +19,7 @@
 #include <system_error>
 
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 
 namespace posefilter {
 
@@ -50,11 +51,7 @@ json ReadJsonFile(const std::string& path) {
 }
 
 void WriteJsonFile(const json& root, const std::string& path) {
-  std::ofstream os(path, std::ios::binary | std::ios::trunc);
-  if (!os) throw Error(path + ": cannot open for writing");
-  os << root.dump(1) << "\n";
-  os.close();
-  if (!os) throw Error(path + ": write failed");
+  WriteFileAtomically(path, [&](std::ostream& os) { os << root.dump(1) << "\n"; });
 }
 
 // Typed, key-naming access to one JSON file's values. `where` is the key path of the

@@ -19,6 +19,7 @@
 
 #include "posefilter/depth_image.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/metrics.h"
 #include "posefilter/projection.h"
 
@@ -64,11 +65,7 @@ json ReadJson(const std::string& path) {
 }
 
 void WriteJson(const json& j, const std::string& path) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(path + ": cannot open for writing");
-  out << j.dump(1) << "\n";
-  out.close();
-  if (!out) throw Error(path + ": write failed");
+  WriteFileAtomically(path, [&](std::ostream& out) { out << j.dump(1) << "\n"; });
 }
 
 const json& Key(const json& obj, const char* key, const Where& w) {
@@ -794,12 +791,10 @@ std::vector<BopResult> ReadBopResultsCsv(const std::string& path) {
 }
 
 void WriteBopResultsCsv(const std::vector<BopResult>& results, const std::string& path) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(path + ": cannot open for writing");
-  out << kBopCsvHeader << "\n";
-  for (const auto& r : results) out << FormatBopCsvRow(r) << "\n";
-  out.close();
-  if (!out) throw Error(path + ": write failed");
+  WriteFileAtomically(path, [&](std::ostream& out) {
+    out << kBopCsvHeader << "\n";
+    for (const auto& r : results) out << FormatBopCsvRow(r) << "\n";
+  });
 }
 
 void AppendBopResultsCsv(const std::vector<BopResult>& results, const std::string& path) {
@@ -812,15 +807,10 @@ void AppendBopResultsCsv(const std::vector<BopResult>& results, const std::strin
     if (!in.get(last) || last != '\n')
       throw Error(path + ": does not end with a newline (a partly written row?); remove the last line and rerun");
   }
-  std::ofstream out(path, std::ios::binary | std::ios::app);
-  if (!out) throw Error(path + ": cannot open for appending");
   std::string text;
   if (fresh) text += std::string(kBopCsvHeader) + "\n";
   for (const auto& r : results) text += FormatBopCsvRow(r) + "\n";
-  out << text;
-  out.flush();
-  out.close();
-  if (!out) throw Error(path + ": write failed");
+  AppendFileDurably(path, text);
 }
 
 }  // namespace posefilter

@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "posefilter/error.h"
 #include "posefilter/filter.h"
 #include "posefilter/pose.h"
 #include "posefilter/rng.h"
@@ -78,5 +79,11 @@ void AdoptPose(EstimateResult* result, const Camera& camera, const PolishResult&
 PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                          const FilterOptions& options, const std::vector<PolishSeed>& seeds,
                          FilterStats* stats);
+
+// The Error every engine throws when no cell of class `cls` holds both prior probability and
+// a heuristic volume (valid depth inside its box): it names the class and either says the
+// prior has no mass for it at all, or gives the number of cells with probability and the usual
+// causes of their boxes holding no usable depth (a wrong depth scale, another image's prior).
+Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& options);
 
 }  // namespace posefilter::filter

@@ -2,6 +2,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <numeric>
 #include <chrono>
 #include <cmath>
 #include <array>
@@ -349,7 +350,7 @@ bool FilterOptions::IsValid(std::string* why) const {
     }
   }
   if (num_particles < 2 || num_particles > 1'000'000) return fail("num_particles must be in [2, 1000000]");
-  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (max_iterations < 1 || max_iterations > 100'000) return fail("max_iterations must be in [1, 100000]");
   if (!(confidence > 0 && confidence <= 1)) return fail("confidence must be in (0, 1]");
   for (double v : {alpha, beta, gamma})
     if (!(v >= 0 && v <= 1)) return fail("alpha, beta, gamma must each be in [0, 1]");
@@ -394,11 +395,34 @@ bool FilterOptions::IsValid(std::string* why) const {
     total += p;
   }
   if (!(total > 0)) return fail("at least one move probability must be > 0");
-  if (threads < 0) return fail("threads must be >= 0");
+  if (threads < 0 || threads > MaxWorkerThreads())
+    return fail("threads must be in [0, " + std::to_string(MaxWorkerThreads()) +
+                "] (0 = all cores; at most 4 per hardware thread)");
   std::string h;
   if (!heuristics.IsValid(&h)) return fail("heuristics: " + h);
   return true;
 }
+
+namespace {
+
+// Plausible scene and object sizes (metres): what a depth camera sees, and objects between a
+// thousandth and ten times the scene's median depth across.
+constexpr double kMinPlausibleDepthM = 0.01, kMaxPlausibleDepthM = 100;
+constexpr double kMinObjectToDepth = 1e-3, kMaxObjectToDepth = 10;
+
+// The median of the depth image's valid (> 0) pixels, metres; 0 when there is none.
+double MedianValidDepth(const DepthImage& d) {
+  std::vector<float> z;
+  z.reserve(d.data.size());
+  for (float v : d.data)
+    if (v > 0) z.push_back(v);
+  if (z.empty()) return 0;
+  auto mid = z.begin() + std::ptrdiff_t(z.size() / 2);
+  std::nth_element(z.begin(), mid, z.end());
+  return *mid;
+}
+
+}  // namespace
 
 void ValidateScene(const SceneInput& scene, const std::string& what) {
   std::string why;
@@ -417,6 +441,15 @@ void ValidateScene(const SceneInput& scene, const std::string& what) {
     valid += z > 0;
   }
   if (valid == 0) throw Error(what + ": depth image has no valid pixel (all zero)");
+  // A depth scale off by 1000 (millimetres read as metres, or the reverse) puts the scene
+  // kilometres or millimetres away; no depth camera sees that.
+  const double median = MedianValidDepth(d);
+  if (!(median >= kMinPlausibleDepthM && median <= kMaxPlausibleDepthM)) {
+    std::ostringstream os;
+    os << what << ": the median depth is " << median << " m, outside the [" << kMinPlausibleDepthM << ", "
+       << kMaxPlausibleDepthM << "] m of a depth camera: wrong depth scale (metres per PNG unit)?";
+    throw Error(os.str());
+  }
   if (!scene.mask.empty()) {
     if (scene.mask.size() != d.data.size()) {
       std::ostringstream os;
@@ -469,6 +502,16 @@ Context BuildContext(const filter::PreparedScene& prep, const Mesh& mesh, const 
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   const double diameter = mesh.Diameter();
   ctx.diameter = diameter;
+  // Catches mesh unit mistakes (a millimetre mesh read as metres, or the reverse).
+  const double median_depth = MedianValidDepth(prep.support);
+  if (!(diameter >= kMinObjectToDepth * median_depth && diameter <= kMaxObjectToDepth * median_depth)) {
+    std::ostringstream os;
+    os << "mesh '" << mesh.name << "' is " << diameter << " m across, implausible in a scene whose median depth is "
+       << median_depth << " m (objects of " << kMinObjectToDepth * median_depth << " to "
+       << kMaxObjectToDepth * median_depth
+       << " m are accepted): are the mesh units right? (the unit scale, --unit-scale: 0.001 for a millimetre mesh, 1 for metres)";
+    throw Error(os.str());
+  }
   HeuristicOptions hopt = options.heuristics;
   if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
   ctx.volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, hopt, options.threads);
@@ -1003,6 +1046,22 @@ PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior&
   return {best.pose, best.cell, best.weight};
 }
 
+Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& options) {
+  int with_mass = 0;
+  for (int c = 0; c < prior.layout.CellCount(); ++c) with_mass += prior.Prob(c, cls) > 0;
+  std::ostringstream os;
+  if (with_mass == 0) {
+    os << "the prior holds no probability mass for class '" << prior.classes[std::size_t(cls)] << "'";
+    return Error(os.str());
+  }
+  os << "no prior cell of class '" << prior.classes[std::size_t(cls)] << "' has both probability and valid depth ("
+     << with_mass << " cell(s) have probability, but none of their boxes holds "
+     << options.heuristics.min_valid_pixels << " depth samples in (0, " << options.heuristics.max_depth_m
+     << "] m): check the depth scale (--depth-scale or depth_scale=, metres per depth unit) and that the prior was made "
+        "for this depth image";
+  return Error(os.str());
+}
+
 }  // namespace filter
 
 EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
@@ -1016,6 +1075,8 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   std::vector<double> cell_mass(prior.layout.CellCount(), 0.0);
   for (int c = 0; c < prior.layout.CellCount(); ++c)
     if (ctx.volumes.Valid(c)) cell_mass[c] = prior.Prob(c, cls);
+  if (!(std::accumulate(cell_mass.begin(), cell_mass.end(), 0.0) > 0))
+    throw filter::NoInitialMassError(prior, cls, options);
 
   // Independent runs (restarts), each with its own random stream; the best weight wins.
   std::vector<Particle> run_bests;  // seeds of the final polish

@@ -365,7 +365,7 @@ class HwRunner {
       m.hypothesis[c] = label;
     }
     if (!(max_p > 0))
-      throw Error("hw engine: no prior cell of class '" + prior_.classes[cls_] + "' has both probability mass and valid depth");
+      throw filter::NoInitialMassError(prior_, cls_, o);
     // CDF input: the probabilities scaled by 2^k so the largest is in [1/2, 1) — eq. 7.3 is
     // scale-invariant, and small probabilities (a uniform prior's 1/6300) survive prob_t.
     const double scale = std::ldexp(1.0, -int(std::floor(std::log2(max_p))) - 1);
@@ -524,7 +524,7 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
   double window_area = 0;
   std::unique_ptr<CycleTrace> one(new CycleTrace);
   std::unique_ptr<CycleTrace> vm_trace(new CycleTrace);
-  std::unique_ptr<RasterCoreBank> bank1(new RasterCoreBank[kMaxRasterCores]);
+  std::unique_ptr<RasterCoreBank[]> bank1(new RasterCoreBank[kMaxRasterCores]);
   double last_model_iteration[16] = {};
 
   auto hook = [&](int it, int cur, CycleTrace* weigh, CycleTrace* update, bool last) {

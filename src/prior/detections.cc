@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/prior.h"
 
 namespace posefilter {
@@ -103,10 +105,7 @@ void WriteDetectionsJson(const std::vector<Detection>& detections, const std::st
     }
     list.push_back({{"class", d.cls}, {"score", d.score}, {"bbox", {d.x, d.y, d.w, d.h}}});
   }
-  std::ofstream o(path, std::ios::trunc);
-  if (!o) throw Error(path + ": cannot open detections file for writing");
-  o << json{{"detections", list}}.dump(1) << "\n";
-  if (!o) throw Error(path + ": write error in detections file");
+  WriteFileAtomically(path, [&](std::ostream& o) { o << json{{"detections", list}}.dump(1) << "\n"; });
 }
 
 bool DetectionPriorOptions::IsValid(std::string* why) const {
@@ -189,6 +188,45 @@ std::vector<float> DetectionsToRawPyramid(const std::vector<Detection>& detectio
     if (best_det >= 0) EncodeBox(anchor, box_of[best_det], r + nc);
   }
   return raw;
+}
+
+std::vector<std::string> ClassesForObjects(const std::vector<std::string>& objects,
+                                           const std::vector<Detection>& detections) {
+  std::vector<std::string> classes;
+  std::set<std::string> seen;
+  for (const auto& o : objects)
+    if (seen.insert(o).second) classes.push_back(o);
+  for (const auto& d : detections)
+    if (seen.insert(d.cls).second) classes.push_back(d.cls);
+  return classes;
+}
+
+std::vector<std::string> CheckDetectionsForObjects(const std::vector<Detection>& detections,
+                                                   const std::vector<std::string>& objects, int width, int height,
+                                                   const std::string& source) {
+  auto on_image = [&](const Detection& d) { return d.x < width && d.y < height && d.x + d.w > 0 && d.y + d.h > 0; };
+  std::vector<std::string> warnings;
+  for (std::size_t i = 0; i < detections.size(); ++i)
+    if (!on_image(detections[i]))
+      warnings.push_back(source + ": detection " + std::to_string(i) + " ('" + detections[i].cls +
+                         "') lies wholly outside the " + std::to_string(width) + "x" + std::to_string(height) +
+                         " image (ignored)");
+  std::vector<std::string> missing;
+  for (const auto& o : objects)
+    if (std::none_of(detections.begin(), detections.end(), [&](const Detection& d) { return d.cls == o && on_image(d); }))
+      missing.push_back(o);
+  if (!objects.empty() && missing.size() == objects.size()) {
+    std::set<std::string> classes;
+    for (const auto& d : detections) classes.insert(d.cls);
+    std::string have, want;
+    for (const auto& c : classes) have += (have.empty() ? "" : ", ") + c;
+    for (const auto& o : objects) want += (want.empty() ? "" : ", ") + o;
+    throw Error(source + ": no detection on the image is of an object's class (objects: " + want +
+                "; detection classes: " + have + "); name each object after its detector class");
+  }
+  for (const auto& o : missing)
+    warnings.push_back(source + ": no detection of '" + o + "' on the image; its prior is uniform");
+  return warnings;
 }
 
 Prior PriorFromDetections(const std::vector<Detection>& detections, const PyramidLayout& layout,

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/prior.h"
 
 namespace posefilter {
@@ -379,10 +380,9 @@ void WriteRawPyramid(const std::vector<float>& raw, const PyramidLayout& layout,
   }
   std::vector<float> out = raw;
   SwapLittleEndian(&out);
-  std::ofstream o(path, std::ios::binary | std::ios::trunc);
-  if (!o) throw Error(path + ": cannot open raw pyramid file for writing");
-  o.write(reinterpret_cast<const char*>(out.data()), std::streamsize(n * sizeof(float)));
-  if (!o) throw Error(path + ": write error in raw pyramid file");
+  WriteFileAtomically(path, [&](std::ostream& o) {
+    o.write(reinterpret_cast<const char*>(out.data()), std::streamsize(n * sizeof(float)));
+  });
 }
 
 std::vector<std::string> YcbVideoClassNames() {

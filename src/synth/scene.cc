@@ -32,6 +32,7 @@
 
 #include "posefilter/depth_image.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/projection.h"
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
@@ -489,10 +490,9 @@ void WriteSynthScene(const SynthScene& s, const std::string& dir) {
   WriteRawPyramid(s.raw_pyramid, s.layout, (d / "prior.pyr").string());
   {
     const std::string path = (d / "classes.txt").string();
-    std::ofstream os(path, std::ios::trunc);
-    for (const auto& c : s.classes) os << c << "\n";
-    os.close();
-    if (!os) throw Error(path + ": write failed");
+    WriteFileAtomically(path, [&](std::ostream& os) {
+      for (const auto& c : s.classes) os << c << "\n";
+    });
   }
   SaveLabelsGray8(s.labels, s.depth.width, s.depth.height, (d / "label.png").string());
   SaveRgbPng(PreviewImage(s), (d / "rgb.png").string());
@@ -507,10 +507,7 @@ void WriteSynthScene(const SynthScene& s, const std::string& dir) {
     j["gt_bbox"] = {s.gt_box.cx - s.gt_box.w / 2, s.gt_box.cy - s.gt_box.h / 2, s.gt_box.w, s.gt_box.h};
     j["classes"] = s.classes;
     const std::string path = (d / "synth.json").string();
-    std::ofstream os(path, std::ios::trunc);
-    os << j.dump(1) << "\n";
-    os.close();
-    if (!os) throw Error(path + ": write failed");
+    WriteFileAtomically(path, [&](std::ostream& os) { os << j.dump(1) << "\n"; });
   }
 }
 

@@ -28,6 +28,7 @@
 #include <set>
 
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
 #include "posefilter/scene_io.h"
@@ -637,10 +638,9 @@ void WriteTableScene(const TableScene& s, const std::string& dir) {
     const PyramidLayout layout = PyramidLayout::Thesis(W, H, int(s.classes.size()));
     WriteRawPyramid(DetectionsToRawPyramid(s.detections, layout, s.classes), layout, (d / "prior.pyr").string());
     const std::string path = (d / "classes.txt").string();
-    std::ofstream os(path, std::ios::trunc);
-    for (const auto& c : s.classes) os << c << "\n";
-    os.close();
-    if (!os) throw Error(path + ": write failed");
+    WriteFileAtomically(path, [&](std::ostream& os) {
+      for (const auto& c : s.classes) os << c << "\n";
+    });
   }
   SaveLabelPng(LabelImage{W, H, s.masks}, (d / "mask.png").string());
   std::vector<std::uint8_t> lab(s.labels.size());
@@ -662,10 +662,7 @@ void WriteTableScene(const TableScene& s, const std::string& dir) {
   SaveRgbPng(img, (d / "rgb.png").string());
   auto write_json = [&](const nlohmann::ordered_json& j, const std::string& name) {
     const std::string path = (d / name).string();
-    std::ofstream os(path, std::ios::trunc);
-    os << j.dump(1) << "\n";
-    os.close();
-    if (!os) throw Error(path + ": write failed");
+    WriteFileAtomically(path, [&](std::ostream& os) { os << j.dump(1) << "\n"; });
   };
   nlohmann::ordered_json classes = nlohmann::ordered_json::object();
   for (std::size_t i = 0; i < s.objects.size(); ++i)

@@ -3,9 +3,21 @@
 // Filter budgets are tiny (the rows' accuracy is not the point here; eval tests check metrics).
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
+#include <set>
 #include <string>
+#include <thread>
+#include <tuple>
 #include <vector>
 
 #include "eval/bop_test_dataset.h"
@@ -174,6 +186,146 @@ TEST_F(RunDatasetCliTest, UsageAndInputErrors) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("t.csv"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("line 2"), std::string::npos) << r.err;
+}
+
+// A crash of the machine mid-append leaves a torn last row. The rerun removes it and the complete
+// rows of its image, estimates that image again, and ends with the rows of an uninterrupted run.
+TEST_F(RunDatasetCliTest, TornLastRowIsRedone) {
+  const std::string fresh = Path("fresh.csv");
+  ASSERT_EQ(Run(tiny_->root, fresh, {"--gt-boxes", "0"}, "fresh").code, 0);
+  const std::string full = ReadFile(fresh);
+  ASSERT_EQ(testing_util::Lines(full).size(), 4u) << full;
+  // Cut the file in the middle of its last row (image 3).
+  const std::string csv = Path("r.csv");
+  const std::size_t last_row = full.rfind('\n', full.size() - 2) + 1;
+  testing_util::WriteFile(csv, full.substr(0, last_row + 9));
+  RunResult r = Run(tiny_->root, csv, {"--gt-boxes", "0"}, "resume");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("torn row"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("1 image(s) estimated, 2 skipped"), std::string::npos) << r.out;
+  EXPECT_EQ(RowsWithoutTime(ReadFile(csv)), RowsWithoutTime(full));
+  // A fragment too short to name its image: the last complete image is redone too.
+  testing_util::WriteFile(csv, full.substr(0, last_row + 2));
+  r = Run(tiny_->root, csv, {"--gt-boxes", "0"}, "resume_short");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 image(s) estimated, 1 skipped"), std::string::npos) << r.out;
+  EXPECT_EQ(RowsWithoutTime(ReadFile(csv)), RowsWithoutTime(full));
+}
+
+TEST_F(RunDatasetCliTest, EmptyDetectionsAndOutputsOverInputsAreRefused) {
+  const std::string empty = Write("empty.json", "[]");
+  RunResult r = Run(tiny_->root, Path("r.csv"), {"--detections", empty}, "empty");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("empty.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no detections"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(Path("r.csv")));
+
+  const std::string dets = Write("dets.json", R"([
+      {"scene_id": 1, "image_id": 2, "category_id": 2, "bbox": [250, 150, 140, 160], "score": 0.9}])");
+  const std::string before = ReadFile(dets);
+  r = Run(tiny_->root, dets, {"--detections", dets}, "over");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("would be overwritten"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadFile(dets), before);
+  r = Run(tiny_->root, Path("no_dir/r.csv"), {"--gt-boxes", "0"}, "nodir");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+}
+
+// Complete data rows of a results CSV as (scene, image, object) keys, and whether any repeats.
+std::vector<std::tuple<int, int, int>> RowKeys(const std::string& csv_text) {
+  std::vector<std::tuple<int, int, int>> keys;
+  const auto lines = testing_util::Lines(csv_text);
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    int scene = 0, im = 0, obj = 0;
+    if (std::sscanf(lines[i].c_str(), "%d,%d,%d", &scene, &im, &obj) == 3) keys.emplace_back(scene, im, obj);
+  }
+  return keys;
+}
+
+// run-dataset killed with SIGKILL at random moments, 20 runs in a row, each resuming the last:
+// after every kill the CSV holds only whole, distinct rows, and a run that completes leaves
+// exactly the rows of an uninterrupted run (the CSV is then removed and the next run starts
+// over). Kill times are seeded and drawn over the expected time of the remaining images, so
+// kills land in every phase: start-up, mid-image, between appends.
+TEST_F(RunDatasetCliTest, SigkillLoopLosesNoRow) {
+  constexpr int kImages = 8;
+  const fs::path root = dir() / "ds8";
+  testing_util::MakeTinyBop(root, kImages);
+  const std::vector<std::string> base = {"run-dataset", "--dataset", root.string(), "--gt-boxes", "0", "--particles",
+                                         "48", "--iterations", "4", "--restarts", "1", "--threads", "1", "--quiet"};
+  auto args_for = [&](const std::string& csv) {
+    std::vector<std::string> a = base;
+    a.push_back("--out");
+    a.push_back(csv);
+    return a;
+  };
+  auto timed_run = [&](const std::string& csv, const std::string& capture) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const RunResult r = RunCli(args_for(csv), dir() / capture);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  // The uninterrupted run gives the expected rows; a second run on its CSV (nothing to do) the
+  // start-up time.
+  const std::string fresh = Path("fresh.csv");
+  const double whole_ms = timed_run(fresh, "fresh");
+  const double startup_ms = timed_run(fresh, "nothing_to_do");
+  const double per_image_ms = std::max(1.0, (whole_ms - startup_ms) / kImages);
+  const std::string expected = ReadFile(fresh);
+  ASSERT_EQ(RowKeys(expected).size(), std::size_t(kImages)) << expected;
+
+  const std::string csv = Path("killed.csv");
+  std::vector<std::string> argv_s = args_for(csv);
+  argv_s.insert(argv_s.begin(), POSEFILTER_CLI_PATH);
+  std::vector<char*> argv;
+  for (auto& a : argv_s) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::mt19937 rng(20261205);
+  int killed = 0, completed = 0;
+  for (int run = 0; run < 20; ++run) {
+    SCOPED_TRACE("run " + std::to_string(run));
+    const std::size_t rows_before = fs::exists(csv) ? RowKeys(ReadFile(csv)).size() : 0;
+    const double remaining_ms = startup_ms + per_image_ms * double(kImages - int(rows_before));
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      const int devnull = ::open("/dev/null", O_WRONLY);
+      ::dup2(devnull, 1);
+      ::dup2(devnull, 2);
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(long(1000 * std::uniform_real_distribution<double>(0, remaining_ms)(rng))));
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    if (WIFSIGNALED(status)) {
+      ++killed;
+    } else {
+      ASSERT_TRUE(WIFEXITED(status));
+      ASSERT_EQ(WEXITSTATUS(status), 0) << "run-dataset failed on resume";
+    }
+    if (!fs::exists(csv)) continue;
+    const std::string text = ReadFile(csv);
+    const auto keys = RowKeys(text);
+    const std::set<std::tuple<int, int, int>> distinct(keys.begin(), keys.end());
+    EXPECT_EQ(distinct.size(), keys.size()) << "duplicate rows:\n" << text;
+    EXPECT_GE(keys.size(), rows_before) << "rows lost:\n" << text;
+    if (!WIFSIGNALED(status)) {  // completed: every row, as in the uninterrupted run
+      ++completed;
+      EXPECT_EQ(RowsWithoutTime(text), RowsWithoutTime(expected));
+      fs::remove(csv);
+    }
+  }
+  EXPECT_GE(killed, 8) << "too few runs were killed mid-way to test anything";
+  // Finish the last cycle.
+  timed_run(csv, "last");
+  EXPECT_EQ(RowsWithoutTime(ReadFile(csv)), RowsWithoutTime(expected));
+  // No temporary file left beside the CSV by a killed atomic rewrite.
+  for (const auto& e : fs::directory_iterator(dir()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  std::printf("SIGKILL loop: %d of 20 runs killed, %d completed a cycle\n", killed, completed);
 }
 
 }  // namespace

@@ -168,13 +168,10 @@ TEST_F(PngFileTest, Depth16BitIsBigEndianInTheFile) {
   EXPECT_EQ(again.data, d.data);
 }
 
-TEST_F(PngFileTest, Depth8BitGrayIsAccepted) {
+// An 8-bit grey PNG is a preview of a depth image, not depth: refused, naming the file.
+TEST_F(PngFileTest, Depth8BitGrayIsRefused) {
   const std::string path = Write("d8.png", MakePng(2, 2, 8, 0, {std::string("\x00\x07", 2), "\xff\x80"}));
-  const DepthImage d = LoadDepthPng(path, 0.01);
-  EXPECT_EQ(d.at(0, 0), 0.f);
-  EXPECT_EQ(d.at(1, 0), float(7 * 0.01));
-  EXPECT_EQ(d.at(0, 1), float(255 * 0.01));
-  EXPECT_EQ(d.at(1, 1), float(128 * 0.01));
+  ExpectError([&] { LoadDepthPng(path, 0.01); }, {path, "16-bit"});
 }
 
 TEST_F(PngFileTest, DepthRejectsBadDepthScale) {
@@ -308,14 +305,16 @@ TEST_F(PngFileTest, Gray8RoundTripIsExact) {
   EXPECT_EQ(bytes.substr(12, 4), "IHDR");
   EXPECT_EQ(std::uint8_t(bytes[24]), 8);  // bit depth
   EXPECT_EQ(std::uint8_t(bytes[25]), 0);  // colour type gray
-  // Read back as 8-bit depth with scale 1 (value = sample) and as RGB (r = g = b = sample).
-  const DepthImage d = LoadDepthPng(path, 1.0);
+  // Read back as labels (id = sample) and as RGB (r = g = b = sample); as depth it is refused:
+  // 256 levels are a preview image, not a depth map.
+  const LabelImage d = LoadLabelPng(path);
   ASSERT_EQ(d.width, w);
   ASSERT_EQ(d.height, h);
+  ExpectError([&] { LoadDepthPng(path, 1.0); }, {path, "must be 16-bit", "8-bit"});
   const RgbImage rgb = LoadRgbPng(path);
   ASSERT_EQ(rgb.data.size(), px.size() * 3);
   for (size_t i = 0; i < px.size(); ++i) {
-    EXPECT_EQ(d.data[i], float(px[i])) << "pixel " << i;
+    EXPECT_EQ(d.ids[i], px[i]) << "pixel " << i;
     EXPECT_EQ(rgb.data[3 * i], px[i]) << "pixel " << i;
     EXPECT_EQ(rgb.data[3 * i + 2], px[i]) << "pixel " << i;
   }

@@ -410,9 +410,9 @@ TEST(SynthScene, WriteSynthSceneRoundTrips) {
   for (std::string line; std::getline(cls, line);) names.push_back(line);
   EXPECT_EQ(names, s.classes);
 
-  const DepthImage labels = LoadDepthPng((d / "label.png").string(), 1.0);
-  ASSERT_EQ(labels.data.size(), s.labels.size());
-  for (std::size_t i = 0; i < s.labels.size(); ++i) ASSERT_EQ(int(labels.data[i]), s.labels[i]) << i;
+  const LabelImage labels = LoadLabelPng((d / "label.png").string());
+  ASSERT_EQ(labels.ids.size(), s.labels.size());
+  for (std::size_t i = 0; i < s.labels.size(); ++i) ASSERT_EQ(int(labels.ids[i]), s.labels[i]) << i;
 
   const RgbImage rgb = LoadRgbPng((d / "rgb.png").string());
   EXPECT_EQ(rgb.width, s.camera.width);

@@ -1,0 +1,53 @@
+// posefilter/file_io.h — how posefilter writes files: atomically, never over an input.
+//
+// Every file the library and the CLI write (JSON, CSV, PNG, PLY, pyramid files) goes through
+// WriteFileAtomically: the bytes go to a temporary file beside the target, which is flushed to
+// disk and then renamed over the target. A reader sees the old file or the whole new one,
+// never a half-written one; on any failure (a full disk, a missing directory) the temporary
+// file is removed, the target is untouched, and Error names the target.
+//
+// The CLI checks every output path before it starts work (CheckOutputPaths): the directory
+// exists and is writable, the path is not a directory, and it is no input of the command nor
+// another output (compared by resolved path, so "./a.json" and "dir/../a.json" are the same).
+#pragma once
+
+#include <cstdio>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace posefilter {
+
+// Writes `path` atomically: `write` fills the stream of a temporary file in the same
+// directory. Throws Error naming `path` if the file cannot be created, written, flushed or
+// renamed; an exception thrown by `write` removes the temporary file and propagates.
+void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+// The same for writers that need a C FILE* (libpng): `write` gets the open temporary file and
+// returns false on failure, with `*error` saying why; Error("<path>: <error>") is thrown then.
+void WriteFileAtomicallyC(const std::string& path, const std::function<bool(std::FILE*, std::string* error)>& write);
+
+// `text` (whole lines) appended to `path` with one write(2) and flushed to disk (fsync), so a
+// crash leaves either all of `text` or a prefix of it that TrimTornLastLine removes.
+void AppendFileDurably(const std::string& path, const std::string& text);
+
+// If `path` exists and does not end with '\n' (its last line was cut short by a crash),
+// truncates the torn last line and returns it ("" when nothing was cut).
+std::string TrimTornLastLine(const std::string& path);
+
+// An input or output of a command: the path and the option that names it ("--out").
+struct NamedPath {
+  std::string path;
+  std::string option;
+};
+
+// Throws Error naming the option and path unless every non-empty output can be written
+// (its directory exists and is writable; the path is not a directory), no output is one of
+// the inputs, and no two outputs are the same file. Inputs with an empty path are ignored.
+void CheckOutputPaths(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
+
+// True if `a` and `b` name the same file (resolved path; the files need not exist).
+bool SamePath(const std::string& a, const std::string& b);
+
+}  // namespace posefilter

@@ -1,0 +1,173 @@
+#include "posefilter/file_io.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "posefilter/error.h"
+
+namespace posefilter {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string Errno() { return std::strerror(errno); }
+
+// A fresh name beside `path` ("<path>.tmp.<pid>.<n>"), unique within this process and among
+// processes writing the same target.
+std::string TempPathBeside(const std::string& path) {
+  static std::atomic<unsigned long> counter{0};
+  return path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+}
+
+// Writes all of `data` to `fd`, retrying short writes and EINTR. False with errno set on failure.
+bool WriteAll(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+// Renames the finished temporary file `tmp` over `path` (removing `tmp` on failure) and syncs
+// the directory so the rename survives a crash (best effort: some file systems refuse).
+void Commit(const std::string& tmp, const std::string& path) {
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = Errno();
+    std::remove(tmp.c_str());
+    throw Error(path + ": cannot replace the file (" + why + ")");
+  }
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+// Removes a temporary file when the write is abandoned (an exception or an early return).
+struct TempFile {
+  std::string path;
+  bool committed = false;
+  ~TempFile() {
+    if (!committed) std::remove(path.c_str());
+  }
+};
+
+}  // namespace
+
+void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  std::ostringstream buffer(std::ios::binary);
+  write(buffer);
+  if (!buffer) throw Error(path + ": cannot format the contents");
+  const std::string bytes = std::move(buffer).str();
+  TempFile tmp{TempPathBeside(path)};
+  const int fd = ::open(tmp.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) throw Error(path + ": cannot open for writing (" + Errno() + ")");
+  bool ok = WriteAll(fd, bytes.data(), bytes.size()) && ::fsync(fd) == 0;
+  const std::string why = ok ? "" : Errno();
+  ok = (::close(fd) == 0) && ok;
+  if (!ok) throw Error(path + ": write failed (" + (why.empty() ? Errno() : why) + ")");
+  tmp.committed = true;
+  Commit(tmp.path, path);
+}
+
+void WriteFileAtomicallyC(const std::string& path, const std::function<bool(std::FILE*, std::string*)>& write) {
+  TempFile tmp{TempPathBeside(path)};
+  std::FILE* fp = std::fopen(tmp.path.c_str(), "wbx");
+  if (fp == nullptr) throw Error(path + ": cannot open for writing (" + Errno() + ")");
+  std::string error;
+  bool ok = write(fp, &error);
+  if (ok && (std::fflush(fp) != 0 || ::fsync(::fileno(fp)) != 0)) {
+    error = "write failed (" + Errno() + ")";
+    ok = false;
+  }
+  if (std::fclose(fp) != 0 && ok) {
+    error = "write failed on close (" + Errno() + ")";
+    ok = false;
+  }
+  if (!ok) throw Error(path + ": " + (error.empty() ? std::string("write failed") : error));
+  tmp.committed = true;
+  Commit(tmp.path, path);
+}
+
+void AppendFileDurably(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0666);
+  if (fd < 0) throw Error(path + ": cannot open for appending (" + Errno() + ")");
+  struct stat st {};
+  const bool sized = ::fstat(fd, &st) == 0;
+  bool ok = WriteAll(fd, text.data(), text.size()) && ::fsync(fd) == 0;
+  const std::string why = ok ? "" : Errno();
+  // A failed append (a full disk) is undone: the file is cut back to its old size.
+  if (!ok && sized) (void)::ftruncate(fd, st.st_size);
+  ok = (::close(fd) == 0) && ok;
+  if (!ok) throw Error(path + ": append failed (" + (why.empty() ? Errno() : why) + ")");
+}
+
+std::string TrimTornLastLine(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return "";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": cannot open (" + Errno() + ")");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(path + ": read error");
+  if (text.empty() || text.back() == '\n') return "";
+  const std::size_t nl = text.rfind('\n');
+  const std::size_t keep = nl == std::string::npos ? 0 : nl + 1;
+  fs::resize_file(path, keep, ec);
+  if (ec) throw Error(path + ": cannot cut its torn last line (" + ec.message() + ")");
+  return text.substr(keep);
+}
+
+bool SamePath(const std::string& a, const std::string& b) {
+  std::error_code ea, eb;
+  if (fs::exists(a, ea) && fs::exists(b, eb)) return fs::equivalent(a, b, ea);  // hard links too
+  const fs::path ca = fs::weakly_canonical(fs::absolute(a), ea);
+  const fs::path cb = fs::weakly_canonical(fs::absolute(b), eb);
+  if (ea || eb) return fs::absolute(a).lexically_normal() == fs::absolute(b).lexically_normal();
+  return ca == cb;
+}
+
+void CheckOutputPaths(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const NamedPath& out = outputs[i];
+    if (out.path.empty()) continue;
+    const std::string name = out.option + " " + out.path;
+    std::error_code ec;
+    if (fs::is_directory(out.path, ec)) throw Error(name + ": is a directory, not a file");
+    fs::path dir = fs::path(out.path).parent_path();
+    if (dir.empty()) dir = ".";
+    if (!fs::is_directory(dir, ec))
+      throw Error(name + ": the directory " + dir.string() + " does not exist");
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw Error(name + ": the directory " + dir.string() + " is not writable");
+    if (fs::exists(out.path, ec) && ::access(out.path.c_str(), W_OK) != 0)
+      throw Error(name + ": the file exists and is read-only");
+    for (const NamedPath& in : inputs) {
+      if (in.path.empty()) continue;
+      if (SamePath(out.path, in.path))
+        throw Error(name + ": is the input " + in.option + " " + in.path + "; it would be overwritten");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!outputs[j].path.empty() && SamePath(out.path, outputs[j].path))
+        throw Error(name + ": is also " + outputs[j].option + " " + outputs[j].path + "; give each output its own file");
+    }
+  }
+}
+
+}  // namespace posefilter

@@ -1,0 +1,190 @@
+// Tests of how files are written (include/posefilter/file_io.h): atomic replacement, durable
+// appends, torn-line repair and the output-path checks the CLI makes before it starts work.
+#include "posefilter/file_io.h"
+
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "posefilter/error.h"
+#include "test_util.h"
+
+namespace posefilter {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_util::ExpectError;
+using testing_util::ReadFile;
+using testing_util::WriteFile;
+
+class FileIoTest : public testing_util::ScratchDirTest {
+ protected:
+  FileIoTest() : ScratchDirTest("file_io") {}
+  // Number of entries in the scratch directory (temporary files left behind show up here).
+  int Entries() const {
+    int n = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir())) ++n;
+    return n;
+  }
+};
+
+TEST_F(FileIoTest, WriteCreatesAndReplacesWholeFiles) {
+  const std::string path = (dir() / "a.json").string();
+  WriteFileAtomically(path, [](std::ostream& os) { os << "first\n"; });
+  EXPECT_EQ(ReadFile(path), "first\n");
+  WriteFileAtomically(path, [](std::ostream& os) { os << "second, longer\n"; });
+  EXPECT_EQ(ReadFile(path), "second, longer\n");
+  EXPECT_EQ(Entries(), 1) << "a temporary file was left beside the target";
+}
+
+TEST_F(FileIoTest, FailedFormatterLeavesTargetUntouched) {
+  const std::string path = (dir() / "a.json").string();
+  WriteFile(path, "old\n");
+  EXPECT_THROW(WriteFileAtomically(path,
+                                   [](std::ostream& os) {
+                                     os << "half";
+                                     throw std::runtime_error("formatter failed");
+                                   }),
+               std::runtime_error);
+  EXPECT_EQ(ReadFile(path), "old\n");
+  EXPECT_EQ(Entries(), 1);
+}
+
+TEST_F(FileIoTest, MissingDirectoryNamesTheTarget) {
+  const std::string path = (dir() / "no_such_dir" / "a.json").string();
+  ExpectError([&] { WriteFileAtomically(path, [](std::ostream& os) { os << "x"; }); }, {path, "cannot open"});
+  ExpectError([&] { WriteFileAtomicallyC(path, [](std::FILE*, std::string*) { return true; }); }, {path});
+}
+
+TEST_F(FileIoTest, CWriterFailureRemovesTheTemporaryFile) {
+  const std::string path = (dir() / "a.png").string();
+  WriteFile(path, "old");
+  ExpectError(
+      [&] {
+        WriteFileAtomicallyC(path, [](std::FILE* fp, std::string* error) {
+          std::fputs("partial", fp);
+          *error = "encoder gave up";
+          return false;
+        });
+      },
+      {path, "encoder gave up"});
+  EXPECT_EQ(ReadFile(path), "old");
+  EXPECT_EQ(Entries(), 1);
+}
+
+// A write that runs out of space (here: the file-size limit, RLIMIT_FSIZE, which makes write(2)
+// fail with EFBIG as a full disk fails with ENOSPC) leaves the old file whole and no temporary
+// file. Runs in a child process so the limit does not touch the test runner.
+TEST_F(FileIoTest, WriteFailureMidwayLeavesTargetUntouched) {
+  const std::string path = (dir() / "results.json").string();
+  const std::string old(100, 'o');
+  WriteFile(path, old);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit lim {4096, 4096};
+    ::setrlimit(RLIMIT_FSIZE, &lim);
+    int code = 3;
+    try {
+      WriteFileAtomically(path, [](std::ostream& os) { os << std::string(100000, 'n'); });
+      code = 1;  // the write should have failed
+    } catch (const Error& e) {
+      code = std::string(e.what()).find(path) != std::string::npos ? 0 : 2;
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: no error, 2: the error did not name the file";
+  EXPECT_EQ(ReadFile(path), old);
+  EXPECT_EQ(Entries(), 1);
+}
+
+// The same for an append: a row that does not fit is cut back, the file keeps its whole rows.
+TEST_F(FileIoTest, FailedAppendIsUndone) {
+  const std::string path = (dir() / "results.csv").string();
+  AppendFileDurably(path, "h\n");
+  AppendFileDurably(path, "row 1\n");
+  EXPECT_EQ(ReadFile(path), "h\nrow 1\n");
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit lim {64, 64};
+    ::setrlimit(RLIMIT_FSIZE, &lim);
+    int code = 1;
+    try {
+      AppendFileDurably(path, std::string(200, 'r') + "\n");
+    } catch (const Error&) {
+      code = 0;
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "the append did not fail";
+  EXPECT_EQ(ReadFile(path), "h\nrow 1\n");
+}
+
+TEST_F(FileIoTest, TrimTornLastLine) {
+  const std::string path = (dir() / "r.csv").string();
+  EXPECT_EQ(TrimTornLastLine(path), "");  // no file: nothing to do
+  WriteFile(path, "h\nrow 1\n");
+  EXPECT_EQ(TrimTornLastLine(path), "");
+  EXPECT_EQ(ReadFile(path), "h\nrow 1\n");
+  WriteFile(path, "h\nrow 1\nrow 2,cut");
+  EXPECT_EQ(TrimTornLastLine(path), "row 2,cut");
+  EXPECT_EQ(ReadFile(path), "h\nrow 1\n");
+  WriteFile(path, "no newline at all");
+  EXPECT_EQ(TrimTornLastLine(path), "no newline at all");
+  EXPECT_EQ(ReadFile(path), "");
+}
+
+TEST_F(FileIoTest, SamePathResolvesRelativeAndLinkedNames) {
+  const fs::path a = dir() / "a.json";
+  WriteFile(a, "x");
+  EXPECT_TRUE(SamePath(a.string(), (dir() / "sub" / ".." / "a.json").string()));
+  fs::create_hard_link(a, dir() / "hard.json");
+  EXPECT_TRUE(SamePath(a.string(), (dir() / "hard.json").string()));
+  fs::create_symlink(a, dir() / "soft.json");
+  EXPECT_TRUE(SamePath(a.string(), (dir() / "soft.json").string()));
+  EXPECT_FALSE(SamePath(a.string(), (dir() / "b.json").string()));
+  EXPECT_TRUE(SamePath((dir() / "new.json").string(), (dir() / "." / "new.json").string()));
+}
+
+TEST_F(FileIoTest, CheckOutputPathsRefusesInputsAndClashes) {
+  const std::string depth = (dir() / "depth.png").string(), out = (dir() / "out.json").string();
+  WriteFile(depth, "png");
+  CheckOutputPaths({{out, "--out"}}, {{depth, "--depth"}, {"", "--rgb"}});  // fine
+  ExpectError([&] { CheckOutputPaths({{depth, "--out"}}, {{depth, "--depth"}}); },
+              {"--out", depth, "--depth", "overwritten"});
+  ExpectError([&] { CheckOutputPaths({{out, "--out"}, {(dir() / "." / "out.json").string(), "--overlay"}}, {}); },
+              {"--overlay", "--out", "its own file"});
+  ExpectError([&] { CheckOutputPaths({{dir().string(), "--json"}}, {}); }, {"--json", "is a directory"});
+  ExpectError([&] { CheckOutputPaths({{(dir() / "missing" / "o.json").string(), "--out"}}, {}); },
+              {"--out", "does not exist"});
+}
+
+TEST_F(FileIoTest, CheckOutputPathsRefusesReadOnlyPlaces) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root may write anywhere: permissions cannot be tested";
+  const fs::path ro = dir() / "ro";
+  fs::create_directory(ro);
+  WriteFile(dir() / "locked.json", "x");
+  fs::permissions(dir() / "locked.json", fs::perms::owner_read);
+  fs::permissions(ro, fs::perms::owner_read | fs::perms::owner_exec);
+  ExpectError([&] { CheckOutputPaths({{(ro / "o.json").string(), "--out"}}, {}); }, {"--out", "not writable"});
+  ExpectError([&] { CheckOutputPaths({{(dir() / "locked.json").string(), "--out"}}, {}); }, {"--out", "read-only"});
+  fs::permissions(ro, fs::perms::owner_all);
+}
+
+}  // namespace
+}  // namespace posefilter
