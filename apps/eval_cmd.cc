@@ -1,4 +1,5 @@
-// apps/eval_cmd.cc — `posefilter eval`: compare a results JSON with a gt.json (SPEC §8).
+// apps/eval_cmd.cc — `posefilter eval`: compare a results JSON with a gt.json (the metrics:
+// docs/DATASETS.md, "Metrics").
 //
 // For every ground-truth object: ADD, ADD-S (mm), rotation error (deg), translation error (mm),
 // the model diameter (mm) and whether ADD / ADD-S are below threshold·diameter; then the recalls

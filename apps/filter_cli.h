@@ -9,9 +9,10 @@
 
 namespace posefilter::cli {
 
-// Registers --particles, --iterations, --confidence, --alpha/--beta/--gamma, --inlier-thr,
-// --hard-inlier, --no-zbuffer, --window, --elite, --pool, --sigma-t, --sigma-r, --seed,
-// --threads, --engine on `app`, writing into `opt` (defaults = FilterOptions defaults).
+// Registers every filter option (--engine, --particles, --iterations, --seed, --threads, …;
+// the full list, with help texts, is the body of this function in apps/filter_cli.cc, and
+// `posefilter estimate --help` prints it) on `app`, writing into `opt` (defaults =
+// FilterOptions defaults).
 void AddFilterOptions(CLI::App& app, FilterOptions* opt);
 // Checks a --seed value before CLI11 converts it: digits only, at most 2^64 - 1 (so "-1" and
 // "1e23" are errors, not 2^64 - 1).

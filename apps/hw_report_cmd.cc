@@ -1,7 +1,7 @@
 // posefilter hw-report — the hw engine's cycle model on a synthetic scene comparable to the
 // thesis's (640×480, thesis camera, N = 510, windows capped at 200×200, a model of 1024
 // vertices / 2048 faces — the synthetic torus), side by side with the thesis's figures
-// (SPEC §7; Tables 7.2, 7.3, Fig. 7.11, 7.21). docs/HARDWARE.md explains the model.
+// (thesis Ch. 7: Tables 7.2, 7.3, Fig. 7.11, 7.21). docs/HARDWARE.md explains the model.
 #include <cstdio>
 #include <fstream>
 
@@ -19,7 +19,7 @@
 namespace posefilter::cli {
 namespace {
 
-// The thesis's figures (SPEC §7) for M = 1, 5, 10 cores; < 0 = not reported.
+// The thesis's figures (Tables 7.2, 7.3) for M = 1, 5, 10 cores; < 0 = not reported.
 struct ThesisRow {
   int cores;
   double depth_distribution_ms, first_iteration_ms, average_iteration_ms;

@@ -2,7 +2,8 @@
 //
 // A thin layer over include/posefilter/: every computation is the library's; this file only
 // converts between numpy arrays and the library's types and checks what it converts.
-// Conventions (SPEC §2): metres, radians; depth arrays are H×W camera z (0 = missing);
+// Conventions (docs/ALGORITHM.md §1, docs/PYTHON.md): metres, radians; depth arrays are H×W
+// camera z (0 = missing);
 // 4×4 poses map object → camera (T_cam_obj) unless named otherwise; a 6-vector pose is
 // (x, y, z, roll, pitch, yaw), object → base, T = Tr·Rz(yaw)·Ry(pitch)·Rx(roll) (eq. 6.2).
 // Errors: posefilter::Error and every bad argument become posefilter.Error, a ValueError;

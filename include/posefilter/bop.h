@@ -1,6 +1,6 @@
 // posefilter/bop.h — pose-estimation datasets: the BOP format, the YCB-Video folder of
 // ../shared/data/ycbv presented through the same interface, BOP detections and the BOP
-// results CSV (SPEC §8; docs/DATASETS.md has the full description and examples).
+// results CSV (docs/DATASETS.md has the full description and examples).
 //
 // Units: everything this header returns is in metres and radians (the BOP files are in
 // millimetres and are converted on reading / writing). Poses map object → camera,

@@ -1,5 +1,5 @@
 // posefilter/bop_metrics.h — BOP 2019 pose errors (VSD, MSSD, MSPD), their recalls and the
-// average recall AR, and the YCB-Video AUC of ADD / ADD-S (SPEC §8).
+// average recall AR, and the YCB-Video AUC of ADD / ADD-S (docs/DATASETS.md, "Metrics").
 //
 // Poses map object → camera (metres); model points are in the object frame (metres).
 //   MSSD = min_S max_p ‖T_est·p − T_gt·S·p‖                  (metres)

@@ -1,6 +1,6 @@
 // posefilter/camera.h — pinhole camera: intrinsics plus the base→camera extrinsic.
 //
-// Frames (SPEC §2): camera frame is OpenCV (x right, y down, z forward), metres.
+// Frames (docs/ALGORITHM.md §1): camera frame is OpenCV (x right, y down, z forward), metres.
 // Pixel (u, v) = (column, row); the centre of pixel (i, j) is at u = i, v = j (OpenCV).
 #pragma once
 

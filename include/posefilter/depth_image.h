@@ -2,7 +2,7 @@
 //
 // Depth is camera z in metres (not range along the ray), row-major, width×height floats.
 // 0 means missing; a depth image never holds NaN/inf after loading (loaders reject them).
-// 16-bit PNG convention (BOP, SPEC §2): metres = png_value × depth_scale; 0 = missing.
+// 16-bit PNG convention (BOP; docs/ALGORITHM.md §1): metres = png_value × depth_scale; 0 = missing.
 #pragma once
 
 #include <cstdint>

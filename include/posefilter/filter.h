@@ -1,6 +1,6 @@
 // posefilter/filter.h — stage 2: the particle filter that finds an object's 6-DoF pose.
 //
-// Algorithm (SPEC §6, thesis §2.2, §7.4–7.6, App. B), per object:
+// Algorithm (thesis §2.2, §7.4–7.6, App. B; docs/ALGORITHM.md §4–9), per object:
 //   1. initialise N particles by importance sampling the prior's cells (normalised CDF,
 //      eq. 7.3, with a threshold tracker) and placing each in its cell's heuristic volume
 //      (x, y at the centre, z uniform, Listing 7.5), angles uniform in ±π;
@@ -32,7 +32,8 @@
 
 namespace posefilter {
 
-// The diffusion moves of §7.6, in the order of FilterOptions::move_probabilities.
+// The diffusion moves, in the order of FilterOptions::move_probabilities: the 13 of thesis §7.6
+// first, then 4 of ours (docs/ALGORITHM.md §8).
 enum class Move : int {
   kTranslateX, kTranslateY, kTranslateZ, kTranslateAll,
   kRotateRoll, kRotatePitch, kRotateYaw, kRotateAll,

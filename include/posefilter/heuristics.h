@@ -1,4 +1,4 @@
-// posefilter/heuristics.h — per-cell heuristic volumes (SPEC §5, thesis §1.1.2, §7.4).
+// posefilter/heuristics.h — per-cell heuristic volumes (thesis §1.1.2, §7.4; docs/ALGORITHM.md §3).
 //
 // A heuristic is the axis-aligned volume of the base frame where the object seen in a cell's
 // box can be. Initialisation (Listing 7.5) places a new sample at the volume's x, y centre

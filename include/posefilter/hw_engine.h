@@ -1,5 +1,6 @@
 // posefilter/hw_engine.h — the `hw` engine: a bit-accurate C simulation of the thesis's FPGA
-// architecture (Chapter 7; SPEC §7) driven like the float engines, plus its cycle model.
+// architecture (thesis Chapter 7; docs/HARDWARE.md) driven like the float engines, plus its
+// cycle model.
 //
 // EstimatePose(…) with FilterOptions::engine == "hw" calls EstimatePoseHw. The driver
 // (src/hw/engine.cc) converts the inputs to the hardware's fixed-point memories (depth clipped

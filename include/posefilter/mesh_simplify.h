@@ -1,13 +1,13 @@
 // posefilter/mesh_simplify.h — level of detail (LOD): a mesh simplified to a face budget.
 //
-// The score kernel's cost grows with the faces it transforms and rasterizes (SPEC §6.2); the
-// thesis downsamples its models to ≤ 1024 vertices (§7.1). SimplifyMesh reduces a mesh with
-// meshoptimizer's edge-collapse simplifier (topology-preserving: a closed mesh stays closed
-// where the simplifier can reach the budget that way); only when that stops short of the
-// budget does it fall back to meshoptimizer's "sloppy" vertex-clustering simplifier, which
-// ignores topology (the report says so). Vertices keep their object-frame coordinates (the
-// simplified mesh uses a subset of the input's vertex positions), faces keep their CCW
-// winding, so the renderer's back-face culling still holds.
+// The score kernel's cost grows with the faces it transforms and rasterizes (docs/ALGORITHM.md §5);
+// the thesis downsamples its models to ≤ 1024 vertices (§7.1). SimplifyMesh reduces a mesh with
+// meshoptimizer's edge-collapse simplifier (topology-preserving: a closed mesh stays closed where
+// the simplifier can reach the budget that way); only when that stops short of the budget does it
+// fall back to meshoptimizer's "sloppy" vertex-clustering simplifier, which ignores topology (the
+// report says so). Vertices keep their object-frame coordinates (the simplified mesh uses a subset
+// of the input's vertex positions), faces keep their CCW winding, so the renderer's back-face
+// culling still holds.
 #pragma once
 
 #include <string>

@@ -1,10 +1,11 @@
-// posefilter/metrics.h — pose-error metrics against ground truth (SPEC §8).
+// posefilter/metrics.h — pose-error metrics against ground truth (docs/DATASETS.md, "Metrics").
 //
 // All poses map object → camera (x_cam = T·x_obj); model points are in the object frame,
 // metres. Errors are returned in metres / degrees; the CLI prints millimetres.
 //   ADD   (Hinterstoisser et al. 2012): mean_p ‖T_est·p − T_gt·p‖.
 //   ADD-S (symmetric objects):          mean_p min_q ‖T_gt·p − T_est·q‖.
-// A pose is accepted ("ok") when its error is below threshold·diameter (SPEC §8: 10 %).
+// A pose is accepted ("ok") when its error is below threshold·diameter (the reported recall
+// uses 10 %).
 #pragma once
 
 #include <Eigen/Core>

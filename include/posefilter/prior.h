@@ -1,5 +1,5 @@
 // posefilter/prior.h — the stage-1 prior: a per-cell, per-class probability heatmap with a box
-// per cell (SPEC §3–4, thesis §7.1, §7.3), in its three forms:
+// per cell (thesis §7.1, §7.3; docs/ALGORITHM.md §2), in its three forms:
 //   1. raw pyramid output (thesis format) → PostProcessPyramid;
 //   2. 2D detections (class, score, box)  → DetectionsToRawPyramid → PostProcessPyramid;
 //   3. none                               → UniformPrior.
@@ -133,7 +133,8 @@ void WriteDetectionsJson(const std::vector<Detection>& detections, const std::st
 struct DetectionPriorOptions {
   // Probability floor: every (cell, class) keeps exactly this probability where no detection
   // of the class overlaps the cell — low scores stay low but non-zero, nothing is
-  // hard-thresholded (SPEC §3). In [1e-6, 1) and num_classes·floor_prob < 1.
+  // hard-thresholded (as the thesis's heatmap, §1.1.1; docs/ALGORITHM.md §2). In [1e-6, 1)
+  // and num_classes·floor_prob < 1.
   double floor_prob = 1e-5;
   double max_box_px = 200;  // decoded box clip, pixels (as PostProcessOptions)
   bool IsValid(std::string* why) const;

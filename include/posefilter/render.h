@@ -1,12 +1,14 @@
 // posefilter/render.h — rendering a mesh in a pose and scoring it against the depth image.
 //
-// The score kernel (SPEC §6.2, thesis §6.2 and §7.5.1) renders the mesh inside a window of the
-// image and compares each rendered pixel's depth z_r with the scene depth z_s:
+// The score kernel (thesis §6.2, §7.5 and §7.5.1; docs/ALGORITHM.md §5) renders the mesh inside
+// a window of the image and compares each rendered pixel's depth z_r with the scene depth z_s:
 //   soft inlier χ(d), d = |z_r − z_s|: 1 for d ≤ thr1, 2 − d·(1/thr1) on the ramp (continuous form
-//   of the thesis's slope, SPEC erratum), 0 for d ≥ thr2 = 2·thr1; or hard: 1 iff d ≤ hard_thr.
+//   of the thesis's slope, an erratum: docs/HARDWARE.md §8), 0 for d ≥ thr2 = 2·thr1; or hard:
+//   1 iff d ≤ hard_thr.
 //   Missing scene depth (z_s = 0) is never an inlier.
-// ScoreKernelParams is the one plain parameter struct shared by every backend (reference now;
-// cpu and hw later); ScoreKernelResult the numbers they must agree on.
+// ScoreKernelParams is the one plain parameter struct of the float engines (reference and cpu);
+// ScoreKernelResult the numbers they must agree on. The hw engine's raster core
+// (src/hw/raster_core.h) computes the same counters in fixed point.
 //
 // Rasterization rules (all backends): pixel (i, j) is sampled at its centre (u = i, v = j);
 // vertices snap to a 1/256-pixel grid; Pineda edge functions (eq. 6.12–6.20) in exact integer

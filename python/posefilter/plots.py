@@ -218,9 +218,9 @@ def _is_single_evaluation(ev) -> bool:
 
 def recall_curve(evaluations, path, labels: Sequence[str] | None = None,
                  thresholds: np.ndarray | None = None) -> str:
-    """Recall vs acceptance threshold (fraction of the diameter; SPEC §8 reports 0.1) for ADD
-    and ADD-S. ``evaluations``: one or more of: a ``posefilter eval --json`` path, a dict from
-    :func:`load_eval_json`, or a list of PoseErrors (None = missing)."""
+    """Recall vs acceptance threshold (fraction of the diameter; the reported recall uses 0.1,
+    docs/DATASETS.md) for ADD and ADD-S. ``evaluations``: one or more of: a ``posefilter eval
+    --json`` path, a dict from :func:`load_eval_json`, or a list of PoseErrors (None = missing)."""
     if _is_single_evaluation(evaluations):
         evaluations = [evaluations]
     if thresholds is None:

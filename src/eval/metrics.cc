@@ -1,4 +1,5 @@
-// src/eval/metrics.cc — ADD, ADD-S, rotation/translation errors, model point sets (SPEC §8).
+// src/eval/metrics.cc — ADD, ADD-S, rotation/translation errors, model point sets
+// (docs/DATASETS.md, "Metrics").
 #include "posefilter/metrics.h"
 
 #include <algorithm>

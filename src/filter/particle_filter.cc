@@ -1,4 +1,4 @@
-// The particle filter, `reference` engine (SPEC §6; thesis §2.2, §7.4–7.6, App. B).
+// The particle filter, `reference` engine (thesis §2.2, §7.4–7.6, App. B; docs/ALGORITHM.md §4–9).
 #include <omp.h>
 
 #include <algorithm>
@@ -38,10 +38,10 @@ double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// The particle's window (§7.5.3, SPEC §6.2): the cell's box centred on the box centre, each
-// side at least min_side (the object's projected diameter, so a box smaller than the object
-// cannot truncate its rendering) and at most max_px, then shifted ("saturated") to lie inside
-// the image.
+// The particle's window (thesis §7.5.3; docs/ALGORITHM.md §5): the cell's box centred on the box
+// centre, each side at least min_side (the object's projected diameter, so a box smaller than
+// the object cannot truncate its rendering) and at most max_px, then shifted ("saturated") to
+// lie inside the image.
 PixelRect CellWindow(const Box& box, double min_side, int max_px, int image_w, int image_h) {
   PixelRect r;
   r.width = std::clamp(int(std::lround(std::max(box.w, min_side))), 1, std::min(max_px, image_w));
@@ -132,8 +132,8 @@ struct Context {
   mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
 };
 
-// Computes cell c's heuristic volume and window if not done yet (round 14: a run uses a few
-// hundred of a pyramid's thousands of cells). Not thread-safe: the serial steps call it, and
+// Computes cell c's heuristic volume and window if not done yet (on demand because a run uses
+// a few hundred of a pyramid's thousands of cells). Not thread-safe: the serial steps call it, and
 // WeighAll calls it for its particles' cells before its parallel loop.
 void PrepareCell(const Context& ctx, int c) {
   if (ctx.window_ready[std::size_t(c)]) return;

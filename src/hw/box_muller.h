@@ -7,7 +7,7 @@
 // state, so the thesis's `if (U != 0)` guard is not needed); U₂: an LFSR15 word read as a
 // fraction of a turn, so 2πU₂ needs no multiplier (SinCosTurns). |Z| ≤ √(36·ln 2) = 4.995.
 //
-// Errata fixed (SPEC §7):
+// Errata fixed (docs/HARDWARE.md §8):
 //  * Listing 5.2 writes Gauss_fill_h (the sine branch) to BOTH outputs (line 19); here Z₂ is
 //    the cosine branch, so a pair is two different, uncorrelated numbers.
 //  * eq. 5.3 as printed, cos = +√(1 − sin²), is never negative: the cosine branch would be a

@@ -1,9 +1,9 @@
 // src/hw/cdf.h — cumulative sum and normalisation of the initialisation (thesis §7.4 item 1,
-// eq. 7.3, Fig. 7.6–7.7; SPEC §6.1): one class's probabilities over the kNumCells cells →
-// the normalised CDF
+// eq. 7.3, Fig. 7.6–7.7; docs/HARDWARE.md §7.1): one class's probabilities over the kNumCells
+// cells → the normalised CDF
 //   w_n[i] = (Σ_{q ≤ i} w_q) / (Σ_k w_k),  i = 0 … kNumCells − 1,              (eq. 7.3)
 // streamed out in cdf_t = ap_ufixed<18,0> (truncated), the last value saturated to
-// 1 − 2^-18 (the thesis's fix for the finite-precision reciprocal, §7.4; SPEC §7 errata).
+// 1 − 2^-18 (the thesis's fix for the finite-precision reciprocal, §7.4 item 1).
 //
 // Datapath: the full-precision running sum cum_i of prob_t (ufixed<8,0>) values is exact in
 // class_sum_t = ap_ufixed<21,13> (6300·255/256 < 2^13). The normalisation coefficient 1/Σ is

@@ -1,5 +1,5 @@
-// src/hw/engine.cc — the `hw` engine driver (host side of the C simulation, SPEC §7): converts
-// the inputs into the fixed-point memories of the architecture, runs the top functions of
+// src/hw/engine.cc — the `hw` engine driver (host side of the C simulation; docs/HARDWARE.md §4):
+// converts the inputs into the fixed-point memories of the architecture, runs the top functions of
 // src/hw/top.h iteration by iteration (the thesis's control loop) and returns an EstimateResult
 // like the float engines; ProfileHw also models the cycles (src/hw/cycle_model.h).
 //
@@ -11,9 +11,9 @@
 //     scoring, weight merging, sorting, resampling, diffusion — every per-particle step;
 //   * host, float, after the runs (polish_steps > 0): the final polish of the runs' best
 //     particles (filter::PolishPoses, the float engines' polish with the cpu weighing).
-// The prior is a float Prior (any of the three kinds of SPEC §3); its class probabilities are
-// rounded into the prob_t memory (ρ of eq. 7.4) — the hw post-process kernel runs only in
-// ProfileHw, on a raw pyramid, for its cycles.
+// The prior is a float Prior (any of the three kinds of docs/ALGORITHM.md §2); its class
+// probabilities are rounded into the prob_t memory (ρ of eq. 7.4) — the hw post-process kernel runs
+// only in ProfileHw, on a raw pyramid, for its cycles.
 // The kernels carry HLS pragmas (meaningless to g++) and loop labels (synthesis reports).
 #pragma GCC diagnostic ignored "-Wunknown-pragmas"
 #pragma GCC diagnostic ignored "-Wunused-label"

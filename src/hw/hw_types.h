@@ -1,5 +1,5 @@
 // src/hw/hw_types.h — the `hw` engine's data types (thesis Table 7.1, §7.1) and compile-time
-// bounds (SPEC §7), shared by every kernel of src/hw/.
+// bounds (thesis Ch. 7; docs/HARDWARE.md §1), shared by every kernel of src/hw/.
 //
 // Synthesizable subset: the kernels of src/hw/ use only these types, fixed-size arrays and
 // hls::stream — no heap, no STL containers, no Eigen, no exceptions, no virtuals, no recursion.
@@ -18,7 +18,7 @@
 
 namespace posefilter::hw {
 
-// ---- Compile-time bounds of the architecture (SPEC §7, thesis Ch. 7) ----
+// ---- Compile-time bounds of the architecture (thesis Ch. 7) ----
 constexpr int kMaxParticles = 510;    // N (thesis design)
 constexpr int kNumCells = 6300;       // 15×20 + 30×40 + 60×80 pyramid cells
 constexpr int kNumClasses = 21;       // YCB-Video classes of the stage-1 network

@@ -1,7 +1,7 @@
 // src/hw/postprocess.h — the stage-1 post-process of the hw engine (thesis §7.3, Fig. 7.3–7.4,
-// eq. 7.1–7.2; SPEC §4): raw pyramid values → per-cell class probabilities (prob_t), per-cell
-// boxes (bbox_t, Table 7.1) and the cells' render windows, plus the per-class probability sums
-// the CDF module needs (§7.3: "the new sum of probabilities … is evaluated concurrently").
+// eq. 7.1–7.2; docs/HARDWARE.md §7.1): raw pyramid values → per-cell class probabilities (prob_t),
+// per-cell boxes (bbox_t, Table 7.1) and the cells' render windows, plus the per-class probability
+// sums the CDF module needs (§7.3: "the new sum of probabilities … is evaluated concurrently").
 //
 // Semantics mirror the float PostProcessPyramid / DecodeBox (src/prior/pyramid.cc):
 //   Prob_j = e^{p_j} / (Σ_i e^{p_i} · (1 + e^c))                           (eq. 7.1–7.2)
@@ -31,11 +31,11 @@
 //   * class_sum[j] = Σ_cells Prob_j in class_sum_t = ap_ufixed<21,13> (exact: 6300·255/256
 //     < 2^13; thesis §7.4 "ufixed<13+8,8>" is this format, its notation's I and F swapped).
 //
-// Boxes (Table 7.1, SPEC §4): a cell's box is two bbox_t words, each an 18-bit pack of a
+// Boxes (Table 7.1, §7.1): a cell's box is two bbox_t words, each an 18-bit pack of a
 // 10-bit centre (pixels, rounded, 0 … 1023) and an 8-bit size (pixels, rounded, 1 … 255):
 //   xw = cx << 8 | w,  yh = cy << 8 | h.
 // (Table 7.1's third 18-bit word "h_indx + w_indx" is the window origin; ours is Window.)
-// Windows (§7.5.3, SPEC §6.2): Window of distributor.h — the box centred, each side
+// Windows (§7.5.3; docs/ALGORITHM.md §5): Window of distributor.h — the box centred, each side
 // max(size, min_window_px) clipped to [1, min(max_window_px, image side)], then shifted to
 // lie inside the image. min_window_px = 0 is the thesis (our float engine widens small
 // boxes to the object's projected diameter — docs/ALGORITHM.md "minimum window size"; here

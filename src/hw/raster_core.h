@@ -58,7 +58,7 @@ constexpr int kZbufEmpty = (1 << 18) - 1;              // no fragment yet
 constexpr int kWindowPixels = kMaxWindow * kMaxWindow;  // depth fragment and z-buffer words
 
 // Runtime parameters of the cores (the host converts and may change them per iteration —
-// thr1 is annealed by the host, SPEC §6 / docs/ALGORITHM.md).
+// thr1 is annealed by the host, docs/ALGORITHM.md §9).
 struct RasterParams {
   ap_uint<1> zbuffer;   // 1: window z-buffer (default, ours); 0: the thesis's z-buffer-free mode
   ap_uint<1> hard;      // 1: GRIP's hard inlier χ = [d ≤ hard_thr]; 0: soft inlier (default)
@@ -215,9 +215,9 @@ struct Accumulators {
   face_count_t faces_front, faces_total;
 };
 
-// Soft inlier / hard inlier of one counted fragment (§7.5.1, SPEC erratum: continuous ramp
-// χ = 2 − d/thr1 on thr1 < d < 2·thr1) and the occlusion / depth-alignment counters.
-// z_r and z_s in F20; z_s = 0 is missing depth (never an inlier, counts nothing).
+// Soft inlier / hard inlier of one counted fragment (§7.5.1, erratum fixed, docs/HARDWARE.md §8:
+// continuous ramp χ = 2 − d/thr1 on thr1 < d < 2·thr1) and the occlusion / depth-alignment
+// counters. z_r and z_s in F20; z_s = 0 is missing depth (never an inlier, counts nothing).
 inline void CompareFragment(const ap_uint<24>& zr, const ap_uint<24>& zs, const RasterParams& prm,
                             Accumulators* acc) {
 #pragma HLS INLINE

@@ -1,5 +1,5 @@
 // src/hw/sample_gen.h — sample generation of the initialisation (thesis §7.4 item 5,
-// Listing 7.5; SPEC §5, §6.1) and the whole initialisation chain (Fig. 7.5) as one dataflow
+// Listing 7.5; docs/HARDWARE.md §7.1) and the whole initialisation chain (Fig. 7.5) as one dataflow
 // region: CDF + normalisation → threshold tracker → bound generator → sampling → sample
 // generation, fed by the LFSR generators.
 //

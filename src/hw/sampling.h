@@ -1,5 +1,5 @@
 // src/hw/sampling.h — the bound generator and the sampling stage of the initialisation
-// (thesis §7.4 items 3–4, Listings 7.3–7.4; SPEC §6.1), and the LFSR18 uniform source.
+// (thesis §7.4 items 3–4, Listings 7.3–7.4; docs/HARDWARE.md §7.1), and the LFSR18 uniform source.
 //
 // Importance sampling: for a uniform u ∈ (0, 1) pick the first index j with w_n[j] ≥ u
 // (§7.4: NewSample_i = w_n_i | w_n_i ≥ U_i ∧ w_n_i < w_n_j for j > i … i.e. the first one).

@@ -1,5 +1,5 @@
 // src/hw/threshold_tracker.h — the threshold tracker (thesis §7.4 item 2, Fig. 7.8–7.9,
-// Listing 7.2; SPEC §6.1).
+// Listing 7.2; docs/HARDWARE.md §7.1).
 //
 // Importance sampling picks the first CDF entry ≥ a uniform draw u; scanning from entry 0
 // costs up to N reads per draw. While the CDF streams past (it is copied through unchanged

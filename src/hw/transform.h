@@ -2,11 +2,12 @@
 // render/score pipeline (thesis §7.5.2–7.5.3, Fig. 7.15–7.17, Listing 7.1), plus the small
 // fixed-point helpers the render kernels share (raw-bit views, the restoring divider).
 //
-// Full transformation (SPEC §2, thesis §7.5.2): FT = P·C·(Tr·Rz)·(Ry·Rx), a 3×4 matrix that
+// Full transformation (thesis §7.5.2): FT = P·C·(Tr·Rz)·(Ry·Rx), a 3×4 matrix that
 // maps a model vertex (object frame, metres, homogeneous [x y z 1]) to homogeneous pixel
 // coordinates (U, V, W): u = U/W, v = V/W (pixels, OpenCV convention), W = camera depth z (m).
-// P is the pinhole intrinsic matrix K = [fx 0 cx; 0 fy cy; 0 0 1] — the "equivalent pinhole
-// projection" SPEC §2 allows instead of the OpenGL matrix of eq. 6.10: its third row keeps W
+// P is the pinhole intrinsic matrix K = [fx 0 cx; 0 fy cy; 0 0 1] — the pinhole
+// projection of the float engines (docs/ALGORITHM.md §1), used instead of the OpenGL matrix of
+// eq. 6.10 (docs/HARDWARE.md §7.2): its third row keeps W
 // equal to the metric camera depth, so "depth recovery" (§7.5.3) needs no far/near unmapping.
 //
 // Fixed-point formats (ours; the thesis gives none for this module):

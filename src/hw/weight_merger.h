@@ -5,8 +5,8 @@
 //
 //   w = max(0, α·min(1, I/N_raster) + β·min(1, I/N_depth) + γ·ρ − δ·n_edge_continued/n_edge)
 //
-// (SPEC §6.2; each ratio is 0 when its denominator is 0). N_raster = n_raster − n_occluded when
-// occlusion_aware is set (ours, docs/ALGORITHM.md), n_raster otherwise; δ = 0 and
+// (docs/ALGORITHM.md §5; each ratio is 0 when its denominator is 0). N_raster = n_raster −
+// n_occluded when occlusion_aware is set (ours, docs/ALGORITHM.md), n_raster otherwise; δ = 0 and
 // occlusion_aware = 0 give the thesis's eq. 7.4. Deviations from Listing 7.8: its weight is
 // (Numerator/Denominator + ρ) >> 2 — one ratio, fixed coefficients — while ours has the
 // three terms of eq. 7.4 with runtime α, β, γ (and δ).

@@ -1,4 +1,5 @@
-// 2D detections: JSON I/O and conversion to a raw pyramid (SPEC §3, prior form 2).
+// 2D detections: JSON I/O and conversion to a raw pyramid (docs/ALGORITHM.md §2, "Detections →
+// prior").
 // See include/posefilter/prior.h for the format and the conversion formula.
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,5 @@
-// Per-cell heuristic volumes (SPEC §5, thesis §7.4). See include/posefilter/heuristics.h.
+// Per-cell heuristic volumes (thesis §1.1.2, §7.4; docs/ALGORITHM.md §3).
+// See include/posefilter/heuristics.h.
 #include "posefilter/heuristics.h"
 
 #include <algorithm>

@@ -8,9 +8,9 @@ namespace posefilter::prior {
 
 // A 256-bin histogram over [min, max] finds the bins holding the two ranks, and
 // std::nth_element runs only on those bins' values (about 3× faster than nth_element on the
-// whole array, which mispredicts a branch per comparison). Measured and not kept (round 9,
-// bench/prior_bench.cc): four interleaved sub-histograms, one collecting pass for both ranks,
-// a branch-free collection — none was faster.
+// whole array, which mispredicts a branch per comparison). Measured with bench/prior_bench.cc
+// and not used: four interleaved sub-histograms, one collecting pass for both ranks, a
+// branch-free collection — none was faster.
 void QuantilePair(const double* v, std::size_t n, double p_lo, double p_hi, double* lo, double* hi,
                   QuantileScratch& s) {
   const std::size_t r_lo = std::size_t(std::lround(p_lo * double(n - 1)));

@@ -1,5 +1,5 @@
 // Exact nearest-rank quantiles of a sample, the robust bounds of the heuristic volumes
-// (SPEC §5; src/prior/heuristics.cc). Internal: not part of the public API.
+// (docs/ALGORITHM.md §3; src/prior/heuristics.cc). Internal: not part of the public API.
 #pragma once
 #include <cstddef>
 #include <cstdint>

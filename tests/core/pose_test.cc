@@ -1,4 +1,5 @@
-// Pose conventions (SPEC §2): T = Tr·Rz(yaw)·Ry(pitch)·Rx(roll), round trips, wrapping.
+// Pose conventions (docs/ALGORITHM.md §1): T = Tr·Rz(yaw)·Ry(pitch)·Rx(roll), round trips,
+// wrapping.
 #include "posefilter/pose.h"
 
 #include <gtest/gtest.h>

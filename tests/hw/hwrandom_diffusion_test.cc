@@ -333,7 +333,7 @@ TEST(HwRandomDiffusion, ParamsValidation) {
 }  // namespace
 }  // namespace posefilter::hw
 
-// ---- Ours: σ floor of one LSB, align-depth move (issue 4 accuracy work) ----
+// ---- Ours: σ floor of one LSB, align-depth move (accuracy additions, not in the thesis) ----
 namespace posefilter::hw {
 namespace {
 

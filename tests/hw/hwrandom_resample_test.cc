@@ -281,7 +281,7 @@ TEST(HwRandomResample, ParamsValidationNamesTheConstraint) {
 }  // namespace
 }  // namespace posefilter::hw
 
-// ---- Ours: the rotation cap (issue 4 accuracy work) ----
+// ---- Ours: the rotation cap (an accuracy addition, not in the thesis) ----
 namespace posefilter::hw {
 namespace {
 

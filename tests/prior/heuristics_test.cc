@@ -1,4 +1,4 @@
-// Tests of the per-cell heuristic volumes (SPEC §5, thesis §7.4).
+// Tests of the per-cell heuristic volumes (thesis §1.1.2, §7.4; docs/ALGORITHM.md §3).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -74,7 +74,7 @@ TEST(SynthScene, DeterministicPerSeedAndDifferentAcrossSeeds) {
 
 // The same seed gives the same scene with any compiler: C++ leaves the order of a call's
 // argument evaluations open (GCC takes the last first, Clang the first), so two random draws in
-// one call's arguments made other scenes with Clang until round 12 of issue 3. Pinned: the
+// one call's arguments would make other scenes with Clang; every draw is sequenced. Pinned: the
 // target's pose and how many pixels each object covers in scene 1 with an occluder and six
 // clutter objects (a swapped draw changes them completely; the tolerances only allow for
 // libm's last bits).
