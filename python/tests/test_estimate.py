@@ -8,6 +8,26 @@ import posefilter as pf
 from conftest import EASY_SCENE, SMALL, TINY
 
 
+def assert_rigid(T):
+    """T is a 4x4 rigid transform: finite, rotation orthonormal with det +1, last row 0 0 0 1."""
+    T = np.asarray(T)
+    assert T.shape == (4, 4) and np.isfinite(T).all(), T
+    R = T[:3, :3]
+    np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-9)
+    assert abs(np.linalg.det(R) - 1.0) < 1e-9, np.linalg.det(R)
+    np.testing.assert_array_equal(T[3], [0, 0, 0, 1])
+
+
+def assert_valid_result(r, budget):
+    """A result of an estimate with the `budget` options: a rigid pose, a weight in (0, 1], and
+    at least one and at most max_iterations iterations per restart."""
+    assert_rigid(r.pose)
+    assert 0 < r.weight <= 1, r.weight
+    assert budget["restarts"] <= r.iterations <= budget["max_iterations"] * budget["restarts"], r.iterations
+    assert len(r.best_weight_history) == r.iterations
+    assert np.all((np.asarray(r.best_weight_history) >= 0) & (np.asarray(r.best_weight_history) <= 1))
+
+
 @pytest.mark.parametrize("seed", [1, 4, 6])
 def test_pose_recovered_on_synthetic_scene(seed):
     scene = pf.make_synth_scene(seed, **EASY_SCENE)
@@ -19,11 +39,34 @@ def test_pose_recovered_on_synthetic_scene(seed):
     assert result.pose.shape == (4, 4) and result.pose6.shape == (6,)
     # pose6 (object -> base) and pose (object -> camera) agree: base_to_camera is the identity.
     np.testing.assert_allclose(pf.pose_to_transform(result.pose6), result.pose, atol=1e-9)
-    assert 0 < result.weight <= 1
-    assert result.iterations == len(result.best_weight_history) == len(result.iteration_ms)
-    assert result.iterations <= SMALL["max_iterations"] * SMALL["restarts"]
+    assert_valid_result(result, SMALL)
+    assert result.iterations == len(result.iteration_ms)
     assert np.all(result.iteration_ms >= 0) and result.time_ms > 0
     assert result.stats["weighings"] > 0
+
+
+def test_easy_scene_small_budget_accurate_valid_and_reproducible(easy_scene):
+    # The easy scene with the SMALL budget (about 0.6 s per estimate): ADD-S measured at
+    # 0.5 % to 3.3 % of the torus's 0.17 m diameter over seeds 1, 2, 3, 5, 7, 11, 12, so the
+    # 10 % bound (ADD-S's own threshold) fails only when the filter loses the object.
+    s = easy_scene
+    args = (s.depth, s.camera, s.target, s.prior)
+    diameter = s.target.diameter()
+    assert 0.1 < diameter < 0.3, diameter
+    a = pf.Estimator(seed=2, **SMALL).estimate(*args)
+    b = pf.Estimator(seed=2, **SMALL).estimate(*args)
+    c = pf.Estimator(seed=5, **SMALL).estimate(*args)
+    for r in (a, c):
+        assert_valid_result(r, SMALL)
+        err = pf.pose_errors(s.target, r.pose, s.gt_poses[0])
+        assert err.adds < 0.1 * diameter, err
+    # The same seed: the same pose, weight and trajectory, bit for bit.
+    np.testing.assert_array_equal(a.pose, b.pose)
+    np.testing.assert_array_equal(a.pose6, b.pose6)
+    assert a.weight == b.weight and a.iterations == b.iterations
+    np.testing.assert_array_equal(a.best_weight_history, b.best_weight_history)
+    # Another seed: another trajectory (and, above, another valid, accurate pose).
+    assert not np.array_equal(a.best_weight_history, c.best_weight_history)
 
 
 def test_same_seed_same_pose_other_seed_other_pose(easy_scene):
@@ -68,10 +111,10 @@ def test_prior_forms(easy_scene, tiny_estimator, tmp_path):
     poses = [tiny_estimator.estimate(s.depth, s.camera, s.target, p).pose for p in (s.detections, dicts, path, str(path))]
     for p in poses[1:]:
         np.testing.assert_array_equal(p, poses[0])
-    assert np.isfinite(from_prior.pose).all()
+    assert_valid_result(from_prior, TINY)
     # No prior: a uniform one over the object's class; the call still returns a valid pose.
     uniform = pf.Estimator(**TINY).estimate(s.depth, s.camera, s.target)
-    assert uniform.pose.shape == (4, 4) and np.isfinite(uniform.pose).all()
+    assert_valid_result(uniform, TINY)
 
 
 def test_batch_returns_stacked_arrays(easy_scene):
