@@ -1,0 +1,230 @@
+// python/bindings/estimator.cc — the Estimator class (Python's entry to EstimatePose) and its Result and BatchResult.
+#include "bindings.h"
+
+namespace posefilter::python {
+
+struct BatchResult {
+  std::vector<EstimateResult> items;
+};
+
+py::dict StatsDict(const FilterStats& s) {
+  return py::dict("init_cdf_reads"_a = s.init_cdf_reads, "init_cdf_reads_linear"_a = s.init_cdf_reads_linear,
+                  "resample_cdf_reads"_a = s.resample_cdf_reads,
+                  "resample_cdf_reads_linear"_a = s.resample_cdf_reads_linear, "faces_total"_a = s.faces_total,
+                  "faces_front"_a = s.faces_front, "fragments"_a = s.fragments, "weighings"_a = s.weighings);
+}
+
+class Estimator {
+ public:
+  explicit Estimator(const FilterOptions& o) : options_(CheckedFilterOptions(o)) {}
+  const FilterOptions& options() const { return options_; }
+
+  // See the docstring in PYBIND11_MODULE.
+  py::object Estimate(py::handle depth, const Camera& camera, py::handle mesh_arg, py::handle prior_arg,
+                      py::handle obj_arg, std::optional<double> depth_scale, py::handle progress,
+                      py::handle mask_arg) const {
+    CheckedCamera(camera, "camera");
+    SceneInput scene{DepthFrom(depth, depth_scale, &camera, "depth"), camera};
+    ValidateScene(scene, "depth");
+    // The object's instance mask (H x W, non-zero = the object): scored against, and its box
+    // is the prior when none is given.
+    InstanceMask mask;
+    if (!mask_arg.is_none()) {
+      if (!py::isinstance<py::array>(mask_arg)) Fail("mask: expected a numpy array (H x W)");
+      const auto a = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(mask_arg);
+      if (!a || a.ndim() != 2 || a.shape(0) != camera.height || a.shape(1) != camera.width) {
+        std::ostringstream os;
+        os << "mask: expected shape (" << camera.height << ", " << camera.width << ") (the camera's height, width)";
+        Fail(os.str());
+      }
+      LabelImage l{camera.width, camera.height, std::vector<std::uint16_t>(std::size_t(camera.width) * camera.height)};
+      for (std::size_t i = 0; i < l.ids.size(); ++i) l.ids[i] = a.data()[i] ? 1 : 0;
+      mask = MasksFromLabels(l, {{1, "mask"}}, "mask").front();
+      scene.mask = mask.pixels;
+    }
+
+    // Meshes: one Mesh, or a sequence of them (batch).
+    const bool batch = !py::isinstance<Mesh>(mesh_arg);
+    std::vector<Mesh> meshes;
+    if (!batch) {
+      meshes.push_back(mesh_arg.cast<Mesh>());
+    } else {
+      if (!py::isinstance<py::sequence>(mesh_arg) || py::isinstance<py::str>(mesh_arg))
+        throw py::type_error("mesh: expected a Mesh or a sequence of Mesh");
+      for (py::handle m : mesh_arg) {
+        if (!py::isinstance<Mesh>(m)) throw py::type_error("mesh: every element must be a Mesh");
+        meshes.push_back(m.cast<Mesh>());
+      }
+      if (meshes.empty()) Fail("mesh: empty list of meshes");
+    }
+    if (!scene.mask.empty() && meshes.size() != 1) Fail("mask: a mask is the instance of one object; give one Mesh");
+    // Object names = prior classes: obj (str or list), default the meshes' names.
+    std::vector<std::string> objs;
+    if (obj_arg.is_none()) {
+      for (const auto& m : meshes) objs.push_back(m.name);
+    } else if (py::isinstance<py::str>(obj_arg)) {
+      if (batch && meshes.size() != 1) Fail("obj: give one name per mesh (a list) for several meshes");
+      objs.push_back(obj_arg.cast<std::string>());
+    } else {
+      for (py::handle o : obj_arg) objs.push_back(py::str(o));
+      if (objs.size() != meshes.size())
+        Fail("obj: " + std::to_string(objs.size()) + " names for " + std::to_string(meshes.size()) + " meshes");
+    }
+    for (std::size_t i = 0; i < objs.size(); ++i)
+      if (objs[i].empty()) Fail("obj: mesh " + std::to_string(i) + " has no name; pass obj=...");
+
+    // The prior: None (uniform), a Prior, a detections JSON path, or a list of detections.
+    const int W = camera.width, H = camera.height;
+    Prior prior;
+    if (prior_arg.is_none() && !scene.mask.empty()) {
+      mask.cls = objs[0];
+      const auto classes = ClassesForObjects(objs, {});
+      prior = PriorFromDetections({MaskDetection(mask)}, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    } else if (prior_arg.is_none()) {
+      const auto classes = ClassesForObjects(objs, {});
+      prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    } else if (py::isinstance<Prior>(prior_arg)) {
+      prior = prior_arg.cast<Prior>();
+    } else if (py::isinstance<py::str>(prior_arg) || py::hasattr(prior_arg, "__fspath__")) {
+      const std::string path = py::str(py::module_::import("os").attr("fspath")(prior_arg));
+      const auto dets = ReadDetectionsJson(path);
+      WarnAll(CheckDetectionsForObjects(dets, objs, W, H, path));
+      const auto classes = ClassesForObjects(objs, dets);
+      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    } else if (py::isinstance<py::sequence>(prior_arg)) {
+      const auto dets = DetectionsFrom(prior_arg);
+      WarnAll(CheckDetectionsForObjects(dets, objs, W, H, "prior"));
+      const auto classes = ClassesForObjects(objs, dets);
+      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    } else {
+      throw py::type_error("prior: expected None, a Prior, a detections JSON path or a list of detections");
+    }
+    if (prior.layout.image_width != W || prior.layout.image_height != H)
+      Fail("prior: made for a " + std::to_string(prior.layout.image_width) + "x" +
+           std::to_string(prior.layout.image_height) + " image but the camera is " + std::to_string(W) + "x" +
+           std::to_string(H));
+    std::vector<int> cls(objs.size());
+    for (std::size_t i = 0; i < objs.size(); ++i) {
+      cls[i] = prior.ClassIndex(objs[i]);
+      if (cls[i] < 0) Fail("obj: '" + objs[i] + "' is not a class of the prior");
+      if (!(prior.ClassMass(cls[i]) > 0)) Fail("prior: holds no probability for '" + objs[i] + "'");
+      meshes[i].name = objs[i];
+    }
+
+    const py::object callback = py::reinterpret_borrow<py::object>(progress);
+    if (!callback.is_none() && !PyCallable_Check(callback.ptr())) throw py::type_error("progress: expected a callable");
+    BatchResult out;
+    {
+      // The filter runs without the GIL; between iterations it takes the GIL back briefly to
+      // honour Ctrl-C and to call `progress(obj, iteration, best_weight)`.
+      py::gil_scoped_release release;
+      for (std::size_t i = 0; i < meshes.size(); ++i) {
+        const std::string& name = objs[i];
+        const ProgressFn fn = [&callback, &name](int it, double w) {
+          py::gil_scoped_acquire acquire;
+          if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+          if (!callback.is_none()) callback(name, it, w);
+        };
+        out.items.push_back(EstimatePose(scene, meshes[i], prior, cls[i], options_, fn));
+        out.items.back().obj = name;
+      }
+    }
+    if (!batch) return py::cast(std::move(out.items[0]));
+    return py::cast(std::move(out));
+  }
+
+ private:
+  FilterOptions options_;
+};
+
+void BindEstimation(py::module_& m) {
+  // ---- Estimation
+  py::class_<EstimateResult>(m, "Result", "The pose of one object.")
+      .def_readonly("obj", &EstimateResult::obj)
+      .def_property_readonly("pose", [](const EstimateResult& r) { return ToNumpy(r.T_cam_obj); }, "4x4 T_cam_obj, object → camera")
+      .def_property_readonly("T_cam_obj", [](const EstimateResult& r) { return ToNumpy(r.T_cam_obj); }, "= pose")
+      .def_property_readonly("pose6", [](const EstimateResult& r) { return ToNumpy(r.pose_base); },
+                             "(x, y, z, roll, pitch, yaw), object → base (= camera when base_to_camera is identity)")
+      .def_readonly("weight", &EstimateResult::weight, "best weight, eq. 7.4")
+      .def_readonly("cell", &EstimateResult::cell)
+      .def_readonly("iterations", &EstimateResult::iterations, "iterations summed over restarts")
+      .def_readonly("converged", &EstimateResult::converged)
+      .def_readonly("time_ms", &EstimateResult::time_ms)
+      .def_property_readonly("best_weight_history", [](const EstimateResult& r) { return ToNumpy(r.best_weight_history); })
+      .def_property_readonly("iteration_ms", [](const EstimateResult& r) { return ToNumpy(r.iteration_ms); })
+      .def_property_readonly("stats", [](const EstimateResult& r) { return StatsDict(r.stats); })
+      .def("__repr__", [](const EstimateResult& r) {
+        std::ostringstream os;
+        os << "Result('" << r.obj << "', weight=" << r.weight << ", iterations=" << r.iterations << ", time_ms=" << r.time_ms << ")";
+        return os.str();
+      });
+
+  py::class_<BatchResult>(m, "BatchResult", "Poses of several objects (one estimate call).")
+      .def("__len__", [](const BatchResult& b) { return b.items.size(); })
+      .def("__getitem__", [](const BatchResult& b, py::ssize_t i) {
+        const py::ssize_t n = py::ssize_t(b.items.size());
+        if (i < 0) i += n;
+        if (i < 0 || i >= n) throw py::index_error("BatchResult index out of range");
+        return b.items[i];
+      })
+      .def("__iter__", [](const BatchResult& b) { return py::make_iterator(b.items.begin(), b.items.end()); },
+           py::keep_alive<0, 1>())
+      .def_property_readonly("objs", [](const BatchResult& b) {
+        std::vector<std::string> o;
+        for (const auto& r : b.items) o.push_back(r.obj);
+        return o;
+      })
+      .def_property_readonly("poses", [](const BatchResult& b) {
+        std::vector<Eigen::Isometry3d> Ts;
+        for (const auto& r : b.items) Ts.push_back(r.T_cam_obj);
+        return StackPoses(Ts);
+      }, "N x 4 x 4 T_cam_obj")
+      .def_property_readonly("poses6", [](const BatchResult& b) {
+        py::array_t<double> out({py::ssize_t(b.items.size()), py::ssize_t(6)});
+        auto o = out.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < b.items.size(); ++i) {
+          const Pose6& p = b.items[i].pose_base;
+          const double v[6] = {p.x, p.y, p.z, p.roll, p.pitch, p.yaw};
+          for (int k = 0; k < 6; ++k) o(i, k) = v[k];
+        }
+        return out;
+      }, "N x 6 (x, y, z, roll, pitch, yaw), object → base")
+      .def_property_readonly("weights", [](const BatchResult& b) {
+        std::vector<double> w;
+        for (const auto& r : b.items) w.push_back(r.weight);
+        return ToNumpy(w);
+      })
+      .def("__repr__", [](const BatchResult& b) { return "BatchResult(" + std::to_string(b.items.size()) + " objects)"; });
+
+  py::class_<Estimator>(m, "Estimator",
+                        "The particle filter with fixed options. Estimator(**options): keyword = FilterOptions field "
+                        "(nested: inlier_*, heuristics_*); see Estimator.defaults().")
+      .def(py::init([](const py::kwargs& kw) {
+        FilterOptions o;
+        ApplyKeywords(&o, kw, FilterKeywords(), "Estimator");
+        return Estimator(o);
+      }))
+      .def_property_readonly("options", [](const Estimator& e) { return KeywordDict(e.options(), FilterKeywords()); },
+                             "dict of every option")
+      .def_static("defaults", [] { return KeywordDict(FilterOptions{}, FilterKeywords()); }, "dict of the default options")
+      .def_static("option_names", [] {
+        std::vector<std::string> n;
+        for (const auto& k : FilterKeywords()) n.push_back(k.name);
+        return n;
+      })
+      .def("estimate", &Estimator::Estimate, "depth"_a, "camera"_a, "mesh"_a, "prior"_a = py::none(), py::kw_only(),
+           "obj"_a = py::none(), "depth_scale"_a = py::none(), "progress"_a = py::none(), "mask"_a = py::none(),
+           "Pose(s) of mesh (a Mesh → Result; a list of Mesh → BatchResult) in depth (H x W float metres, or "
+           "uint16 with depth_scale). prior: None (uniform, or the mask's box), a Prior, a detections JSON path, "
+           "or a list of Detection/dicts. obj: prior class name(s), default the meshes' names. mask: the "
+           "object's instance mask (H x W, non-zero = the object; one Mesh), scored against. progress(obj, "
+           "iteration, best_weight) is called after each iteration. Runs without the GIL.")
+      .def("__repr__", [](const Estimator& e) {
+        const auto& o = e.options();
+        return "Estimator(num_particles=" + std::to_string(o.num_particles) + ", max_iterations=" +
+               std::to_string(o.max_iterations) + ", restarts=" + std::to_string(o.restarts) + ", seed=" +
+               std::to_string(o.seed) + ", ...)";
+      });
+}
+
+}  // namespace posefilter::python

@@ -1,0 +1,79 @@
+// python/bindings/synth.cc — synthetic scenes: make_synth_scene and SynthScene.
+#include "bindings.h"
+
+namespace posefilter::python {
+
+SynthScene MakeScene(std::uint64_t seed, const py::kwargs& kw) {
+  SynthOptions opt;
+  ApplyKeywords(&opt, kw, SynthKeywords(), "make_synth_scene", {"target_mesh"});
+  Mesh target_mesh;
+  const py::object tm = kw.contains("target_mesh") ? py::object(kw["target_mesh"]) : py::object(py::none());
+  if (!tm.is_none()) {
+    if (!py::isinstance<Mesh>(tm)) throw py::type_error("make_synth_scene: target_mesh must be a Mesh");
+    target_mesh = tm.cast<Mesh>();
+    opt.target_mesh = &target_mesh;
+  }
+  std::string why;
+  if (!opt.IsValid(&why)) Fail("make_synth_scene: invalid option: " + why);
+  py::gil_scoped_release release;
+  return MakeSynthScene(opt, seed);
+}
+
+
+void BindSynth(py::module_& m) {
+  // ---- Synthetic scenes
+  py::class_<SynthScene>(m, "SynthScene", "A synthetic scene with ground truth and a stage-1 prior.")
+      .def_property_readonly("depth", [](const SynthScene& s) { return ToNumpy(s.depth); }, "H x W float32 metres")
+      .def_readonly("camera", &SynthScene::camera)
+      .def_readonly("depth_scale", &SynthScene::depth_scale)
+      .def_property_readonly("labels", [](const SynthScene& s) {
+        py::array_t<std::int32_t> out({py::ssize_t(s.depth.height), py::ssize_t(s.depth.width)});
+        std::int32_t* o = out.mutable_data();
+        for (std::size_t i = 0; i < s.labels.size(); ++i) o[i] = s.labels[i];
+        return out;
+      }, "H x W int32: 0 background/table, 1 target, 2 occluder, 3.. clutter")
+      .def_property_readonly("gt_poses", [](const SynthScene& s) {
+        std::vector<Eigen::Isometry3d> Ts;
+        for (const auto& g : s.gt) Ts.push_back(g.T_cam_obj);
+        return StackPoses(Ts);
+      }, "N x 4 x 4 ground-truth T_cam_obj")
+      .def_property_readonly("gt_objs", [](const SynthScene& s) {
+        std::vector<std::string> o;
+        for (const auto& g : s.gt) o.push_back(g.obj);
+        return o;
+      })
+      .def_readonly("target", &SynthScene::target)
+      .def_readonly("classes", &SynthScene::classes)
+      .def_readonly("detections", &SynthScene::detections)
+      .def_readonly("layout", &SynthScene::layout)
+      .def_property_readonly("raw_pyramid", [](const SynthScene& s) {
+        return py::array_t<float>(py::ssize_t(s.raw_pyramid.size()), s.raw_pyramid.data());
+      })
+      .def_property_readonly("prior", [](const SynthScene& s) { return PostProcessPyramid(s.raw_pyramid, s.layout, s.classes); },
+                             "PostProcessPyramid of raw_pyramid (a new Prior each access)")
+      .def_property_readonly("gt_box", [](const SynthScene& s) { return BoxTuple(s.gt_box); })
+      .def_readonly("distance_m", &SynthScene::distance_m)
+      .def_readonly("table_angle_rad", &SynthScene::table_angle_rad)
+      .def_readonly("occlusion_achieved", &SynthScene::occlusion_achieved)
+      .def_readonly("target_detected", &SynthScene::target_detected)
+      .def("write", [](const SynthScene& s, const std::string& dir) { WriteSynthScene(s, dir); }, "dir"_a,
+           "Writes depth.png, camera.json, gt.json, the mesh, detections.json, prior.pyr, ... to dir.")
+      .def("__repr__", [](const SynthScene& s) {
+        std::ostringstream os;
+        os << "SynthScene(target='" << s.target.name << "', distance_m=" << s.distance_m
+           << ", occlusion_achieved=" << s.occlusion_achieved << ", " << s.detections.size() << " detections)";
+        return os.str();
+      });
+  m.def("make_synth_scene", &MakeScene, "seed"_a = 0,
+        "Synthetic table-top scene (deterministic per seed). Keywords = SynthOptions fields: camera, depth_scale, "
+        "target, target_mesh, min_distance_m, max_distance_m, occlusion, clutter, noise_sigma_m, hole_fraction, "
+        "missing_edges, box_jitter_px, miss_probability, false_positives.");
+  m.def("synth_option_names", [] {
+    std::vector<std::string> n;
+    for (const auto& k : SynthKeywords()) n.push_back(k.name);
+    n.push_back("target_mesh");
+    return n;
+  });
+}
+
+}  // namespace posefilter::python
