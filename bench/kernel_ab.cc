@@ -5,9 +5,11 @@
 //
 // Side A is compiled from POSEFILTER_KERNEL_AB_BASE (a CMake cache path; default: the tree's own
 // src/render/cpu_kernel_impl.inc, which measures the noise floor), side B from the tree's file.
-// Both must fit the tree's src/render/cpu_kernel.h (CoreScratch, kFastBins, kTriFields). Typical
-// use: `git show HEAD:src/render/cpu_kernel_impl.inc > /tmp/base.inc`, configure with
-// -DPOSEFILTER_BUILD_BENCH=ON -DPOSEFILTER_KERNEL_AB_BASE=/tmp/base.inc, edit, rebuild, run.
+// cpu_kernel_impl.inc includes its part files (cpu_kernel_*.inc) from its own folder, so side A
+// needs a whole copy of src/render. Both must fit the tree's src/render/cpu_kernel.h
+// (CoreScratch, kFastBins, kTriFields). Typical use: `git archive HEAD src/render | tar -x -C
+// /tmp/base`, configure with -DPOSEFILTER_BUILD_BENCH=ON
+// -DPOSEFILTER_KERNEL_AB_BASE=/tmp/base/src/render/cpu_kernel_impl.inc, edit, rebuild, run.
 //
 // Each round times A and B (order alternating) on every pose of the workload (kernel_setup.h),
 // --reps times; printed: per-weighing µs of each side (median and minimum over rounds) and the
