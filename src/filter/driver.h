@@ -1,6 +1,6 @@
-// Host-side steps shared by every engine's driver: restarts and the final polish.
-// The float engines use them in src/filter/particle_filter.cc; the hw engine's host side
-// (src/hw/engine.cc) uses them around the C-simulated hardware runs.
+// Host-side steps shared by every engine's driver: restarts and the final polish (bodies in
+// src/filter/driver.cc). The float engines use them in src/filter/particle_filter.cc; the hw
+// engine's host side (src/hw/engine.cc) uses them around the C-simulated hardware runs.
 #pragma once
 
 #include <functional>

@@ -1,9 +1,13 @@
-// The particle filter, `reference` engine (thesis §2.2, §7.4–7.6, App. B; docs/ALGORITHM.md §4–9).
+// The particle filter of the float engines, `reference` and `cpu` (thesis §2.2, §7.4–7.6,
+// App. B; docs/ALGORITHM.md §4–9): the context set-up (BuildContext), the weighing of particles
+// (Weigh, WeighAll, WeighPoses), one run of the filter (RunFilter) and EstimatePose, which
+// dispatches to the hw engine (src/hw/engine.cc) or runs the float filter and its final polish
+// (polish.cc). The driver steps shared with the hw engine are in driver.cc and host_setup.cc,
+// FilterOptions::IsValid in options.cc.
 #include <omp.h>
 
 #include <algorithm>
 #include <numeric>
-#include <chrono>
 #include <cmath>
 #include <array>
 #include <map>
@@ -15,9 +19,12 @@
 #include "core/threads.h"
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
-#include "filter/online_sorter.h"
-#include "filter/scene_prep.h"
 #include "filter/driver.h"
+#include "filter/filter_context.h"
+#include "filter/host_setup.h"
+#include "filter/online_sorter.h"
+#include "filter/polish.h"
+#include "filter/scene_prep.h"
 #include "prior/volume_cache.h"
 #include "render/cpu_kernel.h"
 #include "render/scene_normals.h"
@@ -31,25 +38,13 @@
 namespace posefilter {
 namespace {
 
+using filter::BuildContext;
+using filter::Clock;
+using filter::Context;
+using filter::Level;
+using filter::MsSince;
 using filter::Particle;
-
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// The particle's window (thesis §7.5.3; docs/ALGORITHM.md §5): the cell's box centred on the box
-// centre, each side at least min_side (the object's projected diameter, so a box smaller than
-// the object cannot truncate its rendering) and at most max_px, then shifted ("saturated") to
-// lie inside the image.
-PixelRect CellWindow(const Box& box, double min_side, int max_px, int image_w, int image_h) {
-  PixelRect r;
-  r.width = std::clamp(int(std::lround(std::max(box.w, min_side))), 1, std::min(max_px, image_w));
-  r.height = std::clamp(int(std::lround(std::max(box.h, min_side))), 1, std::min(max_px, image_h));
-  r.u0 = std::clamp(int(std::lround(box.cx - 0.5 * r.width)), 0, image_w - r.width);
-  r.v0 = std::clamp(int(std::lround(box.cy - 0.5 * r.height)), 0, image_h - r.height);
-  return r;
-}
+using filter::WeighAll;
 
 // Coarse orientation class of a pose for niching: which signed axis of the base frame the
 // object's z axis points along most (6) × which of the 4 remaining signed axes its x axis
@@ -69,80 +64,18 @@ int RotationBin(const Pose6& pose) {
   return (za * 2 + zs) * 4 + x_slot * 2 + xs;
 }
 
-// One pixel level: the scoring scene on every factor-th pixel of every factor-th row (pixel
-// (i, j) is the full image's (factor·i, factor·j); fx, fy, cx, cy divided by factor), its
-// N_depth table (of the support depth), its scene normals (computed tile by tile where ICP
-// weighings render), and the mesh weighed there (empty: the context's mesh) with its face
-// planes for the cpu kernel's back-face pre-cull (render/face_planes.h; empty for the
-// reference engine).
-struct Level {
-  int factor = 1;
-  SceneInput scene{};
-  render::ValidDepthSat valid_depth{};
-  mutable render::SceneNormalTiles normals{};
-  Mesh mesh{};
-  render::FacePlanes face_planes{};
-};
-
-// Everything one run needs that does not change between iterations.
-struct Context {
-  const SceneInput& scene;
-  const Mesh& mesh;
-  const Prior& prior;
-  int cls;
-  const FilterOptions& opt;
-  prior::VolumeCache volumes{};      // heuristic volume per cell (base frame), computed on demand
-  // Window per cell, computed on demand by PrepareCell (from the serial steps only).
-  mutable std::vector<PixelRect> windows{};
-  InlierParams inlier{};             // this iteration's inlier thresholds (annealed)
-  std::vector<int> hypothesis{};     // niching: cells sharing one decoded box share an id
-  int hypothesis_count = 0;
-  std::array<Eigen::Vector3d, 8> bbox_corners{};  // the model's bounding box, object frame, m
-  // The box the polish turns the model in (object frame): its axes (columns, right-handed),
-  // centre and half extents along them. The axis-aligned bounding box, or the box along the
-  // vertices' principal axes when that one is at least 10 % smaller (an elongated model
-  // drawn at an angle to its own axes, as the YCB scissors).
-  Eigen::Matrix3d box_axes = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d box_centre = Eigen::Vector3d::Zero();
-  Eigen::Vector3d box_half = Eigen::Vector3d::Zero();
-  render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
-  // One scratch memory per worker thread (cpu kernel; holds the reference's too), kept from
-  // one weighing round to the next so that its buffers are allocated and touched once.
-  mutable std::vector<render::CpuWorkspace> workspaces{};
-  // The pixel levels particles are weighed on (docs/ALGORITHM.md, "Pixel levels"): the fine
-  // level (every fine.factor-th pixel of every fine.factor-th row; 1 = every pixel, more for
-  // objects larger than max_window_px pixels, FilterOptions::adaptive_resolution) for the
-  // answer's weighings, and the coarse level (factor fine.factor · anneal_subsample) for the
-  // annealing iterations; `coarse` selects the level of the moment. Windows are full-image
-  // pixel rectangles, mapped to the level's grid when weighed.
-  Level fine{};
-  Level coarse_level{};
-  bool coarse = false;
-  double diameter = 0;  // the mesh's, metres (cell windows)
-  // Contact prior (FilterOptions::contact): the support plane (camera frame) and the mesh's
-  // convex-hull vertices (object frame, metres); empty when the prior is off or no plane.
-  SupportPlane plane{};
-  std::vector<Eigen::Vector3d> hull{};
-  // The mesh's stable poses (FilterOptions::stable_start); empty without a support plane. A
-  // stable start stands on the point of the plane below the centre of its cell's visible
-  // surface: surface_volumes are the heuristic volumes without the depth extension.
-  std::vector<StablePose> stable{};
-  prior::VolumeCache surface_volumes{};
-  Eigen::Vector3d com_obj = Eigen::Vector3d::Zero();  // the mesh's centre of mass, object frame
-  mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
-};
-
 // Computes cell c's heuristic volume and window if not done yet (on demand because a run uses
 // a few hundred of a pyramid's thousands of cells). Not thread-safe: the serial steps call it, and
 // WeighAll calls it for its particles' cells before its parallel loop.
 void PrepareCell(const Context& ctx, int c) {
   if (ctx.window_ready[std::size_t(c)]) return;
-  // The object's diameter in pixels at the depth of the cell's volume centre.
+  // The object's diameter in pixels at the depth of the cell's volume centre; the window's
+  // cap grows with the fine level's pixel stride (a window of that many pixels of the level).
   const Camera& cam = ctx.scene.camera;
-  const double z_cam = ctx.volumes.Valid(c) ? (cam.base_to_camera * ctx.volumes.Get(c).Centre()).z() : 1.0;
-  const double min_side = ctx.opt.min_window_diameters * ctx.diameter * cam.fx / std::max(z_cam, ctx.opt.near_m);
-  ctx.windows[std::size_t(c)] =
-      CellWindow(ctx.prior.boxes[std::size_t(c)], min_side, ctx.opt.max_window_px * ctx.fine.factor, cam.width, cam.height);
+  const double min_side =
+      filter::MinWindowSide(ctx.opt, ctx.diameter, cam, ctx.volumes.Valid(c) ? &ctx.volumes.Get(c) : nullptr);
+  ctx.windows[std::size_t(c)] = filter::CellWindow(ctx.prior.boxes[std::size_t(c)], min_side,
+                                                   ctx.opt.max_window_px * ctx.fine.factor, cam.width, cam.height);
   ctx.window_ready[std::size_t(c)] = 1;
 }
 
@@ -290,9 +223,11 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
                            ContactPenalty(ctx, T));
 }
 
-// Weighs every particle not yet scored (threads over particles; each owns a workspace);
-// `icp`: also solve each one's ICP step (the kIcpStep move's input).
-void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats, bool icp = false) {
+}  // namespace
+
+namespace filter {
+
+void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats, bool icp) {
   const int n = int(ps.size());
   std::int64_t faces_total = 0, faces_front = 0, fragments = 0, weighings = 0;
   const int threads = WorkerThreads(ctx.opt.threads);
@@ -329,79 +264,7 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats,
   stats->weighings += weighings;
 }
 
-}  // namespace
-
-bool FilterOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (engine != "cpu" && engine != "reference" && engine != "hw")
-    return fail("engine must be 'cpu', 'reference' or 'hw' (got '" + engine + "')");
-  if (cpu_isa != "auto") {
-    render::CpuTarget t;
-    if (!render::ParseCpuTarget(cpu_isa, &t))
-      return fail("cpu_isa must be 'auto', 'avx512', 'avx2' or 'portable' (got '" + cpu_isa + "')");
-    if (!render::CpuTargetSupported(t)) {
-      std::string supported;
-      for (render::CpuTarget c : render::SupportedCpuTargets())
-        supported += std::string(supported.empty() ? "" : ", ") + render::CpuTargetName(c);
-      return fail("cpu_isa '" + cpu_isa + "' is not supported by this CPU or build (supported: " + supported + ")");
-    }
-  }
-  if (num_particles < 2 || num_particles > 1'000'000) return fail("num_particles must be in [2, 1000000]");
-  if (max_iterations < 1 || max_iterations > 100'000) return fail("max_iterations must be in [1, 100000]");
-  if (!(confidence > 0 && confidence <= 1)) return fail("confidence must be in (0, 1]");
-  for (double v : {alpha, beta, gamma})
-    if (!(v >= 0 && v <= 1)) return fail("alpha, beta, gamma must each be in [0, 1]");
-  if (std::fabs(alpha + beta + gamma - 1) > 1e-6) return fail("alpha + beta + gamma must equal 1");
-  if (!(inlier.thr1_m > 0 && std::isfinite(inlier.thr1_m))) return fail("inlier threshold must be > 0");
-  if (!(inlier.hard_thr_m > 0 && std::isfinite(inlier.hard_thr_m))) return fail("hard inlier threshold must be > 0");
-  if (!(anneal_start_m >= 0 && std::isfinite(anneal_start_m))) return fail("anneal_start_m must be >= 0");
-  if (!(anneal_fraction >= 0 && anneal_fraction <= 1)) return fail("anneal_fraction must be in [0, 1]");
-  if (anneal_subsample < 1 || anneal_subsample > 4) return fail("anneal_subsample must be in [1, 4]");
-  if (!(min_window_diameters >= 0 && min_window_diameters <= 4)) return fail("min_window_diameters must be in [0, 4]");
-  if (max_window_px < 8) return fail("max_window_px must be >= 8");
-  if (!(near_m > 0 && std::isfinite(near_m))) return fail("near_m must be > 0");
-  if (num_elite < 0 || num_elite >= num_particles) return fail("num_elite must be in [0, num_particles)");
-  if (!(fine_particle_fraction > 0 && fine_particle_fraction <= 1))
-    return fail("fine_particle_fraction must be in (0, 1]");
-  if (!(resample_pool > 0 && resample_pool <= 1)) return fail("resample_pool must be in (0, 1]");
-  if (!(region_cap > 0 && region_cap <= 1)) return fail("region_cap must be in (0, 1]");
-  if (!(rotation_cap > 0 && rotation_cap <= 1)) return fail("rotation_cap must be in (0, 1]");
-  if (!(delta >= 0 && delta <= 1)) return fail("delta must be in [0, 1]");
-  if (!(contact >= 0 && contact <= 1)) return fail("contact must be in [0, 1]");
-  if (!(stable_start >= 0 && stable_start <= 1)) return fail("stable_start must be in [0, 1]");
-  if (!(contact_tolerance_m >= 0 && std::isfinite(contact_tolerance_m))) return fail("contact_tolerance_m must be >= 0");
-  if (!(contact_span_m > 0 && std::isfinite(contact_span_m))) return fail("contact_span_m must be > 0");
-  if (!(edge_band_m > 0 && std::isfinite(edge_band_m))) return fail("edge_band_m must be > 0");
-  if (!(align_band_m > 0 && std::isfinite(align_band_m))) return fail("align_band_m must be > 0");
-  if (init_oversample < 1 || init_oversample > 64) return fail("init_oversample must be in [1, 64]");
-  if (restarts < 1 || restarts > 100) return fail("restarts must be in [1, 100]");
-  if (stall_iterations < 0 || stall_iterations > 1000) return fail("stall_iterations must be in [0, 1000]");
-  if (!(stall_gain >= 0 && stall_gain <= 1)) return fail("stall_gain must be in [0, 1]");
-  if (lod_max_faces != 0 && lod_max_faces < kMinSimplifyFaces) return fail("lod_max_faces must be 0 (full mesh) or >= 4");
-  if (polish_steps < 0 || polish_steps > 100) return fail("polish_steps must be in [0, 100]");
-  if (polish_seeds < 1 || polish_seeds > 1000) return fail("polish_seeds must be in [1, 1000]");
-  if (polish_climbers < 0 || polish_climbers > 1000) return fail("polish_climbers must be in [0, 1000]");
-  if (polish_keep < 1 || polish_keep > 100000) return fail("polish_keep must be in [1, 100000]");
-  if (tracker_bins < 1 || tracker_bins > 4096) return fail("tracker_bins must be in [1, 4096]");
-  if (!(sigma_t0_m >= 0 && std::isfinite(sigma_t0_m))) return fail("sigma_t0_m must be >= 0");
-  if (!(sigma_r0_rad >= 0 && std::isfinite(sigma_r0_rad))) return fail("sigma_r0_rad must be >= 0");
-  if (!(min_sigma_fraction >= 0 && min_sigma_fraction <= 1)) return fail("min_sigma_fraction must be in [0, 1]");
-  double total = 0;
-  for (double p : move_probabilities) {
-    if (!(p >= 0 && std::isfinite(p))) return fail("move probabilities must be finite and >= 0");
-    total += p;
-  }
-  if (!(total > 0)) return fail("at least one move probability must be > 0");
-  if (threads < 0 || threads > MaxWorkerThreads())
-    return fail("threads must be in [0, " + std::to_string(MaxWorkerThreads()) +
-                "] (0 = all cores; at most 4 per hardware thread)");
-  std::string h;
-  if (!heuristics.IsValid(&h)) return fail("heuristics: " + h);
-  return true;
-}
+}  // namespace filter
 
 namespace {
 
@@ -480,14 +343,9 @@ SceneInput SubsampleScene(const SceneInput& scene, int factor) {
   return out;
 }
 
-namespace {
+namespace filter {
 
-// Checks the inputs and precomputes volumes, windows and N_depth for every cell.
-// `runs`: the context will run the filter (EstimatePose), so it also gets the coarse level
-// of the annealing iterations; weighing given poses and the polish need only every pixel.
-// `prep` (PrepareScene's, already validated) must outlive the context: the context scores
-// against prep.scoring and reads volumes and N_depth from prep.support.
-Context BuildContext(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
+Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                      const FilterOptions& options, bool runs) {
   std::string why;
   if (!options.IsValid(&why)) throw Error("invalid filter option: " + why);
@@ -512,8 +370,7 @@ Context BuildContext(const filter::PreparedScene& prep, const Mesh& mesh, const 
        << " m are accepted): are the mesh units right? (the unit scale, --unit-scale: 0.001 for a millimetre mesh, 1 for metres)";
     throw Error(os.str());
   }
-  HeuristicOptions hopt = options.heuristics;
-  if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
+  const HeuristicOptions hopt = VolumeOptions(options, diameter);
   ctx.volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
   // A pixel level of the given factor: the scene, N_depth table and normals subsampled, and
@@ -585,20 +442,16 @@ Context BuildContext(const filter::PreparedScene& prep, const Mesh& mesh, const 
   }
   ctx.windows.resize(cells);  // PrepareCell fills them in as cells are used
   ctx.window_ready.assign(std::size_t(cells), 0);
-  // Hypotheses for niching: cells whose decoded boxes agree to the pixel share one (all the
-  // cells a detection covers carry its box; a cell no detection reaches keeps its anchor).
-  std::map<std::array<long, 4>, int> ids;
+  // Hypotheses for niching: every cell labelled, unbounded (a cell no detection reaches
+  // keeps its anchor box, and a label of its own).
+  HypothesisLabeller labeller;
   ctx.hypothesis.resize(cells);
-  for (int c = 0; c < cells; ++c) {
-    const Box& b = prior.boxes[c];
-    const std::array<long, 4> key = {std::lround(b.cx), std::lround(b.cy), std::lround(b.w), std::lround(b.h)};
-    ctx.hypothesis[c] = ids.emplace(key, int(ids.size())).first->second;
-  }
-  ctx.hypothesis_count = int(ids.size());
+  for (int c = 0; c < cells; ++c) ctx.hypothesis[c] = labeller.Label(prior.boxes[c]);
+  ctx.hypothesis_count = labeller.count();
   return ctx;
 }
 
-}  // namespace
+}  // namespace filter
 
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
@@ -640,7 +493,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     const float thr = float(filter::AnnealedThreshold(options, it, anneal_its));
     const bool changed = thr != ctx.inlier.thr1_m;
     ctx.inlier.thr1_m = thr;
-    ctx.inlier.hard_thr_m = float(options.inlier.hard_thr_m * thr / options.inlier.thr1_m);
+    ctx.inlier.hard_thr_m = filter::ScaledHardThreshold<float>(options.inlier, thr);
     // Never the run's last possible iteration: its weights are the answer's.
     const bool coarse = ctx.coarse_level.factor > 1 && it < anneal_its && it + 1 < options.max_iterations;
     const bool level_changed = coarse != ctx.coarse;
@@ -703,9 +556,9 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // (niching: a false detection or a wrong orientation that fits coarsely early on cannot
     // take the whole set); the elite is the head of the pool, the rest is drawn from
     // the pool's CDF (threshold tracker) and diffused.
-    const int pool_size = std::max(std::max(options.num_elite, 1), int(std::lround(options.resample_pool * Nc)));
-    const int cap = std::max(1, int(std::ceil(options.region_cap * pool_size)));
-    const int rot_cap = std::max(1, int(std::ceil(options.rotation_cap * pool_size)));
+    const int pool_size = filter::ResamplePoolSize(options, Nc);
+    const int cap = filter::NicheCap(options.region_cap, pool_size);
+    const int rot_cap = filter::NicheCap(options.rotation_cap, pool_size);
     std::vector<int> pool;  // indices into `ranked`
     pool.reserve(pool_size);
     std::vector<int> per_hypothesis(ctx.hypothesis_count, 0);
@@ -775,295 +628,6 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
 
 }  // namespace
 
-namespace {
-
-// The 24 rotations of a cube (signed permutation matrices with determinant +1).
-std::vector<Eigen::Matrix3d> CubeRotations() {
-  std::vector<Eigen::Matrix3d> out;
-  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  for (const auto& p : perms)
-    for (int signs = 0; signs < 8; ++signs) {
-      Eigen::Matrix3d R = Eigen::Matrix3d::Zero();
-      for (int r = 0; r < 3; ++r) R(r, p[r]) = (signs >> r) & 1 ? -1.0 : 1.0;
-      if (R.determinant() > 0) out.push_back(R);
-    }
-  return out;  // identity first: perms[0] with signs 0
-}
-
-// Final polish (ours, FilterOptions::polish_steps): every seed, and with polish_turns each
-// seed turned about the centre c of the model's box (Context::box_axes) by the 23 other
-// rotations of a cube in the box's frame
-// (T' = T·[R_k | c − R_k·c], so the object stays where it is), takes polish_steps ICP steps
-// (the kIcpStep move solved from its own last weighing) at the final inlier threshold. A
-// turned copy whose translation is a little off can thus settle before it is compared, which
-// the filter's own quarter-turn move cannot do (its copies are outweighed at once). Returns
-// the best weighed particle seen, or the best seed if nothing beats it.
-Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* stats) {
-  const FilterOptions& o = ctx.opt;
-  ctx.inlier = o.inlier;  // final thresholds, every pixel, the full mesh
-  ctx.coarse = false;
-  const Eigen::Vector3d centre = ctx.box_centre;
-  const Eigen::Matrix3d& A = ctx.box_axes;
-  std::vector<Eigen::Matrix3d> turns = CubeRotations();
-  if (!o.polish_turns) turns.resize(1);
-  // Pivots: a turn about the centre, and (polish_pivots) the same turn followed by the shift
-  // that puts a corner of the turned box where that corner of the seed's box was — a turn
-  // about an edge or corner, as when an object tips over onto another face. Half extents e
-  // and, turned, e' = |R|·e; corner σ ∈ {±1}³ moves the centre by σ∘(e − e') (box frame).
-  // Turns that keep the box (e' = e) need no shift. The turns R are the cube's in the box's
-  // frame: A·R·Aᵀ in the object frame.
-  const Eigen::Vector3d half = ctx.box_half;
-  std::vector<Particle> cands;
-  for (const Particle& s : seeds)
-    for (const Eigen::Matrix3d& R : turns) {
-      const Eigen::Vector3d diff = half - R.cwiseAbs() * half;
-      const int pivots = o.polish_pivots && diff.norm() > 1e-6 ? 9 : 1;
-      const Eigen::Matrix3d R_obj = A * R * A.transpose();
-      for (int k = 0; k < pivots; ++k) {
-        Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
-        turn.linear() = R_obj;
-        turn.translation() = centre - R_obj * centre;
-        if (k > 0) {
-          const Eigen::Vector3d sigma((k - 1) & 1 ? 1.0 : -1.0, (k - 1) & 2 ? 1.0 : -1.0, (k - 1) & 4 ? 1.0 : -1.0);
-          turn.translation() += A * sigma.cwiseProduct(diff);
-        }
-        Particle p = s;
-        p.pose = TransformToPose(PoseToTransform(s.pose) * turn);
-        p.scored = false;
-        cands.push_back(p);
-      }
-    }
-  // Stable re-search (polish_stable, with a support plane): each seed's centre of mass
-  // dropped onto the plane, and the object standing there in each of its stable poses of at
-  // least 1 % probability (at most 8), turned about the plane's normal in 24 steps of 15°: an
-  // answer in the wrong stable pose, or the right one turned or flipped, gets the right one.
-  if (o.polish_stable && !ctx.stable.empty()) {
-    const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
-    const Eigen::Vector3d n = ctx.plane.normal, ex = n.unitOrthogonal();
-    for (const Particle& s : seeds) {
-      const Eigen::Vector3d com = C * PoseToTransform(s.pose) * ctx.com_obj;
-      Eigen::Isometry3d T_cam_table = Eigen::Isometry3d::Identity();
-      T_cam_table.linear() << ex, n.cross(ex), n;
-      T_cam_table.translation() = com - ctx.plane.Height(com) * n;
-      for (std::size_t k = 0; k < std::min<std::size_t>(ctx.stable.size(), 8); ++k) {
-        if (ctx.stable[k].probability < 0.01) break;  // most probable first
-        for (int j = 0; j < 24; ++j) {
-          const Eigen::Isometry3d T = T_cam_table * Eigen::AngleAxisd(j * M_PI / 12, Eigen::Vector3d::UnitZ()) *
-                                      ctx.stable[k].T_table_obj;
-          Particle p = s;
-          p.pose = TransformToPose(C.inverse() * T);
-          p.scored = false;
-          cands.push_back(p);
-        }
-      }
-    }
-  }
-  // With pivots, weigh every copy once and polish only the best polish_keep of them.
-  if ((o.polish_pivots || o.polish_stable) && int(cands.size()) > o.polish_keep) {
-    WeighAll(ctx, cands, stats, /*icp=*/true);
-    std::partial_sort(cands.begin(), cands.begin() + o.polish_keep, cands.end(),
-                      [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
-    cands.resize(o.polish_keep);
-  }
-  const filter::DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o, &ctx.plane, centre);
-  Rng unused(0);  // the ICP move draws no random numbers
-  std::vector<Particle> path_best(cands.size());  // best weighed state of each candidate
-  for (auto& p : path_best) p.weight = -1;
-  for (int step = 0; step <= o.polish_steps; ++step) {
-    WeighAll(ctx, cands, stats, /*icp=*/true);
-    for (std::size_t i = 0; i < cands.size(); ++i)
-      if (cands[i].weight > path_best[i].weight) path_best[i] = cands[i];
-    if (step == o.polish_steps) break;
-    for (Particle& p : cands) filter::ApplyMove(diffusion, Move::kIcpStep, &p, p.weight, unused);
-  }
-  std::sort(path_best.begin(), path_best.end(), [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
-
-  // Pattern search (compass search) on the weight itself from the best candidates: each
-  // round tries ±step along three axes and ±angle about them through the model centre, moves
-  // to the best improvement, and halves step and angle when none improves; the ICP steps
-  // align surfaces, this also aligns the outline (N_depth, edges). The axes are the support
-  // plane's (two in the plane, its normal) where one was found — an object resting on the
-  // table then slides and turns on it, the moves that align the outline of a thin or flat
-  // object, which point-to-plane ICP on its top face cannot — else the camera's.
-  const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns, camera frame
-  if (ctx.plane.found) {
-    const Eigen::Vector3d n = ctx.plane.normal, e1 = n.unitOrthogonal();
-    axes << e1, n.cross(e1), n;
-  }
-  struct Climber {
-    Particle p;
-    double step_m = 0.01, angle_rad = 0.1;
-  };
-  std::vector<Climber> climbers;
-  for (int i = 0; i < std::min(int(path_best.size()), o.polish_climbers); ++i) climbers.push_back({path_best[i]});
-  for (int round = 0; round < 24; ++round) {
-    std::vector<Particle> trials;
-    std::vector<int> owner;
-    for (int c = 0; c < int(climbers.size()); ++c) {
-      const Climber& cl = climbers[c];
-      if (cl.step_m < 0.0005) continue;
-      const Eigen::Isometry3d T_cam = C * PoseToTransform(cl.p.pose);
-      const Eigen::Vector3d pc = T_cam * centre;
-      for (int dof = 0; dof < 6; ++dof)
-        for (double sign : {-1.0, 1.0}) {
-          Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
-          if (dof < 3) {
-            D.translation() = sign * cl.step_m * axes.col(dof);
-          } else {
-            D.linear() = Eigen::AngleAxisd(sign * cl.angle_rad, axes.col(dof - 3)).toRotationMatrix();
-            D.translation() = pc - D.linear() * pc;
-          }
-          Particle t = cl.p;
-          t.pose = TransformToPose(C.inverse() * D * T_cam);
-          t.scored = false;
-          trials.push_back(t);
-          owner.push_back(c);
-        }
-    }
-    if (trials.empty()) break;
-    WeighAll(ctx, trials, stats);
-    std::vector<int> best_trial(climbers.size(), -1);
-    for (int i = 0; i < int(trials.size()); ++i) {
-      const int c = owner[i];
-      const double ref = best_trial[c] < 0 ? climbers[c].p.weight : trials[best_trial[c]].weight;
-      if (trials[i].weight > ref) best_trial[c] = i;
-    }
-    for (int c = 0; c < int(climbers.size()); ++c) {
-      Climber& cl = climbers[c];
-      if (cl.step_m < 0.0005) continue;
-      if (best_trial[c] >= 0) {
-        cl.p = trials[best_trial[c]];
-      } else {
-        cl.step_m *= 0.5;
-        cl.angle_rad *= 0.5;
-      }
-    }
-  }
-  Particle best = path_best.front();
-  for (const Climber& cl : climbers)
-    if (cl.p.weight > best.weight) best = cl.p;
-  return best;
-}
-
-}  // namespace
-
-namespace filter {
-
-int AnnealIterations(const FilterOptions& options) {
-  return options.anneal_start_m > options.inlier.thr1_m ? int(std::lround(options.anneal_fraction * options.max_iterations))
-                                                         : 0;
-}
-
-int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
-               const Camera& camera, double diameter) {
-  if (!options.adaptive_resolution) return 1;
-  int best = -1;
-  double best_p = 0;
-  for (int c = 0; c < prior.layout.CellCount(); ++c)
-    if (volumes.Valid(c) && prior.Prob(c, cls) > best_p) best = c, best_p = prior.Prob(c, cls);
-  if (best < 0) return 1;
-  const double z = std::max((camera.base_to_camera * volumes.Get(best).Centre()).z(), options.near_m);
-  const double px = diameter * std::max(camera.fx, camera.fy) / z;
-  return std::clamp(int(std::ceil(px / (1.25 * options.max_window_px))), 1, 4);
-}
-
-int CoarseMeshFaces(int faces, int subsample) {
-  return std::max(kCoarseMinFaces, faces / (subsample * subsample));
-}
-
-int FineParticles(const FilterOptions& options) {
-  const int n = int(std::lround(options.fine_particle_fraction * options.num_particles));
-  return std::min(options.num_particles, std::max(options.num_elite + 1, n));
-}
-
-double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its) {
-  if (it >= anneal_its) return options.inlier.thr1_m;
-  return options.anneal_start_m * std::pow(options.inlier.thr1_m / options.anneal_start_m, double(it) / anneal_its);
-}
-
-bool RunEnds(const FilterOptions& options, int it, int anneal_its, const std::vector<double>& best_weights,
-             bool* converged) {
-  const bool final_threshold = it >= anneal_its;
-  if (final_threshold && best_weights[it] >= options.confidence) *converged = true;
-  const int k = options.stall_iterations;
-  const bool stalled = k > 0 && it - k >= anneal_its && best_weights[it] - best_weights[it - k] < options.stall_gain;
-  return *converged || stalled || it + 1 == options.max_iterations;
-}
-
-EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progress, const RunFn& run) {
-  Rng rng(options.seed);
-  EstimateResult best;
-  for (int k = 0; k < options.restarts; ++k) {
-    Rng run_rng = options.restarts == 1 ? rng : rng.Split();
-    const int offset = k * options.max_iterations;
-    const double best_w = best.weight;  // of the runs before this one
-    const ProgressFn run_progress = progress ? ProgressFn([&progress, offset, best_w](int it, double w) {
-      progress(offset + it, std::max(w, best_w));
-    }) : ProgressFn();
-    EstimateResult r = run(run_rng, run_progress);
-    FilterStats total = best.stats;
-    total += r.stats;
-    const int iterations = best.iterations + r.iterations;
-    std::vector<double> history = best.best_weight_history, times = best.iteration_ms;
-    history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
-    times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
-    const bool converged = best.converged || r.converged;
-    if (k == 0 || r.weight > best.weight) best = std::move(r);
-    best.stats = total;
-    best.iterations = iterations;
-    best.best_weight_history = std::move(history);
-    best.iteration_ms = std::move(times);
-    best.converged = converged;
-  }
-  return best;
-}
-
-void AdoptPose(EstimateResult* result, const Camera& camera, const PolishResult& p, double confidence) {
-  result->pose_base = p.pose;
-  result->T_cam_obj = camera.base_to_camera * PoseToTransform(p.pose);
-  result->cell = p.cell;
-  result->weight = p.weight;
-  result->converged = result->converged || p.weight >= confidence;
-}
-
-PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
-                         const FilterOptions& options, const std::vector<PolishSeed>& seeds, FilterStats* stats) {
-  if (seeds.empty()) throw Error("polish: no seed pose");
-  FilterOptions o = options;
-  o.engine = "cpu";  // the host's float weighing
-  Mesh lod;
-  const PreparedScene prep = PrepareScene(scene, o);
-  Context ctx = BuildContext(prep, MeshAtLod(mesh, o.lod_max_faces, &lod), prior, cls, o, false);
-  std::vector<Particle> ps(seeds.size());
-  for (std::size_t i = 0; i < seeds.size(); ++i) {
-    if (seeds[i].cell < 0 || seeds[i].cell >= prior.layout.CellCount()) throw Error("polish: seed cell index out of range");
-    ps[i].pose = seeds[i].pose;
-    ps[i].cell = seeds[i].cell;
-  }
-  FilterStats local;
-  const Particle best = Polish(ctx, ps, stats ? stats : &local);
-  return {best.pose, best.cell, best.weight};
-}
-
-Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& options) {
-  int with_mass = 0;
-  for (int c = 0; c < prior.layout.CellCount(); ++c) with_mass += prior.Prob(c, cls) > 0;
-  std::ostringstream os;
-  if (with_mass == 0) {
-    os << "the prior holds no probability mass for class '" << prior.classes[std::size_t(cls)] << "'";
-    return Error(os.str());
-  }
-  os << "no prior cell of class '" << prior.classes[std::size_t(cls)] << "' has both probability and valid depth ("
-     << with_mass << " cell(s) have probability, but none of their boxes holds "
-     << options.heuristics.min_valid_pixels << " depth samples in (0, " << options.heuristics.max_depth_m
-     << "] m): check the depth scale (--depth-scale or depth_scale=, metres per depth unit) and that the prior was made "
-        "for this depth image";
-  return Error(os.str());
-}
-
-}  // namespace filter
-
 EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                             const FilterOptions& options, const ProgressFn& progress) {
   if (options.engine == "hw") return EstimatePoseHw(scene, mesh, prior, cls, options, progress);  // src/hw/engine.cc
@@ -1084,7 +648,7 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
     return RunFilter(ctx, cell_mass, rng, run_progress, &run_bests);
   });
   if (options.polish_steps > 0) {
-    const Particle p = Polish(ctx, run_bests, &best.stats);
+    const Particle p = filter::Polish(ctx, run_bests, &best.stats);
     if (p.weight > best.weight) filter::AdoptPose(&best, scene.camera, {p.pose, p.cell, p.weight}, options.confidence);
   }
   best.obj = mesh.name;

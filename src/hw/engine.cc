@@ -6,7 +6,8 @@
 // Host / hardware split (docs/HARDWARE.md "Driver"):
 //   * host, float, once per run: heuristic volumes (ComputeHeuristics, as the reference
 //     engine), per-cell windows (the reference's CellWindow incl. the minimum window of one
-//     object diameter), hypothesis labels for the region cap, the inlier-threshold schedule;
+//     object diameter), hypothesis labels for the region cap, the inlier-threshold schedule —
+//     the set-up shared with the float engines comes from src/filter/host_setup.h;
 //   * hardware (C simulation of the kernels): initialisation, transformation, rasterization and
 //     scoring, weight merging, sorting, resampling, diffusion — every per-particle step;
 //   * host, float, after the runs (polish_steps > 0): the final polish of the runs' best
@@ -19,8 +20,6 @@
 #pragma GCC diagnostic ignored "-Wunused-label"
 
 #include <algorithm>
-#include <array>
-#include <chrono>
 #include <functional>
 #include <cmath>
 #include <map>
@@ -29,6 +28,7 @@
 #include <vector>
 
 #include "filter/driver.h"
+#include "filter/host_setup.h"
 #include "filter/scene_prep.h"
 #include "hw/cycle_model.h"
 #include "hw/postprocess.h"
@@ -42,9 +42,8 @@ namespace posefilter {
 namespace {
 
 using namespace posefilter::hw;
-using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using filter::Clock;
+using filter::MsSince;
 
 // Host → fixed point, rounded to nearest and saturated (the kernels' types truncate by default).
 xyz_t ToXyz(double v) { return xyz_t(ap_fixed<13, 3, AP_RND, AP_SAT>(v)); }
@@ -85,16 +84,16 @@ Mesh HardwareMesh(const Mesh& mesh, int lod_max_faces) {
   return m;
 }
 
-// The reference engine's window of a cell (particle_filter.cc CellWindow): the box centred,
-// each side ≥ min_side and ≤ max_px, shifted into the image.
+// The float engines' window of a cell (filter::CellWindow, src/filter/host_setup.h: the box
+// centred, each side ≥ min_side and ≤ max_px, shifted into the image) in the window memory's
+// fields: u0, v0 of 10 bits, width, height of 8 bits (max_px ≤ kMaxWindow = 200 fits).
 Window CellWindowHw(const Box& box, double min_side, int max_px, int image_w, int image_h) {
-  const int w = std::clamp(int(std::lround(std::max(box.w, min_side))), 1, std::min(max_px, image_w));
-  const int h = std::clamp(int(std::lround(std::max(box.h, min_side))), 1, std::min(max_px, image_h));
+  const PixelRect r = filter::CellWindow(box, min_side, max_px, image_w, image_h);
   Window win;
-  win.u0 = std::clamp(int(std::lround(box.cx - 0.5 * w)), 0, image_w - w);
-  win.v0 = std::clamp(int(std::lround(box.cy - 0.5 * h)), 0, image_h - h);
-  win.width = w;
-  win.height = h;
+  win.u0 = r.u0;
+  win.v0 = r.v0;
+  win.width = r.width;
+  win.height = r.height;
   return win;
 }
 
@@ -232,7 +231,8 @@ class HwRunner {
   void SetThreshold(double thr) {
     cfg_.raster.thr1 = ToDist(thr);
     cfg_.raster.inv_thr1 = inv_thr_t(ap_ufixed<20, 12, AP_RND, AP_SAT>(1.0 / cfg_.raster.thr1.to_double()));
-    cfg_.raster.hard_thr = ToDist(opt_.inlier.hard_thr_m * thr / opt_.inlier.thr1_m);
+    // In double (thr is), unlike the float engines' float: the result is rounded to dist_t.
+    cfg_.raster.hard_thr = ToDist(filter::ScaledHardThreshold<double>(opt_.inlier, thr));
     std::string why;
     if (!RasterParamsAreValid(cfg_.raster, &why)) throw Error("hw engine: inlier threshold: " + why);
   }
@@ -324,12 +324,15 @@ class HwRunner {
     if (!WeightParamsAreValid(wp, &why)) throw Error("hw engine: weight coefficients: " + why);
 
     // Per-cell memories: heuristic volumes, windows, probabilities, hypotheses.
+    // The diameter is the input mesh's (the float engines take their level-of-detail mesh's).
     const double diameter = mesh_in.Diameter();
-    HeuristicOptions hopt = o.heuristics;
-    if (hopt.depth_extension_m == 0) hopt.depth_extension_m = 0.5 * diameter;
+    const HeuristicOptions hopt = filter::VolumeOptions(o, diameter);
     const std::vector<Volume> volumes = ComputeHeuristics(support_, cam, prior_.boxes, hopt, o.threads);
     double max_p = 0;
-    std::map<std::array<long, 4>, int> ids;
+    // Hypothesis labels (region cap) differ from the float engines' on purpose: 8-bit labels
+    // (kMaxHypotheses), label 0 = every cell without mass / beyond 255 boxes, so only cells
+    // with mass are labelled, from 1.
+    filter::HypothesisLabeller labeller(/*first=*/1, /*max_labels=*/kMaxHypotheses - 1, /*overflow=*/0);
     for (int c = 0; c < kNumCells; ++c) {
       const Volume& vol = volumes[c];
       HeuristicVolume& hv = m.volumes[c];
@@ -346,23 +349,14 @@ class HwRunner {
         hv.x_min = hv.y_min = hv.z_min = ToXyz(1);
         hv.x_max = hv.y_max = hv.z_max = ToXyz(0);
       }
-      const double z_cam = vol.valid ? (cam.base_to_camera * vol.Centre()).z() : 1.0;
-      const double min_side = o.min_window_diameters * diameter * cam.fx / std::max(z_cam, o.near_m);
+      // No pixel levels in the hw engine: the cap is max_window_px itself.
+      const double min_side = filter::MinWindowSide(o, diameter, cam, vol.valid ? &vol : nullptr);
       m.cell_windows[c] = CellWindowHw(prior_.boxes[c], min_side, o.max_window_px, cam.width, cam.height);
       const double p = valid ? prior_.Prob(c, cls_) : 0.0;
       m.class_prob[c] = ToProb(prior_.Prob(c, cls_));
       max_p = std::max(max_p, p);
-      // Hypothesis labels (region cap): cells with mass whose decoded boxes agree share one;
-      // 8-bit labels (kMaxHypotheses), label 0 = every cell without mass / beyond 255 boxes.
-      int label = 0;
-      if (p > 0) {
-        const Box& b = prior_.boxes[c];
-        const std::array<long, 4> key = {std::lround(b.cx), std::lround(b.cy), std::lround(b.w), std::lround(b.h)};
-        auto it = ids.find(key);
-        if (it == ids.end() && int(ids.size()) < kMaxHypotheses - 1) it = ids.emplace(key, int(ids.size()) + 1).first;
-        label = it == ids.end() ? 0 : it->second;
-      }
-      m.hypothesis[c] = label;
+      // Hypothesis labels (region cap): cells with mass whose decoded boxes agree share one.
+      m.hypothesis[c] = p > 0 ? labeller.Label(prior_.boxes[c]) : 0;
     }
     if (!(max_p > 0))
       throw filter::NoInitialMassError(prior_, cls_, o);
@@ -379,12 +373,14 @@ class HwRunner {
 
     // Resampling (§7.5.4) and diffusion (§7.6) parameters.
     rprm_.num_particles = o.num_particles;
-    rprm_.pool_size = std::min(o.num_particles,
-                               std::max(std::max(o.num_elite, 1), int(std::lround(o.resample_pool * o.num_particles))));
+    // The float engines' pool of a set of N (no fine sets here), bounded by the sample memory's N.
+    rprm_.pool_size = std::min(o.num_particles, filter::ResamplePoolSize(o, o.num_particles));
     rprm_.num_elite = std::min(o.num_elite, rprm_.pool_size);
-    rprm_.region_cap = o.region_cap < 1 ? std::max(1, int(std::ceil(o.region_cap * rprm_.pool_size))) : 0;
+    // The caps' register encodes "no cap" (a fraction of 1) as 0, where the float engines use
+    // a cap of the whole pool; below 1 both use filter::NicheCap.
+    rprm_.region_cap = o.region_cap < 1 ? filter::NicheCap(o.region_cap, rprm_.pool_size) : 0;
     // Ours: the reference's rotation cap (niching per hypothesis and orientation bin); 1 = off.
-    rprm_.rotation_cap = o.rotation_cap < 1 ? std::max(1, int(std::ceil(o.rotation_cap * rprm_.pool_size))) : 0;
+    rprm_.rotation_cap = o.rotation_cap < 1 ? filter::NicheCap(o.rotation_cap, rprm_.pool_size) : 0;
     std::string cwhy;
     if (!rprm_.IsValid(&cwhy)) throw Error("hw engine: resampling: " + cwhy);
     double prob[kNumHwMoves] = {};

@@ -89,7 +89,7 @@ TEST(HwSamplePostProcess, WideReciprocalAccuracy) {
   }
 }
 
-// Window of the float engine (particle_filter.cc CellWindow), restated for the test.
+// Window of the float engine (filter/host_setup.cc CellWindow), restated for the test.
 struct RefWindow {
   int u0, v0, width, height;
 };
