@@ -15,6 +15,14 @@
 
 namespace posefilter::filter {
 
+bool ParseEngine(const std::string& name, Engine* out) {
+  if (name == "reference") *out = Engine::kReference;
+  else if (name == "cpu") *out = Engine::kCpu;
+  else if (name == "hw") *out = Engine::kHw;
+  else return false;
+  return true;
+}
+
 int AnnealIterations(const FilterOptions& options) {
   return options.anneal_start_m > options.inlier.thr1_m ? int(std::lround(options.anneal_fraction * options.max_iterations))
                                                          : 0;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "posefilter/error.h"
@@ -13,6 +14,12 @@
 #include "prior/volume_cache.h"
 
 namespace posefilter::filter {
+
+// The engine of FilterOptions::engine, parsed once per estimate: "reference" (float, readable),
+// "cpu" (the SIMD kernel, same results), "hw" (the C-simulated hardware, src/hw/engine.cc).
+enum class Engine { kReference, kCpu, kHw };
+// Sets *out and returns true for a known engine name; false otherwise (*out untouched).
+bool ParseEngine(const std::string& name, Engine* out);
 
 // Coarse-to-fine schedule (FilterOptions::anneal_start_m, anneal_fraction): the number of
 // iterations whose inlier threshold is above its final value (0 = annealing off), and the

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "filter/diffusion.h"
+#include "filter/driver.h"
 #include "filter/scene_prep.h"
 #include "posefilter/filter.h"
 #include "posefilter/mesh.h"
@@ -61,6 +62,7 @@ struct Context {
   Eigen::Matrix3d box_axes = Eigen::Matrix3d::Identity();
   Eigen::Vector3d box_centre = Eigen::Vector3d::Zero();
   Eigen::Vector3d box_half = Eigen::Vector3d::Zero();
+  Engine engine = Engine::kCpu;                                 // FilterOptions::engine, parsed
   render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
   // One scratch memory per worker thread (cpu kernel; holds the reference's too), kept from
   // one weighing round to the next so that its buffers are allocated and touched once.

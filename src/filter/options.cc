@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/threads.h"
+#include "filter/driver.h"
 #include "posefilter/filter.h"
 #include "posefilter/mesh_simplify.h"
 #include "render/cpu_kernel.h"
@@ -15,7 +16,8 @@ bool FilterOptions::IsValid(std::string* why) const {
     if (why) *why = m;
     return false;
   };
-  if (engine != "cpu" && engine != "reference" && engine != "hw")
+  filter::Engine parsed;
+  if (!filter::ParseEngine(engine, &parsed))
     return fail("engine must be 'cpu', 'reference' or 'hw' (got '" + engine + "')");
   if (cpu_isa != "auto") {
     render::CpuTarget t;

@@ -210,7 +210,7 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   k.edge_band_m = float(ctx.opt.edge_band_m);
   k.scene_normals = icp ? LevelNormals(ctx).data() : nullptr;
   const render::FacePlanes* planes = &level.face_planes;
-  *out = ctx.opt.engine == "cpu" ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
+  *out = ctx.engine == filter::Engine::kCpu ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
@@ -357,6 +357,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
 
   Context ctx{.scene = scene, .mesh = mesh, .prior = prior, .cls = cls, .opt = options, .inlier = options.inlier};
   // cpu_isa names a supported variant or is "auto" (options were validated).
+  if (!filter::ParseEngine(options.engine, &ctx.engine)) throw Error("unknown engine '" + options.engine + "'");
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   const double diameter = mesh.Diameter();
   ctx.diameter = diameter;
@@ -393,7 +394,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
       }
     }
     // The cpu engine's pre-cull table: of the same arrays every weighing's parameters point at.
-    if (options.engine == "cpu")
+    if (ctx.engine == filter::Engine::kCpu)
       l.face_planes = render::BuildFacePlanes(
           MakeKernelParams(l.mesh.faces.empty() ? mesh : l.mesh, Eigen::Isometry3d::Identity(), scene.camera));
     return l;
@@ -630,7 +631,9 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
 
 EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                             const FilterOptions& options, const ProgressFn& progress) {
-  if (options.engine == "hw") return EstimatePoseHw(scene, mesh, prior, cls, options, progress);  // src/hw/engine.cc
+  filter::Engine engine = filter::Engine::kCpu;
+  if (filter::ParseEngine(options.engine, &engine) && engine == filter::Engine::kHw)
+    return EstimatePoseHw(scene, mesh, prior, cls, options, progress);  // src/hw/engine.cc
   const auto t_start = Clock::now();
   Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
   const filter::PreparedScene prep = filter::PrepareScene(scene, options);
