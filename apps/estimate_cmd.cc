@@ -154,8 +154,6 @@ int RunEstimate(int argc, char** argv) {
     }
 
     std::vector<ObjectResult> results;
-    std::printf("%-20s %9s %9s %9s %8s %8s %8s %7s %5s %8s\n", "object", "x[m]", "y[m]", "z[m]", "roll", "pitch",
-                "yaw", "weight", "iter", "time[ms]");
     if (jobs.empty())
       for (const Mesh& mesh : meshes) jobs.push_back({&mesh, {}, prior});
     std::vector<const Mesh*> job_meshes;
@@ -176,6 +174,9 @@ int RunEstimate(int argc, char** argv) {
       o.iterations = r.iterations;
       o.time_ms = r.time_ms;
       results.push_back(o);
+      if (results.size() == 1)  // the header with the first row: an error before it prints no table
+        std::printf("%-20s %9s %9s %9s %8s %8s %8s %7s %5s %8s\n", "object", "x[m]", "y[m]", "z[m]", "roll", "pitch",
+                    "yaw", "weight", "iter", "time[ms]");
       std::printf("%-20s %9.4f %9.4f %9.4f %8.3f %8.3f %8.3f %7.3f %5d %8.0f\n", o.obj.c_str(), o.pose_base.x,
                   o.pose_base.y, o.pose_base.z, o.pose_base.roll, o.pose_base.pitch, o.pose_base.yaw, o.weight,
                   o.iterations, o.time_ms);

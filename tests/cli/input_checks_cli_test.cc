@@ -156,6 +156,7 @@ TEST_F(CliTest, WrongUnitsAreNamed) {
   // A metre mesh read as millimetres: 0.2 mm across in a scene 0.4 m away.
   RunResult r = Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--unit-scale", "0.001"}));
   ExpectInputError(r, "estimate", "--unit-scale");
+  EXPECT_EQ(r.out, "") << "a results table was printed before the error";
   // Depth 100x too deep: beyond the heuristic range, no cell of the prior can host a particle.
   r = Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--depth-scale", "0.01"}));
   ExpectInputError(r, "estimate", "--depth-scale");
