@@ -271,19 +271,7 @@ namespace {
 // Plausible scene and object sizes (metres): what a depth camera sees, and objects between a
 // thousandth and ten times the scene's median depth across.
 constexpr double kMinPlausibleDepthM = 0.01, kMaxPlausibleDepthM = 100;
-constexpr double kMinObjectToDepth = 1e-3, kMaxObjectToDepth = 10;
 
-// The median of the depth image's valid (> 0) pixels, metres; 0 when there is none.
-double MedianValidDepth(const DepthImage& d) {
-  std::vector<float> z;
-  z.reserve(d.data.size());
-  for (float v : d.data)
-    if (v > 0) z.push_back(v);
-  if (z.empty()) return 0;
-  auto mid = z.begin() + std::ptrdiff_t(z.size() / 2);
-  std::nth_element(z.begin(), mid, z.end());
-  return *mid;
-}
 
 }  // namespace
 
@@ -306,7 +294,7 @@ void ValidateScene(const SceneInput& scene, const std::string& what) {
   if (valid == 0) throw Error(what + ": depth image has no valid pixel (all zero)");
   // A depth scale off by 1000 (millimetres read as metres, or the reverse) puts the scene
   // kilometres or millimetres away; no depth camera sees that.
-  const double median = MedianValidDepth(d);
+  const double median = filter::MedianValidDepth(d);
   if (!(median >= kMinPlausibleDepthM && median <= kMaxPlausibleDepthM)) {
     std::ostringstream os;
     os << what << ": the median depth is " << median << " m, outside the [" << kMinPlausibleDepthM << ", "
@@ -361,16 +349,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   const double diameter = mesh.Diameter();
   ctx.diameter = diameter;
-  // Catches mesh unit mistakes (a millimetre mesh read as metres, or the reverse).
-  const double median_depth = MedianValidDepth(prep.support);
-  if (!(diameter >= kMinObjectToDepth * median_depth && diameter <= kMaxObjectToDepth * median_depth)) {
-    std::ostringstream os;
-    os << "mesh '" << mesh.name << "' is " << diameter << " m across, implausible in a scene whose median depth is "
-       << median_depth << " m (objects of " << kMinObjectToDepth * median_depth << " to "
-       << kMaxObjectToDepth * median_depth
-       << " m are accepted): are the mesh units right? (the unit scale, --unit-scale: 0.001 for a millimetre mesh, 1 for metres)";
-    throw Error(os.str());
-  }
+  filter::CheckMeshScale(mesh.name, diameter, prep.support);
   const HeuristicOptions hopt = VolumeOptions(options, diameter);
   ctx.volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();

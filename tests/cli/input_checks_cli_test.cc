@@ -157,6 +157,13 @@ TEST_F(CliTest, WrongUnitsAreNamed) {
   RunResult r = Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--unit-scale", "0.001"}));
   ExpectInputError(r, "estimate", "--unit-scale");
   EXPECT_EQ(r.out, "") << "a results table was printed before the error";
+  // Every engine checks it.
+  for (const std::string engine : {"reference", "hw"}) {
+    SCOPED_TRACE(engine);
+    ExpectInputError(Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"),
+                                          {"--unit-scale", "0.001", "--engine", engine})),
+                     "estimate", "--unit-scale");
+  }
   // Depth 100x too deep: beyond the heuristic range, no cell of the prior can host a particle.
   r = Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--depth-scale", "0.01"}));
   ExpectInputError(r, "estimate", "--depth-scale");
