@@ -169,16 +169,16 @@ int RunBench(int argc, char** argv) {
     if (zbuffer != "on" && zbuffer != "off") throw Error("--zbuffer must be 'on' or 'off' (got '" + zbuffer + "')");
     FilterOptions opt;
     opt.num_particles = particles;
-    opt.max_iterations = iterations;
-    opt.confidence = 1.0;
+    opt.stop.max_iterations = iterations;
+    opt.stop.confidence = 1.0;
     opt.restarts = 1;
-    opt.stall_iterations = 0;
-    opt.polish_steps = 0;
-    opt.anneal_subsample = 1;         // every iteration weighs every pixel ...
+    opt.stop.stall_iterations = 0;
+    opt.polish.steps = 0;
+    opt.anneal.subsample = 1;         // every iteration weighs every pixel ...
     opt.fine_particle_fraction = 1;   // ... of --particles particles: the kernel's full-resolution cost
     opt.threads = threads;
-    opt.zbuffer = zbuffer == "on";
-    opt.lod_max_faces = lod;
+    opt.render.zbuffer = zbuffer == "on";
+    opt.render.lod_max_faces = lod;
     opt.seed = seed;
     CheckFilterOptions(opt);  // names --threads, --lod, ... as the filter commands do
     SynthOptions synth;
@@ -213,7 +213,7 @@ int RunBench(int argc, char** argv) {
     auto run_once = [&](const std::string& engine, int its) {
       FilterOptions o = opt;
       ApplyEngine(engine, &o);
-      o.max_iterations = its;
+      o.stop.max_iterations = its;
       cpu_stamps.clear();
       const EstimateResult r =
           EstimatePose(input, scene.target, prior, cls, o, [&](int, double) { cpu_stamps.push_back(ProcessCpuMs()); });
@@ -314,9 +314,9 @@ int RunBench(int argc, char** argv) {
             {"hardware_threads", hw_threads},
             {"cpu_isa", cpu_isa},
             {"load_average", load_average},
-            {"zbuffer", opt.zbuffer},
+            {"zbuffer", opt.render.zbuffer},
             {"seed", seed},
-            {"anneal_subsample", opt.anneal_subsample},
+            {"anneal_subsample", opt.anneal.subsample},
             {"fine_particle_fraction", opt.fine_particle_fraction},
             {"timing", "median over repeats of the mean EstimateResult::iteration_ms (no early stop, 1 restart, "
                        "no polish, every pixel and particle in each iteration); engines interleaved"}}},

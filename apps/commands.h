@@ -16,5 +16,6 @@ int RunGtDetections(int argc, char** argv);  // apps/gt_detections_cmd.cc
 int RunRunDataset(int argc, char** argv);    // apps/run_dataset_cmd.cc
 int RunBench(int argc, char** argv);     // apps/bench_cmd.cc
 int RunHwReport(int argc, char** argv);  // apps/hw_report_cmd.cc
+int RunOptions(int argc, char** argv);   // apps/options_cmd.cc
 
 }  // namespace posefilter::cli

@@ -46,7 +46,7 @@ int RunDemo(int argc, char** argv) {
     const SceneInput input{scene.depth, scene.camera};
     const int cls = prior.ClassIndex(scene.target.name);
     const EstimateResult r =
-        EstimatePose(input, scene.target, prior, cls, opt, StderrProgress(scene.target.name, opt.max_iterations * opt.restarts, quiet));
+        EstimatePose(input, scene.target, prior, cls, opt, StderrProgress(scene.target.name, opt.stop.max_iterations * opt.restarts, quiet));
     if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
 
     const double diameter = scene.target.Diameter();
@@ -59,8 +59,9 @@ int RunDemo(int argc, char** argv) {
                 1000 * e.add, e.rot_deg, 1000 * e.trans_m);
 
     RgbImage img = ShadeDepth(scene.depth);
-    DrawPoseOverlay(&img, scene.target, scene.gt[0].T_cam_obj, scene.camera, {60, 120, 255});
-    DrawPoseOverlay(&img, scene.target, r.T_cam_obj, scene.camera, {40, 220, 60});
+    DrawPoseOverlay(&img, scene.target, scene.gt[0].T_cam_obj, scene.camera, kGroundTruthColor);
+    DrawPoseOverlay(&img, scene.target, r.T_cam_obj, scene.camera, kEstimateColor);
+    DrawLegend(&img, {{"estimate", kEstimateColor}, {"ground truth", kGroundTruthColor}});
     const std::string overlay = (std::filesystem::path(out_dir) / "overlay.png").string();
     SaveRgbPng(img, overlay);
     std::printf("overlay (green: estimate, blue: ground truth): %s\n", overlay.c_str());

@@ -163,7 +163,7 @@ int RunEstimate(int argc, char** argv) {
       if (cls < 0) throw Error("object '" + mesh.name + "' is not a class of the prior (see --classes)");
       if (!(job.prior.ClassMass(cls) > 0)) throw Error("the prior holds no probability for '" + mesh.name + "'");
       scene.mask = std::move(job.mask);
-      const EstimateResult r = EstimatePose(scene, mesh, job.prior, cls, opt, StderrProgress(mesh.name, opt.max_iterations * opt.restarts, quiet));
+      const EstimateResult r = EstimatePose(scene, mesh, job.prior, cls, opt, StderrProgress(mesh.name, opt.stop.max_iterations * opt.restarts, quiet));
       if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
       ObjectResult o;
       o.obj = mesh.name;
@@ -183,8 +183,14 @@ int RunEstimate(int argc, char** argv) {
     if (!out_path.empty()) WriteResultsJson(results, out_path);
     if (!overlay_path.empty()) {
       RgbImage img = rgb_path.empty() ? ShadeDepth(scene.depth) : std::move(background);
-      for (std::size_t i = 0; i < results.size(); ++i)
-        DrawPoseOverlay(&img, *job_meshes[i], results[i].T_cam_obj, scene.camera, {40, 220, 60});
+      std::vector<LegendEntry> legend;
+      for (std::size_t i = 0; i < results.size(); ++i) {
+        DrawPoseOverlay(&img, *job_meshes[i], results[i].T_cam_obj, scene.camera, kEstimateColor);
+        char weight[32];
+        std::snprintf(weight, sizeof weight, " (weight %.2f)", results[i].weight);
+        legend.push_back({"estimate " + results[i].obj + weight, kEstimateColor});
+      }
+      DrawLegend(&img, legend);
       SaveRgbPng(img, overlay_path);
     }
   });

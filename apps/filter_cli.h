@@ -9,18 +9,20 @@
 
 namespace posefilter::cli {
 
-// Registers every filter option (--engine, --particles, --iterations, --seed, --threads, …;
-// the full list, with help texts, is the body of this function in apps/filter_cli.cc, and
-// `posefilter estimate --help` prints it) on `app`, writing into `opt` (defaults =
-// FilterOptions defaults).
+// Registers every filter option of posefilter/option_table.h (--engine, --particles,
+// --iterations, --seed, --threads, …; `posefilter options` lists them) on `app`, writing into
+// `opt` (defaults = FilterOptions defaults), in one --help section per group.
 void AddFilterOptions(CLI::App& app, FilterOptions* opt);
 // Checks a --seed value before CLI11 converts it: digits only, at most 2^64 - 1 (so "-1" and
 // "1e23" are errors, not 2^64 - 1).
 CLI::Validator SeedValidator();
-// Validates after parsing; throws Error naming the option ("--alpha ...: ...").
+// Validates after parsing; throws Error naming the option ("--alpha must be in [0, 1] (got 2)").
+// Then prints one warning to stderr per option set away from its default that the chosen
+// engine does not read.
 void CheckFilterOptions(const FilterOptions& opt);
-// A progress callback printing "<obj>: iteration i/N, best weight w" to stderr (rewritten in
-// place on a terminal, every 10 iterations otherwise). Empty when quiet.
+// A progress callback printing "<obj>: iteration i/N, best weight w" to stderr, w the best
+// weight at the final inlier threshold ("annealing" before there is one; ProgressFn); rewritten
+// in place on a terminal, every 10 iterations otherwise. Empty when quiet.
 ProgressFn StderrProgress(const std::string& obj, int max_iterations, bool quiet);
 
 }  // namespace posefilter::cli

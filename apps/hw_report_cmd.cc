@@ -51,12 +51,12 @@ int RunHwReport(int argc, char** argv) {
   HwProfileOptions popt;
   FilterOptions opt;
   opt.engine = "hw";
-  opt.max_iterations = 50;  // the thesis's 50-iteration figures
-  opt.confidence = 1.0;     // run all of them
+  opt.stop.max_iterations = 50;  // the thesis's 50-iteration figures
+  opt.stop.confidence = 1.0;     // run all of them
   opt.restarts = 1;
   // The thesis's depth fragments are 200×200 for every particle (eq. 7.8, Table 7.2): windows of
   // at least 4 object diameters are clipped to the 200-pixel cap.
-  opt.min_window_diameters = 4;
+  opt.render.min_window_diameters = 4;
   app.add_option("--scene-seed", scene_seed, "synthetic scene seed")->capture_default_str();
   app.add_option("--target", target, "synthetic object kind (torus: 1024 vertices, 2048 faces)")->capture_default_str();
   app.add_option("--occlusion", occlusion, "occluded fraction of the target")->capture_default_str();
@@ -65,7 +65,7 @@ int RunHwReport(int argc, char** argv) {
   app.add_option("--profile-every", popt.profile_every,
                  "model every k-th iteration (the first always; others reuse the last model)")
       ->capture_default_str();
-  app.add_option("--window-diameters", opt.min_window_diameters,
+  app.add_option("--window-diameters", opt.render.min_window_diameters,
                  "minimum window side in object diameters (4: every window 200x200, as the thesis; 1: the filter's default)")
       ->capture_default_str();
   app.add_option("--json", json_path, "also write the report as JSON");

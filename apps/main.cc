@@ -32,6 +32,8 @@ constexpr Command kCommands[] = {
      "speed of the scoring engines on a fixed synthetic workload (ms per iteration, throughput)"},
     {"hw-report", posefilter::cli::RunHwReport,
      "cycle model of the hw engine (FPGA C simulation) on a synthetic scene, vs the thesis's figures"},
+    {"options", posefilter::cli::RunOptions,
+     "every filter option: default, range, the engines that read it, meaning (--markdown: docs/OPTIONS.md)"},
 };
 
 void PrintUsage(std::ostream& os) {

@@ -37,7 +37,7 @@ def import_posefilter():
 def run_demo(args, pf):
     plots = pf.plots
     kinds = pf.synth_class_names()
-    est = pf.Estimator(num_particles=args.particles, max_iterations=args.iterations, restarts=args.restarts,
+    est = pf.Estimator(particles=args.particles, iterations=args.iterations, restarts=args.restarts,
                        seed=args.seed, threads=args.threads)
     panels, results, errors = [], [], []
     first = None

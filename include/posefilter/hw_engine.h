@@ -1,24 +1,26 @@
 // posefilter/hw_engine.h — the `hw` engine: a bit-accurate C simulation of the thesis's FPGA
-// architecture (thesis Chapter 7; docs/HARDWARE.md) driven like the float engines, plus its
-// cycle model.
+// architecture (thesis Chapter 7; docs/HARDWARE.md), and its cycle model.
 //
-// EstimatePose(…) with FilterOptions::engine == "hw" calls EstimatePoseHw. The driver
-// (src/hw/engine.cc) converts the inputs to the hardware's fixed-point memories (depth clipped
-// to 4 m in ufixed<12,2>, the model reduced to ≤ 1024 vertices / ≤ 2048 faces, camera,
+// EstimatePose(…) with FilterOptions::engine == "hw" runs it. Its host driver
+// (src/filter/hw_driver.cc) converts the inputs to the hardware's fixed-point memories (depth
+// clipped to 4 m in ufixed<12,2>, the model reduced to ≤ 1024 vertices / ≤ 2048 faces, camera,
 // per-cell windows, heuristic volumes and class probabilities), runs the top functions of
 // src/hw/top.h for the configured iterations and restarts, and returns an EstimateResult like
 // the float engines. docs/HARDWARE.md describes the modules, the host/hardware split and every
 // deviation from the thesis.
 //
-// Differences from the reference engine's options (all documented in docs/HARDWARE.md):
-// num_particles ≤ 510, max_window_px ≤ 200, a 640×480-or-smaller image and the thesis's
-// 6300-cell pyramid are required (Error otherwise). Modelled in fixed point: annealing,
+// Differences from the float engines (all documented in docs/HARDWARE.md; the option table,
+// posefilter/option_table.h, lists the options it does not read): at most kHwMaxParticles
+// particles, windows of at most kHwMaxWindowPx, a near plane of at least kHwMinNearM
+// (FilterOptions::IsValid checks these when engine == "hw"), a 640×480-or-smaller image and the
+// thesis's 6300-cell pyramid (Error otherwise). Modelled in fixed point: annealing,
 // occlusion-aware N_raster, the edge penalty, grown windows, region and rotation caps, the
-// align-depth move and a σ floor of one LSB. Not modelled (float-only): init_oversample and
-// the ICP move; the quarter-turn move only about the object's x axis. The final polish
-// (polish_steps > 0, the default) runs on the host after the hardware runs, in float with the
-// cpu engine's weighing, from each run's best particle; the result's weight is then that float
-// weight. polish_steps = 0 returns the hardware's own answer and weight.
+// align-depth move and a σ floor of one LSB. Not modelled (float-only): init_oversample, the
+// coarse annealing grid, fine sets and the ICP move; the quarter-turn move only about the
+// object's x axis. The final polish (polish.steps > 0, the default) runs on the host after the
+// hardware runs, in float with the cpu engine's weighing, from each run's best particle; the
+// result's weight is then that float weight. polish.steps = 0 returns the hardware's own answer
+// and weight.
 #pragma once
 
 #include <cstdint>
@@ -29,10 +31,10 @@
 
 namespace posefilter {
 
-// The hw engine (see above). Same contract as EstimatePose; throws Error on inputs the
-// hardware cannot take, naming the option or input.
-EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
-                              const FilterOptions& options, const ProgressFn& progress = nullptr);
+// The hardware's limits on the options (src/hw/hw_types.h holds the same numbers).
+inline constexpr int kHwMaxParticles = 510;
+inline constexpr int kHwMaxWindowPx = 200;
+inline constexpr double kHwMinNearM = 1.0 / 64;  // the 1/W format of the transform
 
 // ---- Cycle model report (posefilter hw-report) ----
 
@@ -84,7 +86,7 @@ struct HwProfile {
 };
 
 // Runs the hw engine once (restarts forced to 1) and models its cycles (docs/HARDWARE.md,
-// "Cycle model"). Throws Error like EstimatePoseHw, or for invalid profile options.
+// "Cycle model"). Throws Error like EstimatePose with engine "hw", or for invalid profile options.
 HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                     const FilterOptions& options, const HwProfileOptions& profile);
 

@@ -54,7 +54,7 @@ struct SimplifyReport {
 Mesh SimplifyMesh(const Mesh& mesh, int max_faces, const SimplifyOptions& options = {},
                   SimplifyReport* report = nullptr);
 
-// The mesh a renderer should use for a face budget (FilterOptions::lod_max_faces): `mesh`
+// The mesh a renderer should use for a face budget (FilterOptions::render.lod_max_faces): `mesh`
 // itself when max_faces ≤ 0 (full mesh), when the mesh already has ≤ max_faces faces, or when
 // the arguments are invalid (max_faces < kMinSimplifyFaces or an invalid mesh — the caller's
 // own validation reports those); otherwise SimplifyMesh(mesh, max_faces) stored in *storage.

@@ -4,7 +4,7 @@
 // Objects on a table are seen against the table: a pose laid into the table plane, or sunk
 // below it, explains the table's depth as well as a thin object explains its own few
 // centimetres of relief. The filter therefore takes the table's pixels out of the scene it
-// scores against (FilterOptions::support_plane; docs/ALGORITHM.md, "Support plane"): they
+// scores against (FilterOptions::support.plane; docs/ALGORITHM.md, "Support plane"): they
 // are never inliers, never hide an object, and do not count in N_depth.
 //
 // Method: RANSAC over a regular grid of the valid depth pixels (back-projected to the camera

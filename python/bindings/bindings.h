@@ -38,6 +38,7 @@
 #include "posefilter/mesh.h"
 #include "posefilter/mask_prior.h"
 #include "posefilter/metrics.h"
+#include "posefilter/option_table.h"
 #include "posefilter/overlay.h"
 #include "posefilter/pose.h"
 #include "posefilter/prior.h"
@@ -92,8 +93,7 @@ py::tuple BoxTuple(const Box& b);
 
 // ---------------------------------------------------------------- keyword options
 
-// One keyword option of an options struct: its name (the C++ field, nested ones prefixed
-// with their struct, e.g. inlier_thr1_m), a setter from a Python value and a getter.
+// One keyword option of an options struct: its name, a setter from a Python value and a getter.
 template <class Options>
 struct Keyword {
   std::string name;
@@ -113,9 +113,13 @@ Keyword<Options> Nested(const char* name, S Options::*s, T S::*m) {
           [s, m](const Options& o) { return py::cast((o.*s).*m); }};
 }
 
-// Every FilterOptions field (filter.h), in declaration order. python/tests/test_options.py
-// checks this list against the header, so a new field cannot be forgotten here.
+// One keyword per row of the option table (posefilter/option_table.h): the CLI name with
+// '-' as '_'.
 const std::vector<Keyword<FilterOptions>>& FilterKeywords();
+// The Python type of an option's values, as the .pyi spells it ("int", "Sequence[float]").
+std::string PythonTypeName(OptionType t);
+// Estimator's docstring: every keyword with its type, default, range, engines and meaning.
+const std::string& EstimatorDoc();
 const std::vector<Keyword<SynthOptions>>& SynthKeywords();
 
 
@@ -154,8 +158,8 @@ py::dict KeywordDict(const Options& o, const std::vector<Keyword<Options>>& keyw
   return d;
 }
 
-// FilterOptions::IsValid names fields; name the keyword where it differs from the field.
-std::string NameKeywords(std::string why);
+// `o` if valid (else Error naming the keyword); warns (UserWarning) once per option set away
+// from its default that o.engine does not read.
 FilterOptions CheckedFilterOptions(const FilterOptions& o);
 
 // ---------------------------------------------------------------- priors (priors.cc)

@@ -196,17 +196,29 @@ void BindEstimation(py::module_& m) {
       })
       .def("__repr__", [](const BatchResult& b) { return "BatchResult(" + std::to_string(b.items.size()) + " objects)"; });
 
-  py::class_<Estimator>(m, "Estimator",
-                        "The particle filter with fixed options. Estimator(**options): keyword = FilterOptions field "
-                        "(nested: inlier_*, heuristics_*); see Estimator.defaults().")
+  py::class_<Estimator>(m, "Estimator", EstimatorDoc().c_str())
       .def(py::init([](const py::kwargs& kw) {
         FilterOptions o;
         ApplyKeywords(&o, kw, FilterKeywords(), "Estimator");
         return Estimator(o);
-      }))
+      }), EstimatorDoc().c_str())
       .def_property_readonly("options", [](const Estimator& e) { return KeywordDict(e.options(), FilterKeywords()); },
                              "dict of every option")
       .def_static("defaults", [] { return KeywordDict(FilterOptions{}, FilterKeywords()); }, "dict of the default options")
+      .def_static("option_table", [] {
+        // One dict per option: the table of posefilter/option_table.h.
+        py::list rows;
+        const FilterOptions defaults;
+        const auto& keywords = FilterKeywords();
+        std::size_t i = 0;
+        for (const OptionInfo& f : FilterOptionTable()) {
+          rows.append(py::dict("keyword"_a = f.Name(OptionNaming::kPython), "cli"_a = f.Name(OptionNaming::kCli),
+                               "field"_a = f.field, "group"_a = f.group, "type"_a = PythonTypeName(f.type),
+                               "default"_a = keywords[i++].get(defaults), "range"_a = f.RangeText(),
+                               "engines"_a = f.EnginesText(), "help"_a = f.help));
+        }
+        return rows;
+      }, "list of dicts (keyword, cli, field, group, type, default, range, engines, help), one per option")
       .def_static("option_names", [] {
         std::vector<std::string> n;
         for (const auto& k : FilterKeywords()) n.push_back(k.name);
@@ -218,11 +230,12 @@ void BindEstimation(py::module_& m) {
            "uint16 with depth_scale). prior: None (uniform, or the mask's box), a Prior, a detections JSON path, "
            "or a list of Detection/dicts. obj: prior class name(s), default the meshes' names. mask: the "
            "object's instance mask (H x W, non-zero = the object; one Mesh), scored against. progress(obj, "
-           "iteration, best_weight) is called after each iteration. Runs without the GIL.")
+           "iteration, best_weight) is called after each iteration (best_weight: the best at the final inlier "
+           "threshold, never falling; NaN while the first run anneals). Runs without the GIL.")
       .def("__repr__", [](const Estimator& e) {
         const auto& o = e.options();
-        return "Estimator(num_particles=" + std::to_string(o.num_particles) + ", max_iterations=" +
-               std::to_string(o.max_iterations) + ", restarts=" + std::to_string(o.restarts) + ", seed=" +
+        return "Estimator(particles=" + std::to_string(o.num_particles) + ", iterations=" +
+               std::to_string(o.stop.max_iterations) + ", restarts=" + std::to_string(o.restarts) + ", seed=" +
                std::to_string(o.seed) + ", ...)";
       });
 }

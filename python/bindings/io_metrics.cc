@@ -22,8 +22,17 @@ void BindIoAndMetrics(py::module_& m) {
     if (img.width != camera.width || img.height != camera.height) Fail("image: size differs from the camera's");
     DrawPoseOverlay(&img, mesh, TransformFrom(T, "T_cam_obj"), camera, color);
     return ToNumpy(img);
-  }, "image"_a, "mesh"_a, "T_cam_obj"_a, "camera"_a, "color"_a = std::array<std::uint8_t, 3>{40, 220, 60},
+  }, "image"_a, "mesh"_a, "T_cam_obj"_a, "camera"_a, "color"_a = kEstimateColor,
         "A copy of image with mesh drawn at T_cam_obj: tinted silhouette and outline in color.");
+  m.def("draw_legend", [](py::handle image, const std::vector<std::pair<std::string, std::array<std::uint8_t, 3>>>& entries) {
+    RgbImage img = RgbFrom(image, "image");
+    std::vector<LegendEntry> legend;
+    for (const auto& [text, color] : entries) legend.push_back({text, color});
+    DrawLegend(&img, legend);
+    return ToNumpy(img);
+  }, "image"_a, "entries"_a,
+        "A copy of image with a legend in its top-left corner: one (text, (r, g, b)) entry per line, a swatch of "
+        "the colour and the text.");
   m.def("render_depth", [](const Mesh& mesh, py::handle T, const Camera& camera, py::handle depth) {
     CheckedCamera(camera, "camera");
     DepthImage d = depth.is_none() ? DepthImage(camera.width, camera.height) : DepthFrom(depth, std::nullopt, &camera, "depth");

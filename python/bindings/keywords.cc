@@ -1,75 +1,70 @@
-// python/bindings/keywords.cc — the keyword options of Estimator and make_synth_scene: every FilterOptions and SynthOptions field by name, and messages in keyword names.
+// python/bindings/keywords.cc — the keyword options of Estimator (the rows of the option table,
+// posefilter/option_table.h) and of make_synth_scene (every SynthOptions field by name).
 #include "bindings.h"
 
 namespace posefilter::python {
 
-// Every FilterOptions field (filter.h), in declaration order. python/tests/test_options.py
-// checks this list against the header, so a new field cannot be forgotten here.
+namespace {
+
+template <class T>
+Keyword<FilterOptions> TableKeyword(const OptionInfo& f) {
+  const OptionInfo* row = &f;
+  return {f.Name(OptionNaming::kPython), [row](FilterOptions& o, py::handle h) { row->Of<T>(o) = h.cast<T>(); },
+          [row](const FilterOptions& o) { return py::cast(row->Of<T>(o)); }};
+}
+
+}  // namespace
+
+// One keyword per row of the option table (posefilter/option_table.h), in its order.
 const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
-  using O = FilterOptions;
-  static const std::vector<Keyword<O>> k = {
-      Field("engine", &O::engine),
-      Field("cpu_isa", &O::cpu_isa),
-      Field("num_particles", &O::num_particles),
-      Field("max_iterations", &O::max_iterations),
-      Field("confidence", &O::confidence),
-      Field("alpha", &O::alpha),
-      Field("beta", &O::beta),
-      Field("gamma", &O::gamma),
-      Field("delta", &O::delta),
-      Field("edge_band_m", &O::edge_band_m),
-      Nested("inlier_thr1_m", &O::inlier, &InlierParams::thr1_m),
-      Nested("inlier_hard", &O::inlier, &InlierParams::hard),
-      Nested("inlier_hard_thr_m", &O::inlier, &InlierParams::hard_thr_m),
-      Field("anneal_start_m", &O::anneal_start_m),
-      Field("anneal_fraction", &O::anneal_fraction),
-      Field("anneal_subsample", &O::anneal_subsample),
-      Field("anneal_simplify", &O::anneal_simplify),
-      Field("zbuffer", &O::zbuffer),
-      Field("support_plane", &O::support_plane),
-      Field("contact", &O::contact),
-      Field("stable_start", &O::stable_start),
-      Field("contact_tolerance_m", &O::contact_tolerance_m),
-      Field("contact_span_m", &O::contact_span_m),
-      Field("occlusion_aware", &O::occlusion_aware),
-      Field("max_window_px", &O::max_window_px),
-      Field("adaptive_resolution", &O::adaptive_resolution),
-      Field("min_window_diameters", &O::min_window_diameters),
-      Field("grow_window", &O::grow_window),
-      Field("near_m", &O::near_m),
-      Field("lod_max_faces", &O::lod_max_faces),
-      Field("init_oversample", &O::init_oversample),
-      Field("fine_particle_fraction", &O::fine_particle_fraction),
-      Field("num_elite", &O::num_elite),
-      Field("resample_pool", &O::resample_pool),
-      Field("region_cap", &O::region_cap),
-      Field("rotation_cap", &O::rotation_cap),
-      Field("tracker_bins", &O::tracker_bins),
-      Field("sigma_t0_m", &O::sigma_t0_m),
-      Field("sigma_r0_rad", &O::sigma_r0_rad),
-      Field("min_sigma_fraction", &O::min_sigma_fraction),
-      Field("move_probabilities", &O::move_probabilities),
-      Field("align_band_m", &O::align_band_m),
-      Nested("heuristics_percentile_lo", &O::heuristics, &HeuristicOptions::percentile_lo),
-      Nested("heuristics_percentile_hi", &O::heuristics, &HeuristicOptions::percentile_hi),
-      Nested("heuristics_depth_extension_m", &O::heuristics, &HeuristicOptions::depth_extension_m),
-      Nested("heuristics_max_samples", &O::heuristics, &HeuristicOptions::max_samples),
-      Nested("heuristics_max_depth_m", &O::heuristics, &HeuristicOptions::max_depth_m),
-      Nested("heuristics_min_valid_pixels", &O::heuristics, &HeuristicOptions::min_valid_pixels),
-      Field("restarts", &O::restarts),
-      Field("stall_iterations", &O::stall_iterations),
-      Field("stall_gain", &O::stall_gain),
-      Field("polish_steps", &O::polish_steps),
-      Field("polish_turns", &O::polish_turns),
-      Field("polish_pivots", &O::polish_pivots),
-      Field("polish_keep", &O::polish_keep),
-      Field("polish_stable", &O::polish_stable),
-      Field("polish_seeds", &O::polish_seeds),
-      Field("polish_climbers", &O::polish_climbers),
-      Field("seed", &O::seed),
-      Field("threads", &O::threads),
-  };
+  static const std::vector<Keyword<FilterOptions>> k = [] {
+    std::vector<Keyword<FilterOptions>> out;
+    for (const OptionInfo& f : FilterOptionTable()) {
+      switch (f.type) {
+        case OptionType::kBool: out.push_back(TableKeyword<bool>(f)); break;
+        case OptionType::kInt: out.push_back(TableKeyword<int>(f)); break;
+        case OptionType::kFloat: out.push_back(TableKeyword<float>(f)); break;
+        case OptionType::kDouble: out.push_back(TableKeyword<double>(f)); break;
+        case OptionType::kString: out.push_back(TableKeyword<std::string>(f)); break;
+        case OptionType::kUint64: out.push_back(TableKeyword<std::uint64_t>(f)); break;
+        case OptionType::kMoveProbabilities: out.push_back(TableKeyword<std::array<double, kNumMoves>>(f)); break;
+      }
+    }
+    return out;
+  }();
   return k;
+}
+
+std::string PythonTypeName(OptionType t) {
+  switch (t) {
+    case OptionType::kBool: return "bool";
+    case OptionType::kInt:
+    case OptionType::kUint64: return "int";
+    case OptionType::kFloat:
+    case OptionType::kDouble: return "float";
+    case OptionType::kString: return "str";
+    case OptionType::kMoveProbabilities: return "Sequence[float]";
+  }
+  return "object";
+}
+
+const std::string& EstimatorDoc() {
+  static const std::string doc = [] {
+    std::string d =
+        "The particle filter with fixed options: Estimator(**options), each keyword one of the CLI's filter "
+        "options with '-' as '_' (`posefilter options`, docs/OPTIONS.md). Units: metres, radians, pixels.\n\n"
+        "Keywords (type = default, range; engines that read it: meaning):\n";
+    const FilterOptions defaults;
+    std::string group;
+    for (const OptionInfo& f : FilterOptionTable()) {
+      if (group != f.group) d += "\n" + (group = f.group) + ":\n";
+      const std::string range = f.RangeText();
+      d += "  " + f.Name(OptionNaming::kPython) + ": " + PythonTypeName(f.type) + " = " + f.ValueText(defaults) +
+           (range.empty() ? "" : ", " + range) + "; " + f.EnginesText() + ": " + f.help + "\n";
+    }
+    return d;
+  }();
+  return doc;
 }
 
 const std::vector<Keyword<SynthOptions>>& SynthKeywords() {
@@ -93,29 +88,10 @@ const std::vector<Keyword<SynthOptions>>& SynthKeywords() {
   return k;
 }
 
-// FilterOptions::IsValid names fields; name the keyword where it differs from the field.
-std::string NameKeywords(std::string why) {
-  auto replace = [&](const std::string& from, const std::string& to) {
-    const auto p = why.find(from);
-    if (p != std::string::npos) why.replace(p, from.size(), to);
-    return p != std::string::npos;
-  };
-  if (why.rfind("heuristics: ", 0) == 0) {
-    why = why.substr(12);
-    for (const char* f : {"percentile_lo", "percentile_hi", "depth_extension_m", "max_samples", "max_depth_m",
-                          "min_valid_pixels"})
-      for (auto p = why.find(f); p != std::string::npos; p = why.find(f, p + 11 + std::strlen(f)))
-        why.replace(p, std::strlen(f), std::string("heuristics_") + f);
-    return why;
-  }
-  if (!replace("hard inlier threshold", "inlier_hard_thr_m")) replace("inlier threshold", "inlier_thr1_m");
-  if (why.find("move probabilit") != std::string::npos) why += " (keyword move_probabilities)";
-  return why;
-}
-
 FilterOptions CheckedFilterOptions(const FilterOptions& o) {
   std::string why;
-  if (!o.IsValid(&why)) Fail("invalid filter option: " + NameKeywords(why));
+  if (!ValidateFilterOptions(o, OptionNaming::kPython, &why)) Fail("invalid filter option: " + why);
+  WarnAll(IgnoredOptions(o, OptionNaming::kPython));
   return o;
 }
 

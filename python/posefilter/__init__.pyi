@@ -72,6 +72,7 @@ def save_rgb_png(image: U8, path: str) -> None: ...
 def shade_depth(depth: ArrayLike) -> U8: ...
 def draw_pose_overlay(image: U8, mesh: Mesh, T_cam_obj: ArrayLike, camera: Camera,
                       color: tuple[int, int, int] = (40, 220, 60)) -> U8: ...
+def draw_legend(image: U8, entries: Sequence[tuple[str, tuple[int, int, int]]]) -> U8: ...
 def render_depth(mesh: Mesh, T_cam_obj: ArrayLike, camera: Camera,
                  depth: ArrayLike | None = None) -> tuple[F32, npt.NDArray[np.bool_]]: ...
 def projected_box(mesh: Mesh, T_cam_obj: ArrayLike, camera: Camera) -> BoxTuple: ...
@@ -205,31 +206,82 @@ PriorLike = None | Prior | StrPath | Sequence[DetectionLike]
 ProgressFn = Callable[[str, int, float], object]
 
 class Estimator:
-    """The particle filter. Keywords = FilterOptions fields (include/posefilter/filter.h);
-    nested ones are prefixed: inlier_thr1_m, inlier_hard, inlier_hard_thr_m, heuristics_*."""
-    def __init__(self, *, engine: str = ..., cpu_isa: str = ..., num_particles: int = ..., max_iterations: int = ...,
-                 confidence: float = ..., alpha: float = ..., beta: float = ..., gamma: float = ...,
-                 delta: float = ..., edge_band_m: float = ..., inlier_thr1_m: float = ..., inlier_hard: bool = ...,
-                 inlier_hard_thr_m: float = ..., anneal_start_m: float = ..., anneal_fraction: float = ...,
-                 anneal_subsample: int = ..., anneal_simplify: bool = ...,
-                 zbuffer: bool = ..., support_plane: bool = ..., contact: float = ..., stable_start: float = ..., contact_tolerance_m: float = ...,
-                 contact_span_m: float = ..., occlusion_aware: bool = ..., max_window_px: int = ..., adaptive_resolution: bool = ...,
-                 min_window_diameters: float = ..., grow_window: bool = ..., near_m: float = ..., lod_max_faces: int = ...,
-                 init_oversample: int = ..., fine_particle_fraction: float = ..., num_elite: int = ..., resample_pool: float = ..., region_cap: float = ...,
-                 rotation_cap: float = ..., tracker_bins: int = ..., sigma_t0_m: float = ..., sigma_r0_rad: float = ...,
-                 min_sigma_fraction: float = ..., move_probabilities: Sequence[float] = ..., align_band_m: float = ...,
-                 heuristics_percentile_lo: float = ..., heuristics_percentile_hi: float = ...,
-                 heuristics_depth_extension_m: float = ..., heuristics_max_samples: int = ...,
-                 heuristics_max_depth_m: float = ..., heuristics_min_valid_pixels: int = ..., restarts: int = ...,
-                 stall_iterations: int = ..., stall_gain: float = ...,
-                 polish_steps: int = ..., polish_turns: bool = ..., polish_pivots: bool = ..., polish_keep: int = ..., polish_stable: bool = ..., polish_seeds: int = ..., polish_climbers: int = ..., seed: int = ...,
-                 threads: int = ...) -> None: ...
+    """The particle filter. Keywords = the CLI's filter options with '-' as '_' (`posefilter options`,
+    docs/OPTIONS.md); help(Estimator) lists each with its default, range and meaning."""
+    # BEGIN options: generated from Estimator.option_table() (python/tests/test_options.py --write-stub)
+    def __init__(
+        self,
+        *,
+        engine: str = ...,  # 'cpu', cpu|reference|hw
+        cpu_isa: str = ...,  # 'auto', auto|avx512|avx2|portable
+        threads: int = ...,  # 0, >= 0
+        seed: int = ...,  # 1, [0, 2^64 - 1]
+        restarts: int = ...,  # 4, [1, 100]
+        particles: int = ...,  # 510, [2, 1000000]
+        elite: int = ...,  # 10, [0, 1000000]
+        pool: float = ...,  # 0.25, (0, 1]
+        fine_fraction: float = ...,  # 0.6666666666666666, (0, 1]
+        init_oversample: int = ...,  # 1, [1, 64]
+        tracker_bins: int = ...,  # 32, [1, 4096]
+        alpha: float = ...,  # 0.2, [0, 1]
+        beta: float = ...,  # 0.5, [0, 1]
+        gamma: float = ...,  # 0.3, [0, 1]
+        delta: float = ...,  # 0.3, [0, 1]
+        edge_band: float = ...,  # 0.01, > 0
+        inlier_thr: float = ...,  # 0.00390625, > 0
+        hard_inlier: bool = ...,  # False
+        hard_inlier_thr: float = ...,  # 0.004999999888241291, > 0
+        occlusion_aware: bool = ...,  # True
+        support_plane: bool = ...,  # True
+        contact: float = ...,  # 0.15, [0, 1]
+        contact_tolerance: float = ...,  # 0.015, >= 0
+        contact_span: float = ...,  # 0.03, > 0
+        stable_start: float = ...,  # 0.5, [0, 1]
+        zbuffer: bool = ...,  # True
+        near: float = ...,  # 0.05, > 0
+        lod: int = ...,  # 4096, >= 0
+        window: int = ...,  # 200, >= 8
+        adaptive_resolution: bool = ...,  # True
+        min_window_diameters: float = ...,  # 1.0, [0, 4]
+        grow_window: bool = ...,  # True
+        anneal: float = ...,  # 0.02, >= 0
+        anneal_fraction: float = ...,  # 0.5, [0, 1]
+        anneal_subsample: int = ...,  # 3, [1, 4]
+        anneal_simplify: bool = ...,  # True
+        region_cap: float = ...,  # 0.34, (0, 1]
+        rotation_cap: float = ...,  # 0.1, (0, 1]
+        sigma_t: float = ...,  # 0.01, >= 0
+        sigma_r: float = ...,  # 0.2, >= 0
+        min_sigma_fraction: float = ...,  # 0.05, [0, 1]
+        move_probabilities: Sequence[float] = ...,  # >= 0
+        align_band: float = ...,  # 0.05, > 0
+        iterations: int = ...,  # 17, [1, 100000]
+        confidence: float = ...,  # 0.9, (0, 1]
+        stall_iterations: int = ...,  # 3, [0, 1000]
+        stall_gain: float = ...,  # 0.01, [0, 1]
+        polish_steps: int = ...,  # 8, [0, 100]
+        polish_turns: bool = ...,  # True
+        polish_pivots: bool = ...,  # True
+        polish_keep: int = ...,  # 48, [1, 100000]
+        polish_stable: bool = ...,  # True
+        polish_seeds: int = ...,  # 1, [1, 1000]
+        polish_climbers: int = ...,  # 4, [0, 1000]
+        heuristics_percentile_lo: float = ...,  # 0.1, [0, 1]
+        heuristics_percentile_hi: float = ...,  # 0.9, [0, 1]
+        heuristics_depth_extension: float = ...,  # 0.0, >= 0
+        heuristics_max_samples: int = ...,  # 400, >= 1
+        heuristics_max_depth: float = ...,  # 4.0, > 0
+        heuristics_min_valid_pixels: int = ...,  # 5, >= 1
+    ) -> None: ...
+    # END options
     @property
     def options(self) -> dict[str, Any]: ...
     @staticmethod
     def defaults() -> dict[str, Any]: ...
     @staticmethod
     def option_names() -> list[str]: ...
+    @staticmethod
+    def option_table() -> list[dict[str, Any]]: ...
     @overload
     def estimate(self, depth: ArrayLike, camera: Camera, mesh: Mesh, prior: PriorLike = None, *,
                  obj: str | None = None, depth_scale: float | None = None,

@@ -7,9 +7,9 @@ import posefilter as pf
 
 # A small filter budget (a fraction of a second per estimate on one core): enough for the easy
 # synthetic scenes below, far below the defaults (510 particles x 17 iterations x 4 restarts).
-SMALL = dict(num_particles=150, max_iterations=8, restarts=2, polish_steps=4, threads=2)
+SMALL = dict(particles=150, iterations=8, restarts=2, polish_steps=4, threads=2)
 # Tests that compare calls with each other need no accuracy: the smallest budget.
-TINY = dict(num_particles=40, max_iterations=3, restarts=1, polish_steps=0, threads=2)
+TINY = dict(particles=40, iterations=3, restarts=1, polish_steps=0, threads=2)
 
 # An easy scene: a torus alone on the table, no occluder, a tight true detection and no false
 # positives (the filter's own accuracy is tested by the C++ suite; here we test the bindings).

@@ -9,7 +9,7 @@ import posefilter as pf
 
 @pytest.fixture(scope="module")
 def tiny():
-    est = pf.Estimator(num_particles=20, max_iterations=1, restarts=1, polish_steps=0, threads=1)
+    est = pf.Estimator(particles=20, iterations=1, restarts=1, polish_steps=0, threads=1)
     return est
 
 
@@ -54,23 +54,23 @@ def test_uint16_depth_needs_a_valid_scale(easy_scene, tiny):
 @pytest.mark.parametrize(
     "options, match",
     [
-        (dict(num_particles=1), "num_particles"),
-        (dict(max_iterations=0), "max_iterations"),
+        (dict(particles=1), "particles"),
+        (dict(iterations=0), "iterations"),
         (dict(alpha=0.5, beta=0.5, gamma=0.5), "alpha"),
-        (dict(num_elite=200, num_particles=100), "num_elite"),
+        (dict(elite=200, particles=100), "elite"),
         (dict(engine="gpu"), "engine"),
-        (dict(inlier_thr1_m=0.0), "inlier_thr1_m"),
-        (dict(inlier_hard_thr_m=-1.0), "inlier_hard_thr_m"),
+        (dict(inlier_thr=0.0), "inlier_thr"),
+        (dict(hard_inlier_thr=-1.0), "hard_inlier_thr"),
         (dict(heuristics_max_samples=0), "heuristics_max_samples"),
         (dict(heuristics_percentile_lo=0.9, heuristics_percentile_hi=0.1), "heuristics_percentile_lo"),
         (dict(move_probabilities=[0.0] * 17), "move_probabilities"),
         (dict(restarts=0), "restarts"),
         (dict(threads=-1), "threads"),
         (dict(threads=100000), r"threads must be in \[0, \d+\]"),
-        (dict(max_iterations=10**9), r"max_iterations must be in \[1, 100000\]"),
+        (dict(iterations=10**9), r"^invalid filter option: iterations must be in \[1, 100000\] \(got 1000000000\)"),
         (dict(confidence=float("nan")), "confidence"),
         (dict(anneal_subsample=5), "anneal_subsample"),
-        (dict(fine_particle_fraction=0.0), "fine_particle_fraction"),
+        (dict(fine_fraction=0.0), "fine_fraction"),
     ],
 )
 def test_bad_option_values(options, match):
@@ -79,12 +79,12 @@ def test_bad_option_values(options, match):
 
 
 def test_unknown_or_mistyped_options():
-    with pytest.raises(TypeError, match="unknown option 'particles'"):
-        pf.Estimator(particles=10)
-    with pytest.raises(TypeError, match="'num_particles'"):
-        pf.Estimator(num_particles="many")
-    with pytest.raises(TypeError, match="'num_particles'"):
-        pf.Estimator(num_particles=10.5)
+    with pytest.raises(TypeError, match="unknown option 'num_particles'"):
+        pf.Estimator(num_particles=10)
+    with pytest.raises(TypeError, match="'particles'"):
+        pf.Estimator(particles="many")
+    with pytest.raises(TypeError, match="'particles'"):
+        pf.Estimator(particles=10.5)
     with pytest.raises(TypeError, match="'move_probabilities'"):
         pf.Estimator(move_probabilities=[0.5, 0.5])
     with pytest.raises(TypeError, match="'seed'"):
@@ -96,8 +96,8 @@ def test_unknown_or_mistyped_options():
 def test_options_round_trip_and_defaults():
     defaults = pf.Estimator.defaults()
     assert pf.Estimator().options == defaults
-    est = pf.Estimator(num_particles=77, inlier_hard=True, seed=2**63)
-    assert est.options["num_particles"] == 77 and est.options["inlier_hard"] is True
+    est = pf.Estimator(particles=77, hard_inlier=True, seed=2**63)
+    assert est.options["particles"] == 77 and est.options["hard_inlier"] is True
     assert est.options["seed"] == 2**63
     assert pf.Estimator(**est.options).options == est.options
 

@@ -1,7 +1,10 @@
 """Estimation through the bindings: accuracy on synthetic scenes, determinism, batches,
 depth dtypes and layouts, priors in every accepted form."""
 
+import math
+
 import numpy as np
+
 import pytest
 
 import posefilter as pf
@@ -20,10 +23,10 @@ def assert_rigid(T):
 
 def assert_valid_result(r, budget):
     """A result of an estimate with the `budget` options: a rigid pose, a weight in (0, 1], and
-    at least one and at most max_iterations iterations per restart."""
+    at least one and at most `iterations` iterations per restart."""
     assert_rigid(r.pose)
     assert 0 < r.weight <= 1, r.weight
-    assert budget["restarts"] <= r.iterations <= budget["max_iterations"] * budget["restarts"], r.iterations
+    assert budget["restarts"] <= r.iterations <= budget["iterations"] * budget["restarts"], r.iterations
     assert len(r.best_weight_history) == r.iterations
     assert np.all((np.asarray(r.best_weight_history) >= 0) & (np.asarray(r.best_weight_history) <= 1))
 
@@ -150,11 +153,19 @@ def test_obj_names_a_prior_class(easy_scene):
 def test_progress_callback_sees_every_iteration(easy_scene):
     s = easy_scene
     seen = []
-    est = pf.Estimator(num_particles=40, max_iterations=3, restarts=2, polish_steps=0, threads=2, confidence=1.0)
+    est = pf.Estimator(particles=40, iterations=3, restarts=2, polish_steps=0, threads=2, confidence=1.0)
     r = est.estimate(s.depth, s.camera, s.target, s.prior, progress=lambda obj, it, w: seen.append((obj, it, w)))
     assert [it for _, it, _ in seen] == list(range(r.iterations))
     assert all(obj == "torus" for obj, _, _ in seen)
-    assert all(0 <= w <= 1 for _, _, w in seen)
+    # The figure is the best weight at the final inlier threshold: NaN while the first run
+    # anneals (round(0.5 * 3) = 2 iterations), then never falling, and with the polish off the
+    # last one is the result's weight.
+    weights = [w for _, _, w in seen]
+    assert all(math.isnan(w) for w in weights[:2])
+    final = weights[2:]
+    assert final and all(0 <= w <= 1 for w in final)
+    assert final == sorted(final)
+    assert final[-1] == r.weight
 
     def boom(obj, it, w):
         raise RuntimeError("stop here")

@@ -11,7 +11,7 @@ def test_thread_makes_progress_during_estimate(easy_scene):
     depth, camera, mesh, prior = s.depth, s.camera, s.target, s.prior
     # Long enough to tell on a fast machine (≈ 0.3 s with AVX-512 on one core): every iteration
     # runs (no confidence or stall stop).
-    est = pf.Estimator(num_particles=510, max_iterations=12, restarts=1, polish_steps=0, threads=1, confidence=1.0,
+    est = pf.Estimator(particles=510, iterations=12, restarts=1, polish_steps=0, threads=1, confidence=1.0,
                        stall_iterations=0)
     ticks = []
     stop = threading.Event()

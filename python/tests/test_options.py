@@ -1,4 +1,5 @@
-"""Estimator keywords stay in step with FilterOptions (include/posefilter/filter.h)."""
+"""Estimator keywords stay in step with FilterOptions (include/posefilter/filter_options.h), the option table
+(include/posefilter/option_table.h) and the type stub."""
 
 import os
 import re
@@ -9,7 +10,6 @@ import pytest
 import posefilter as pf
 
 SOURCE = Path(os.environ.get("POSEFILTER_SOURCE_DIR", Path(__file__).resolve().parents[2]))
-NESTED = {"inlier": "InlierParams", "heuristics": "HeuristicOptions"}
 
 
 def struct_fields(text, name):
@@ -31,20 +31,61 @@ def struct_fields(text, name):
     return fields
 
 
+def filter_option_fields(text):
+    """Every leaf field path of FilterOptions ("anneal.subsample", "score.inlier.thr1_m")."""
+    def walk(struct, prefix):
+        body = re.search(r"struct %s \{(.*?)\n\};" % struct, text, re.S).group(1)
+        member_types = {m: t for t, m in re.findall(r"^\s+(\w+(?:Options|Params))\s+(\w+)\s*;", body, re.M)}
+        out = []
+        for f in struct_fields(text, struct):
+            if f in member_types:
+                out += walk(member_types[f], prefix + f + ".")
+            else:
+                out.append(prefix + f)
+        return out
+
+    return walk("FilterOptions", "")
+
+
 def test_every_filter_option_is_a_keyword():
-    header = SOURCE / "include/posefilter/filter.h"
-    if not header.exists():
+    inc = SOURCE / "include/posefilter"
+    if not (inc / "filter_options.h").exists():
         pytest.skip("source tree not found")
-    text = header.read_text() + (SOURCE / "include/posefilter/render.h").read_text() + (
-        SOURCE / "include/posefilter/heuristics.h").read_text()
-    expected = []
-    for f in struct_fields(text, "FilterOptions"):
-        if f in NESTED:
-            expected += [f"{f}_{g}" for g in struct_fields(text, NESTED[f])]
-        else:
-            expected.append(f)
-    assert "num_particles" in expected and "inlier_thr1_m" in expected
-    assert sorted(expected) == sorted(pf.Estimator.option_names())
+    text = "".join((inc / h).read_text() for h in ("filter_options.h", "render.h", "heuristics.h"))
+    fields = filter_option_fields(text)
+    assert "anneal.subsample" in fields and "score.inlier.thr1_m" in fields and "heuristics.max_samples" in fields
+    table = pf.Estimator.option_table()
+    assert sorted(fields) == sorted(row["field"] for row in table)
+    assert [row["keyword"] for row in table] == pf.Estimator.option_names()
+    for row in table:
+        assert row["keyword"] == row["cli"][2:].replace("-", "_")
+        assert row["default"] == pf.Estimator.defaults()[row["keyword"]]
+        assert row["keyword"] in pf.Estimator.__doc__
+
+
+STUB_BEGIN = "    # BEGIN options: generated from Estimator.option_table() (python/tests/test_options.py --write-stub)\n"
+STUB_END = "    # END options\n"
+
+
+def estimator_init_stub():
+    """The Estimator.__init__ block of __init__.pyi, from the option table."""
+    lines = [STUB_BEGIN, "    def __init__(\n", "        self,\n", "        *,\n"]
+    for row in pf.Estimator.option_table():
+        note = ", ".join(x for x in (repr(row["default"]) if row["type"] != "Sequence[float]" else "", row["range"]) if x)
+        lines.append(f"        {row['keyword']}: {row['type']} = ...,{'  # ' + note if note else ''}\n")
+    lines += ["    ) -> None: ...\n", STUB_END]
+    return "".join(lines)
+
+
+def _stub_path():
+    return Path(__file__).resolve().parents[1] / "posefilter" / "__init__.pyi"
+
+
+def test_stub_estimator_signature_is_the_option_table():
+    text = _stub_path().read_text()
+    assert STUB_BEGIN in text and STUB_END in text
+    block = text[text.index(STUB_BEGIN):text.index(STUB_END) + len(STUB_END)]
+    assert block == estimator_init_stub(), "run: python3 python/tests/test_options.py --write-stub"
 
 
 def test_every_synth_option_is_a_keyword():
@@ -80,3 +121,14 @@ def test_type_stub_covers_the_module():
     assert kwonly(init) == pf.Estimator.option_names()
     synth = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "make_synth_scene")
     assert sorted(kwonly(synth)) == sorted(pf.synth_option_names())
+
+
+if __name__ == "__main__":
+    import sys
+
+    if sys.argv[1:] != ["--write-stub"]:
+        sys.exit("usage: test_options.py --write-stub   (rewrites Estimator.__init__ in posefilter/__init__.pyi)")
+    path = _stub_path()
+    text = path.read_text()
+    start, end = text.index(STUB_BEGIN), text.index(STUB_END) + len(STUB_END)
+    path.write_text(text[:start] + estimator_init_stub() + text[end:])

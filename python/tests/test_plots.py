@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parents[2]
 @pytest.fixture(scope="module")
 def tiny_run(easy_scene):
     s = easy_scene
-    est = pf.Estimator(num_particles=40, max_iterations=3, restarts=2, polish_steps=0, threads=2, confidence=1.0)
+    est = pf.Estimator(particles=40, iterations=3, restarts=2, polish_steps=0, threads=2, confidence=1.0)
     r = est.estimate(s.depth, s.camera, s.target, s.prior)
     return s, r
 

@@ -12,7 +12,7 @@ DiffusionContext::DiffusionContext(const Camera& c, const PyramidLayout& l, cons
                                    const FilterOptions& o, const SupportPlane* support, const Eigen::Vector3d& pivot_obj)
     : camera(c), layout(l), volumes(v), opt(o), plane(support && support->found ? support : nullptr), pivot(pivot_obj),
       move_cdf(kNumMoves) {
-  auto probability = [&](int m) { return m == int(Move::kOnPlane) && !plane ? 0.0 : o.move_probabilities[m]; };
+  auto probability = [&](int m) { return m == int(Move::kOnPlane) && !plane ? 0.0 : o.diffusion.move_probabilities[m]; };
   double total = 0, acc = 0;
   for (int m = 0; m < kNumMoves; ++m) total += probability(m);
   if (!(total > 0)) {  // only kOnPlane was asked for and there is no plane: it is drawn, and changes nothing
@@ -81,8 +81,8 @@ bool SolveIcpStep(const ScoreKernelResult& r, std::array<double, 6>* step) {
 
 void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_weight, Rng& rng) {
   const FilterOptions& o = ctx.opt;
-  const double decay = std::max(1.0 - best_weight, o.min_sigma_fraction);
-  const double st = decay * o.sigma_t0_m, sr = decay * o.sigma_r0_rad;
+  const double decay = std::max(1.0 - best_weight, o.diffusion.min_sigma_fraction);
+  const double st = decay * o.diffusion.sigma_t0_m, sr = decay * o.diffusion.sigma_r0_rad;
   Pose6& q = p->pose;
   switch (move) {
     case Move::kTranslateX: q.x += st * rng.Normal(); break;

@@ -46,7 +46,7 @@ struct DiffusionContext {
   const FilterOptions& opt;
   const SupportPlane* plane;          // null: no support plane (kOnPlane never drawn)
   Eigen::Vector3d pivot;              // object frame, metres (the model's bounding-box centre)
-  std::vector<double> move_cdf;  // cumulative, normalised FilterOptions::move_probabilities
+  std::vector<double> move_cdf;  // cumulative, normalised FilterOptions::diffusion.move_probabilities
 
   DiffusionContext(const Camera& c, const PyramidLayout& l, const prior::VolumeCache& v, const FilterOptions& o,
                    const SupportPlane* support = nullptr, const Eigen::Vector3d& pivot_obj = Eigen::Vector3d::Zero());

@@ -1,19 +1,30 @@
-// src/filter/driver.cc — the host-side driver steps every engine shares (driver.h): the
-// annealing schedule, pixel levels and set sizes, the run-ending test, restarts, adopting a
-// polished pose, the polish entry point of the hw engine, and the no-initial-mass error.
+// src/filter/driver.cc — EstimatePose, the one driver of every engine (engine.h), and the
+// host-side steps the engines share (driver.h): the annealing schedule, pixel levels and set
+// sizes, the run-ending test, restarts, adopting a polished pose, the polish of given seeds,
+// and the no-initial-mass error.
 #include "filter/driver.h"
+
+#include <memory>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 
+#include "filter/engine.h"
 #include "filter/filter_context.h"
+#include "filter/host_setup.h"
 #include "filter/polish.h"
 #include "filter/scene_prep.h"
 #include "posefilter/mesh_simplify.h"
 
 namespace posefilter::filter {
+
+void CheckOptions(const FilterOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw Error("invalid filter option: " + why);
+}
 
 bool ParseEngine(const std::string& name, Engine* out) {
   if (name == "reference") *out = Engine::kReference;
@@ -24,21 +35,21 @@ bool ParseEngine(const std::string& name, Engine* out) {
 }
 
 int AnnealIterations(const FilterOptions& options) {
-  return options.anneal_start_m > options.inlier.thr1_m ? int(std::lround(options.anneal_fraction * options.max_iterations))
+  return options.anneal.start_m > options.score.inlier.thr1_m ? int(std::lround(options.anneal.fraction * options.stop.max_iterations))
                                                          : 0;
 }
 
 int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
                const Camera& camera, double diameter) {
-  if (!options.adaptive_resolution) return 1;
+  if (!options.render.adaptive_resolution) return 1;
   int best = -1;
   double best_p = 0;
   for (int c = 0; c < prior.layout.CellCount(); ++c)
     if (volumes.Valid(c) && prior.Prob(c, cls) > best_p) best = c, best_p = prior.Prob(c, cls);
   if (best < 0) return 1;
-  const double z = std::max((camera.base_to_camera * volumes.Get(best).Centre()).z(), options.near_m);
+  const double z = std::max((camera.base_to_camera * volumes.Get(best).Centre()).z(), options.render.near_m);
   const double px = diameter * std::max(camera.fx, camera.fy) / z;
-  return std::clamp(int(std::ceil(px / (1.25 * options.max_window_px))), 1, 4);
+  return std::clamp(int(std::ceil(px / (1.25 * options.render.max_window_px))), 1, 4);
 }
 
 int CoarseMeshFaces(int faces, int subsample) {
@@ -51,29 +62,35 @@ int FineParticles(const FilterOptions& options) {
 }
 
 double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its) {
-  if (it >= anneal_its) return options.inlier.thr1_m;
-  return options.anneal_start_m * std::pow(options.inlier.thr1_m / options.anneal_start_m, double(it) / anneal_its);
+  if (it >= anneal_its) return options.score.inlier.thr1_m;
+  return options.anneal.start_m * std::pow(options.score.inlier.thr1_m / options.anneal.start_m, double(it) / anneal_its);
 }
 
 bool RunEnds(const FilterOptions& options, int it, int anneal_its, const std::vector<double>& best_weights,
              bool* converged) {
   const bool final_threshold = it >= anneal_its;
-  if (final_threshold && best_weights[it] >= options.confidence) *converged = true;
-  const int k = options.stall_iterations;
-  const bool stalled = k > 0 && it - k >= anneal_its && best_weights[it] - best_weights[it - k] < options.stall_gain;
-  return *converged || stalled || it + 1 == options.max_iterations;
+  if (final_threshold && best_weights[it] >= options.stop.confidence) *converged = true;
+  const int k = options.stop.stall_iterations;
+  const bool stalled = k > 0 && it - k >= anneal_its && best_weights[it] - best_weights[it - k] < options.stop.stall_gain;
+  return *converged || stalled || it + 1 == options.stop.max_iterations;
 }
 
 EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progress, const RunFn& run) {
   Rng rng(options.seed);
   EstimateResult best;
+  // The best weight any run has reached at the final inlier threshold (NaN: none yet). Weights
+  // of annealing iterations are measured at a looser threshold and are not comparable.
+  const int anneal_its = AnnealIterations(options);
+  double final_best = std::numeric_limits<double>::quiet_NaN();
   for (int k = 0; k < options.restarts; ++k) {
     Rng run_rng = options.restarts == 1 ? rng : rng.Split();
-    const int offset = k * options.max_iterations;
-    const double best_w = best.weight;  // of the runs before this one
-    const ProgressFn run_progress = progress ? ProgressFn([&progress, offset, best_w](int it, double w) {
-      progress(offset + it, std::max(w, best_w));
-    }) : ProgressFn();
+    const int offset = k * options.stop.max_iterations;
+    const ProgressFn run_progress =
+        progress ? ProgressFn([&progress, &final_best, offset, anneal_its](int it, double w) {
+          if (it >= anneal_its && !(w <= final_best)) final_best = w;
+          progress(offset + it, final_best);
+        })
+                 : ProgressFn();
     EstimateResult r = run(run_rng, run_progress);
     FilterStats total = best.stats;
     total += r.stats;
@@ -100,14 +117,13 @@ void AdoptPose(EstimateResult* result, const Camera& camera, const PolishResult&
   result->converged = result->converged || p.weight >= confidence;
 }
 
-PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+PolishResult PolishPoses(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                          const FilterOptions& options, const std::vector<PolishSeed>& seeds, FilterStats* stats) {
   if (seeds.empty()) throw Error("polish: no seed pose");
   FilterOptions o = options;
   o.engine = "cpu";  // the host's float weighing
   Mesh lod;
-  const PreparedScene prep = PrepareScene(scene, o);
-  Context ctx = BuildContext(prep, MeshAtLod(mesh, o.lod_max_faces, &lod), prior, cls, o, false);
+  Context ctx = BuildContext(prep, MeshAtLod(mesh, o.render.lod_max_faces, &lod), prior, cls, o, false);
   std::vector<Particle> ps(seeds.size());
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     if (seeds[i].cell < 0 || seeds[i].cell >= prior.layout.CellCount()) throw Error("polish: seed cell index out of range");
@@ -136,3 +152,31 @@ Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& optio
 }
 
 }  // namespace posefilter::filter
+
+namespace posefilter {
+
+EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                            const FilterOptions& options, const ProgressFn& progress) {
+  const auto t_start = filter::Clock::now();
+  filter::CheckOptions(options);
+  const filter::PreparedScene prep = filter::PrepareScene(scene, options);
+  filter::Engine engine = filter::Engine::kCpu;
+  filter::ParseEngine(options.engine, &engine);  // a valid name (checked above)
+  const std::unique_ptr<filter::EngineRuns> runs = engine == filter::Engine::kHw
+                                                       ? filter::MakeHwEngine(scene, prep, mesh, prior, cls, options)
+                                                       : filter::MakeFloatEngine(scene, prep, mesh, prior, cls, options);
+  // Independent runs (restarts), each with its own random stream; the best weight wins.
+  EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
+    return runs->Run(rng, run_progress);
+  });
+  if (options.polish.steps > 0) {
+    const filter::PolishResult p = runs->PolishRuns(&best.stats);
+    if (runs->PolishReplacesRuns() || p.weight > best.weight)
+      filter::AdoptPose(&best, scene.camera, p, options.stop.confidence);
+  }
+  best.obj = mesh.name;
+  best.time_ms = filter::MsSince(t_start);
+  return best;
+}
+
+}  // namespace posefilter

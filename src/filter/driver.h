@@ -1,6 +1,7 @@
-// Host-side steps shared by every engine's driver: restarts and the final polish (bodies in
-// src/filter/driver.cc). The float engines use them in src/filter/particle_filter.cc; the hw
-// engine's host side (src/hw/engine.cc) uses them around the C-simulated hardware runs.
+// Host-side steps shared by every engine (bodies in src/filter/driver.cc, beside EstimatePose):
+// option checks, the engine's name, the annealing schedule, restarts and the final polish. The
+// float engines use them in src/filter/particle_filter.cc; the hw engine's host driver
+// (src/filter/hw_driver.cc) uses them around the C-simulated hardware runs.
 #pragma once
 
 #include <functional>
@@ -11,28 +12,33 @@
 #include "posefilter/filter.h"
 #include "posefilter/pose.h"
 #include "posefilter/rng.h"
+#include "filter/scene_prep.h"
 #include "prior/volume_cache.h"
 
 namespace posefilter::filter {
 
+// Throws Error("invalid filter option: …", naming the field) unless options.IsValid(). Every
+// public entry point (EstimatePose, WeighPoses, ProfileHw) calls it once, before any work.
+void CheckOptions(const FilterOptions& options);
+
 // The engine of FilterOptions::engine, parsed once per estimate: "reference" (float, readable),
-// "cpu" (the SIMD kernel, same results), "hw" (the C-simulated hardware, src/hw/engine.cc).
+// "cpu" (the SIMD kernel, same results), "hw" (the C-simulated hardware, hw_driver.cc).
 enum class Engine { kReference, kCpu, kHw };
 // Sets *out and returns true for a known engine name; false otherwise (*out untouched).
 bool ParseEngine(const std::string& name, Engine* out);
 
-// Coarse-to-fine schedule (FilterOptions::anneal_start_m, anneal_fraction): the number of
+// Coarse-to-fine schedule (FilterOptions::anneal.start_m, anneal_fraction): the number of
 // iterations whose inlier threshold is above its final value (0 = annealing off), and the
 // threshold thr1 of iteration `it` (metres), falling geometrically from anneal_start_m.
 int AnnealIterations(const FilterOptions& options);
 double AnnealedThreshold(const FilterOptions& options, int it, int anneal_its);
-// The face budget of the mesh weighed on the coarse pixel grid (FilterOptions::anneal_simplify)
+// The face budget of the mesh weighed on the coarse pixel grid (FilterOptions::anneal.simplify)
 // for a mesh of `faces` faces: faces / subsample², at least kCoarseMinFaces. A mesh with no
 // more faces than that is weighed as it is.
 inline constexpr int kCoarseMinFaces = 256;
 int CoarseMeshFaces(int faces, int subsample);
 
-// The pixel stride of the fine level (FilterOptions::adaptive_resolution): the smallest s in
+// The pixel stride of the fine level (FilterOptions::render.adaptive_resolution): the smallest s in
 // [1, 4] with D / s ≤ 1.25 · max_window_px, D = diameter · max(fx, fy) / z the object's
 // projected diameter in pixels at the depth z of the volume centre of the class's most
 // probable cell (1 when adaptive_resolution is off or no cell has a volume). Objects larger
@@ -47,7 +53,7 @@ int FineParticles(const FilterOptions& options);
 
 // Whether a run ends after iteration it (0-based) with these best weights so far (one per
 // iteration): at the final threshold (it ≥ anneal_its) the best weight reached
-// options.confidence (*converged is set), or it rose by less than stall_gain over the last
+// options.stop.confidence (*converged is set), or it rose by less than stall_gain over the last
 // stall_iterations iterations (stall_iterations > 0), or it was the last iteration.
 bool RunEnds(const FilterOptions& options, int it, int anneal_its, const std::vector<double>& best_weights,
              bool* converged);
@@ -60,7 +66,8 @@ using RunFn = std::function<EstimateResult(Rng& rng, const ProgressFn& progress)
 // options.seed (one run: the seed's stream itself), and merges them: statistics and
 // iteration counts add up, the per-iteration histories are concatenated, the run with the
 // highest weight provides the pose. `progress` (may be empty) sees the iterations counted
-// over all runs and the best weight so far.
+// over all runs and the best weight any run has reached at the final inlier threshold (NaN
+// before one has; ProgressFn, posefilter/filter.h).
 EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progress, const RunFn& run);
 
 // A pose to polish: object → base, and the prior cell it is weighed with (its window, ρ).
@@ -79,11 +86,11 @@ struct PolishResult {
 // counts as converged once the weight reaches `confidence`.
 void AdoptPose(EstimateResult* result, const Camera& camera, const PolishResult& p, double confidence);
 
-// The final polish of FilterOptions (polish_steps, polish_turns, polish_pivots, polish_keep,
-// polish_climbers; ALGORITHM.md §9) of the given seeds, every weighing by the float `cpu`
-// engine whatever options.engine says. Returns the best weighed pose (a seed itself counts).
-// Throws Error on invalid options, a cell out of range or an empty seed list.
-PolishResult PolishPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+// The final polish of FilterOptions::polish (ALGORITHM.md §9) of the given seeds on the prepared
+// scene, every weighing by the float `cpu` engine whatever options.engine says; options valid
+// (CheckOptions). Returns the best weighed pose (a seed itself counts). Throws Error on a cell
+// out of range or an empty seed list.
+PolishResult PolishPoses(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                          const FilterOptions& options, const std::vector<PolishSeed>& seeds,
                          FilterStats* stats);
 

@@ -69,7 +69,7 @@ struct Context {
   mutable std::vector<render::CpuWorkspace> workspaces{};
   // The pixel levels particles are weighed on (docs/ALGORITHM.md, "Pixel levels"): the fine
   // level (every fine.factor-th pixel of every fine.factor-th row; 1 = every pixel, more for
-  // objects larger than max_window_px pixels, FilterOptions::adaptive_resolution) for the
+  // objects larger than max_window_px pixels, FilterOptions::render.adaptive_resolution) for the
   // answer's weighings, and the coarse level (factor fine.factor · anneal_subsample) for the
   // annealing iterations; `coarse` selects the level of the moment. Windows are full-image
   // pixel rectangles, mapped to the level's grid when weighed.
@@ -77,11 +77,11 @@ struct Context {
   Level coarse_level{};
   bool coarse = false;
   double diameter = 0;  // the mesh's, metres (cell windows)
-  // Contact prior (FilterOptions::contact): the support plane (camera frame) and the mesh's
+  // Contact prior (FilterOptions::support.contact): the support plane (camera frame) and the mesh's
   // convex-hull vertices (object frame, metres); empty when the prior is off or no plane.
   SupportPlane plane{};
   std::vector<Eigen::Vector3d> hull{};
-  // The mesh's stable poses (FilterOptions::stable_start); empty without a support plane. A
+  // The mesh's stable poses (FilterOptions::support.stable_start); empty without a support plane. A
   // stable start stands on the point of the plane below the centre of its cell's visible
   // surface: surface_volumes are the heuristic volumes without the depth extension.
   std::vector<StablePose> stable{};
@@ -90,7 +90,8 @@ struct Context {
   mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
 };
 
-// Checks the inputs and precomputes volumes, windows and N_depth for every cell.
+// Checks the mesh, class and prior (the options were checked by the caller, CheckOptions) and
+// precomputes volumes, windows and N_depth for every cell.
 // `runs`: the context will run the filter (EstimatePose), so it also gets the coarse level
 // of the annealing iterations; weighing given poses and the polish need only every pixel.
 // `prep` (PrepareScene's, already validated) must outlive the context: the context scores

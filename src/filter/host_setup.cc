@@ -15,7 +15,7 @@ HeuristicOptions VolumeOptions(const FilterOptions& options, double diameter) {
 
 double MinWindowSide(const FilterOptions& options, double diameter, const Camera& camera, const Volume* volume) {
   const double z_cam = volume ? (camera.base_to_camera * volume->Centre()).z() : 1.0;
-  return options.min_window_diameters * diameter * camera.fx / std::max(z_cam, options.near_m);
+  return options.render.min_window_diameters * diameter * camera.fx / std::max(z_cam, options.render.near_m);
 }
 
 PixelRect CellWindow(const Box& box, double min_side, int max_px, int image_w, int image_h) {

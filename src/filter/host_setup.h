@@ -1,7 +1,7 @@
 // src/filter/host_setup.h — host-side set-up every engine shares (internal): timing, the
 // heuristic-volume options, the per-cell windows, the hypothesis labels of the niching, the
 // resampling pool and its caps, and the hard inlier threshold's annealing. The float engines
-// (src/filter/particle_filter.cc) and the hw engine's host side (src/hw/engine.cc) both call
+// (src/filter/particle_filter.cc) and the hw engine's host side (src/filter/hw_driver.cc) both call
 // these, so the two compute them the same way; where the hw engine must differ (hardware bit
 // widths, its registers' encodings) the difference is a parameter or stays at its call site,
 // with a comment there.
@@ -70,7 +70,7 @@ int ResamplePoolSize(const FilterOptions& options, int set_size);
 // pool, rounded up, at least 1.
 int NicheCap(double cap_fraction, int pool_size);
 
-// The hard inlier threshold (FilterOptions::inlier.hard_thr_m, metres) that goes with the
+// The hard inlier threshold (FilterOptions::score.inlier.hard_thr_m, metres) that goes with the
 // annealed threshold thr1 = thr: scaled by thr / inlier.thr1_m, so it anneals with thr1. The
 // arithmetic is T's: the float engines pass their float thr1 (float arithmetic, the kernels'
 // InlierParams precision), the hw engine its double thr1 (double, rounded to dist_t after).

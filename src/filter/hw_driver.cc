@@ -1,7 +1,8 @@
-// src/hw/engine.cc — the `hw` engine driver (host side of the C simulation; docs/HARDWARE.md §4):
-// converts the inputs into the fixed-point memories of the architecture, runs the top functions of
-// src/hw/top.h iteration by iteration (the thesis's control loop) and returns an EstimateResult
-// like the float engines; ProfileHw also models the cycles (src/hw/cycle_model.h).
+// src/filter/hw_driver.cc — the `hw` engine's host driver (host side of the C simulation;
+// docs/HARDWARE.md §4), beside the float engines' driver: converts the inputs into the
+// fixed-point memories of the architecture and runs the top functions of src/hw/top.h iteration
+// by iteration (the thesis's control loop) as the engine's runs (filter/engine.h); ProfileHw also
+// models the cycles (src/hw/cycle_model.h). The kernels themselves are in src/hw/.
 //
 // Host / hardware split (docs/HARDWARE.md "Driver"):
 //   * host, float, once per run: heuristic volumes (ComputeHeuristics, as the reference
@@ -10,7 +11,7 @@
 //     the set-up shared with the float engines comes from src/filter/host_setup.h;
 //   * hardware (C simulation of the kernels): initialisation, transformation, rasterization and
 //     scoring, weight merging, sorting, resampling, diffusion — every per-particle step;
-//   * host, float, after the runs (polish_steps > 0): the final polish of the runs' best
+//   * host, float, after the runs (polish.steps > 0): the final polish of the runs' best
 //     particles (filter::PolishPoses, the float engines' polish with the cpu weighing).
 // The prior is a float Prior (any of the three kinds of docs/ALGORITHM.md §2); its class
 // probabilities are rounded into the prob_t memory (ρ of eq. 7.4) — the hw post-process kernel runs
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "filter/driver.h"
+#include "filter/engine.h"
 #include "filter/host_setup.h"
 #include "filter/scene_prep.h"
 #include "hw/cycle_model.h"
@@ -42,6 +44,7 @@ namespace posefilter {
 namespace {
 
 using namespace posefilter::hw;
+static_assert(kHwMaxParticles == kMaxParticles && kHwMaxWindowPx == kMaxWindow, "posefilter/hw_engine.h's limits");
 using filter::Clock;
 using filter::MsSince;
 
@@ -186,7 +189,7 @@ class HwRunner {
       wt.reset(new CycleTrace);
       ut.reset(new CycleTrace);
     }
-    for (int it = 0; it < opt_.max_iterations; ++it) {
+    for (int it = 0; it < opt_.stop.max_iterations; ++it) {
       const auto t_iter = Clock::now();
       SetThreshold(filter::AnnealedThreshold(opt_, it, anneal_its));
       const bool traced = trace_it && trace_it(it);
@@ -232,7 +235,7 @@ class HwRunner {
     cfg_.raster.thr1 = ToDist(thr);
     cfg_.raster.inv_thr1 = inv_thr_t(ap_ufixed<20, 12, AP_RND, AP_SAT>(1.0 / cfg_.raster.thr1.to_double()));
     // In double (thr is), unlike the float engines' float: the result is rounded to dist_t.
-    cfg_.raster.hard_thr = ToDist(filter::ScaledHardThreshold<double>(opt_.inlier, thr));
+    cfg_.raster.hard_thr = ToDist(filter::ScaledHardThreshold<double>(opt_.score.inlier, thr));
     std::string why;
     if (!RasterParamsAreValid(cfg_.raster, &why)) throw Error("hw engine: inlier threshold: " + why);
   }
@@ -242,12 +245,7 @@ class HwRunner {
     HwMemories& m = *mem_;
     const FilterOptions& o = opt_;
     std::string why;
-    if (!o.IsValid(&why)) throw Error("invalid filter option: " + why);
-    if (o.num_particles > kMaxParticles)
-      throw Error("hw engine: num_particles " + std::to_string(o.num_particles) + " exceeds the hardware's 510");
-    if (o.max_window_px > kMaxWindow)
-      throw Error("hw engine: max_window_px " + std::to_string(o.max_window_px) + " exceeds the hardware's 200");
-    if (o.near_m < 1.0 / 64) throw Error("hw engine: near_m must be >= 1/64 m (1/W format)");
+    // The options were validated (ValidateFilterOptions checks the hardware's limits too).
     if (!mesh_in.IsValid(&why)) throw Error("mesh '" + mesh_in.name + "': " + why);
     const Camera& cam = scene_.camera;
     if (cam.width > kImageWidth || cam.height > kImageHeight)
@@ -259,7 +257,7 @@ class HwRunner {
     CheckLayout(prior_.layout);
 
     // Model memory (Listing 7.1).
-    const Mesh mesh = HardwareMesh(mesh_in, o.lod_max_faces);
+    const Mesh mesh = HardwareMesh(mesh_in, o.render.lod_max_faces);
     mesh_name = mesh_in.name;
     num_vertices_ = int(mesh.vertices.size());
     for (int i = 0; i < num_vertices_; ++i)
@@ -272,8 +270,8 @@ class HwRunner {
     cfg_.img_height = cam.height;
     // Per-particle window growth (ours, as the reference's grow_window): the hardware mesh's
     // bounding box (of the quantized vertices, so it contains every vertex exactly).
-    cfg_.grow_window = o.grow_window ? 1 : 0;
-    cfg_.max_window = o.max_window_px;
+    cfg_.grow_window = o.render.grow_window ? 1 : 0;
+    cfg_.max_window = o.render.max_window_px;
     {
       double lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30};
       for (int i = 0; i < num_vertices_; ++i)
@@ -308,19 +306,19 @@ class HwRunner {
     // Raster and merger parameters.
     RasterParams& rp = cfg_.raster;
     rp = DefaultRasterParams();
-    rp.zbuffer = o.zbuffer ? 1 : 0;
-    rp.hard = o.inlier.hard ? 1 : 0;
-    rp.align_band = ToDist(o.align_band_m);
-    rp.edge_band = ToDist(o.edge_band_m);
-    rp.near_plane = ToDist(o.near_m);
-    SetThreshold(o.inlier.thr1_m);
+    rp.zbuffer = o.render.zbuffer ? 1 : 0;
+    rp.hard = o.score.inlier.hard ? 1 : 0;
+    rp.align_band = ToDist(o.diffusion.align_band_m);
+    rp.edge_band = ToDist(o.score.edge_band_m);
+    rp.near_plane = ToDist(o.render.near_m);
+    SetThreshold(o.score.inlier.thr1_m);
     WeightParams& wp = cfg_.weight;
     auto coef = [](double v) { return coef_t(ap_ufixed<16, 1, AP_RND, AP_SAT>(v)); };
-    wp.alpha = coef(o.alpha);
-    wp.beta = coef(o.beta);
+    wp.alpha = coef(o.score.alpha);
+    wp.beta = coef(o.score.beta);
     wp.gamma = coef(std::max(0.0, 1.0 - wp.alpha.to_double() - wp.beta.to_double()));
-    wp.delta = coef(o.zbuffer ? o.delta : 0.0);  // edge samples exist only in z-buffer mode
-    wp.occlusion_aware = o.occlusion_aware ? 1 : 0;
+    wp.delta = coef(o.render.zbuffer ? o.score.delta : 0.0);  // edge samples exist only in z-buffer mode
+    wp.occlusion_aware = o.score.occlusion_aware ? 1 : 0;
     if (!WeightParamsAreValid(wp, &why)) throw Error("hw engine: weight coefficients: " + why);
 
     // Per-cell memories: heuristic volumes, windows, probabilities, hypotheses.
@@ -352,7 +350,7 @@ class HwRunner {
       }
       // No pixel levels in the hw engine: the cap is max_window_px itself.
       const double min_side = filter::MinWindowSide(o, diameter, cam, vol.valid ? &vol : nullptr);
-      m.cell_windows[c] = CellWindowHw(prior_.boxes[c], min_side, o.max_window_px, cam.width, cam.height);
+      m.cell_windows[c] = CellWindowHw(prior_.boxes[c], min_side, o.render.max_window_px, cam.width, cam.height);
       const double p = valid ? prior_.Prob(c, cls_) : 0.0;
       m.class_prob[c] = ToProb(prior_.Prob(c, cls_));
       max_p = std::max(max_p, p);
@@ -379,15 +377,15 @@ class HwRunner {
     rprm_.num_elite = std::min(o.num_elite, rprm_.pool_size);
     // The caps' register encodes "no cap" (a fraction of 1) as 0, where the float engines use
     // a cap of the whole pool; below 1 both use filter::NicheCap.
-    rprm_.region_cap = o.region_cap < 1 ? filter::NicheCap(o.region_cap, rprm_.pool_size) : 0;
+    rprm_.region_cap = o.niches.region_cap < 1 ? filter::NicheCap(o.niches.region_cap, rprm_.pool_size) : 0;
     // Ours: the reference's rotation cap (niching per hypothesis and orientation bin); 1 = off.
-    rprm_.rotation_cap = o.rotation_cap < 1 ? filter::NicheCap(o.rotation_cap, rprm_.pool_size) : 0;
+    rprm_.rotation_cap = o.niches.rotation_cap < 1 ? filter::NicheCap(o.niches.rotation_cap, rprm_.pool_size) : 0;
     std::string cwhy;
     if (!rprm_.IsValid(&cwhy)) throw Error("hw engine: resampling: " + cwhy);
     double prob[kNumHwMoves] = {};
-    for (int k = 0; k < kNumThesisMoves; ++k) prob[k] = o.move_probabilities[k];
-    prob[kHwQuarterRoll] = o.move_probabilities[int(Move::kQuarterTurn)];
-    prob[kHwAlignDepth] = o.move_probabilities[int(Move::kAlignDepth)];
+    for (int k = 0; k < kNumThesisMoves; ++k) prob[k] = o.diffusion.move_probabilities[k];
+    prob[kHwQuarterRoll] = o.diffusion.move_probabilities[int(Move::kQuarterTurn)];
+    prob[kHwAlignDepth] = o.diffusion.move_probabilities[int(Move::kAlignDepth)];
     // The ICP move is not modelled: its probability is spread over the rest by the
     // normalisation below.
     if (!SetMoveProbabilities(&dprm_, prob, &cwhy))
@@ -405,12 +403,12 @@ class HwRunner {
       if (!(v < 4)) throw Error(std::string("hw engine: ") + name + " must be < 4 (ufixed<18,2>)");
       return sigma_t(ap_ufixed<18, 2, AP_RND, AP_SAT>(v));
     };
-    dprm_.sigma_t0 = sigma(o.sigma_t0_m, "sigma_t0_m");
-    dprm_.sigma_r0 = sigma(o.sigma_r0_rad, "sigma_r0_rad");
-    dprm_.min_fraction = weight_t(ap_ufixed<18, 1, AP_RND, AP_SAT>(o.min_sigma_fraction));
+    dprm_.sigma_t0 = sigma(o.diffusion.sigma_t0_m, "sigma_t0_m");
+    dprm_.sigma_r0 = sigma(o.diffusion.sigma_r0_rad, "sigma_r0_rad");
+    dprm_.min_fraction = weight_t(ap_ufixed<18, 1, AP_RND, AP_SAT>(o.diffusion.min_sigma_fraction));
     // σ floor of one LSB (ours) whenever the options ask for a σ floor at all: the reference's
     // 0.05·1 cm = 0.5 mm is half an xyz_t LSB. min_sigma_fraction = 0 → the thesis's decay.
-    dprm_.sigma_floor_lsb = o.min_sigma_fraction > 0 ? 1 : 0;
+    dprm_.sigma_floor_lsb = o.diffusion.min_sigma_fraction > 0 ? 1 : 0;
     if (!dprm_.IsValid(&cwhy)) throw Error("hw engine: diffusion: " + cwhy);
   }
 
@@ -426,28 +424,45 @@ class HwRunner {
   int num_vertices_ = 0;
 };
 
+// The hw engine's runs (filter/engine.h): the hardware's memories are loaded once, each run
+// starts the C-simulated hardware from its own seeds.
+class HwEngine final : public filter::EngineRuns {
+ public:
+  HwEngine(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& options)
+      : prep_(prep), mesh_(mesh), prior_(prior), cls_(cls), options_(options), runner_(prep, mesh, prior, cls, options) {}
+
+  EstimateResult Run(Rng& rng, const ProgressFn& progress) override {
+    EstimateResult r = runner_.Run(rng, progress, nullptr, nullptr, nullptr);
+    seeds_.push_back({r.pose_base, r.cell});
+    return r;
+  }
+  // Host side (ours, not hardware): the final polish of the runs' best particles with the
+  // float weighing, as the float engines end.
+  filter::PolishResult PolishRuns(FilterStats* stats) override {
+    return filter::PolishPoses(prep_, mesh_, prior_, cls_, options_, seeds_, stats);
+  }
+  bool PolishReplacesRuns() const override { return true; }
+
+ private:
+  const filter::PreparedScene& prep_;
+  const Mesh& mesh_;
+  const Prior& prior_;
+  int cls_;
+  FilterOptions options_;
+  HwRunner runner_;
+  std::vector<filter::PolishSeed> seeds_;  // each run's best particle
+};
+
 }  // namespace
 
-EstimateResult EstimatePoseHw(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
-                              const FilterOptions& options, const ProgressFn& progress) {
-  const auto t_start = Clock::now();
-  const filter::PreparedScene prep = filter::PrepareScene(scene, options);
-  HwRunner runner(prep, mesh, prior, cls, options);
-  std::vector<filter::PolishSeed> seeds;  // each run's best particle
-  EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
-    EstimateResult r = runner.Run(rng, run_progress, nullptr, nullptr, nullptr);
-    seeds.push_back({r.pose_base, r.cell});
-    return r;
-  });
-  // Host side (ours, not hardware): the final polish of the runs' best particles with the
-  // float weighing, as the float engines end (polish_steps = 0: the hardware's own answer).
-  if (options.polish_steps > 0)
-    filter::AdoptPose(&best, scene.camera, filter::PolishPoses(scene, mesh, prior, cls, options, seeds, &best.stats),
-                      options.confidence);
-  best.obj = mesh.name;
-  best.time_ms = MsSince(t_start);
-  return best;
+namespace filter {
+
+std::unique_ptr<EngineRuns> MakeHwEngine(const SceneInput&, const PreparedScene& prep, const Mesh& mesh,
+                                         const Prior& prior, int cls, const FilterOptions& options) {
+  return std::make_unique<HwEngine>(prep, mesh, prior, cls, options);
 }
+
+}  // namespace filter
 
 bool HwProfileOptions::IsValid(std::string* why) const {
   auto fail = [&](const std::string& m) {
@@ -499,6 +514,7 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
                     const HwProfileOptions& popt) {
   std::string why;
   if (!popt.IsValid(&why)) throw Error("hw-report: invalid profile option: " + why);
+  filter::CheckOptions(options);
   FilterOptions opt = options;
   opt.restarts = 1;
   const filter::PreparedScene prep = filter::PrepareScene(scene, opt);

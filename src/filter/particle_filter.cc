@@ -1,9 +1,8 @@
 // The particle filter of the float engines, `reference` and `cpu` (thesis §2.2, §7.4–7.6,
 // App. B; docs/ALGORITHM.md §4–9): the context set-up (BuildContext), the weighing of particles
-// (Weigh, WeighAll, WeighPoses), one run of the filter (RunFilter) and EstimatePose, which
-// dispatches to the hw engine (src/hw/engine.cc) or runs the float filter and its final polish
-// (polish.cc). The driver steps shared with the hw engine are in driver.cc and host_setup.cc,
-// FilterOptions::IsValid in options.cc.
+// (Weigh, WeighAll, WeighPoses), one run of the filter (RunFilter) and the float engines'
+// EngineRuns (engine.h), whose final polish is polish.cc. EstimatePose, the driver every engine
+// shares, is in driver.cc; the options' checks in option_table.cc.
 #include <omp.h>
 
 #include <algorithm>
@@ -11,6 +10,7 @@
 #include <cmath>
 #include <array>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -20,6 +20,7 @@
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
 #include "filter/driver.h"
+#include "filter/engine.h"
 #include "filter/filter_context.h"
 #include "filter/host_setup.h"
 #include "filter/online_sorter.h"
@@ -30,7 +31,6 @@
 #include "render/scene_normals.h"
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
-#include "posefilter/hw_engine.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/rng.h"
 #include "posefilter/stable_poses.h"
@@ -75,11 +75,11 @@ void PrepareCell(const Context& ctx, int c) {
   const double min_side =
       filter::MinWindowSide(ctx.opt, ctx.diameter, cam, ctx.volumes.Valid(c) ? &ctx.volumes.Get(c) : nullptr);
   ctx.windows[std::size_t(c)] = filter::CellWindow(ctx.prior.boxes[std::size_t(c)], min_side,
-                                                   ctx.opt.max_window_px * ctx.fine.factor, cam.width, cam.height);
+                                                   ctx.opt.render.max_window_px * ctx.fine.factor, cam.width, cam.height);
   ctx.window_ready[std::size_t(c)] = 1;
 }
 
-// The window a particle is weighed in (ours, FilterOptions::grow_window): its cell's window
+// The window a particle is weighed in (ours, FilterOptions::render.grow_window): its cell's window
 // grown, axis by axis, to contain the projection of the model's bounding box at the
 // particle's pose (T = object → camera), clipped to the image. An axis whose grown extent
 // would exceed max(max_window_px, the cell window's) keeps the cell window's extent, as does
@@ -87,12 +87,12 @@ void PrepareCell(const Context& ctx, int c) {
 // hangs out of a jittered detection box loses its outside pixels to a pose that does not.
 PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) {
   const PixelRect& w = ctx.windows[cell];
-  if (!ctx.opt.grow_window) return w;
+  if (!ctx.opt.render.grow_window) return w;
   const Camera& cam = ctx.scene.camera;
   double u_lo = 1e30, u_hi = -1e30, v_lo = 1e30, v_hi = -1e30;
   for (const Eigen::Vector3d& c : ctx.bbox_corners) {
     const Eigen::Vector3d p = T * c;
-    if (p.z() < ctx.opt.near_m) return w;
+    if (p.z() < ctx.opt.render.near_m) return w;
     const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
     u_lo = std::min(u_lo, u);
     u_hi = std::max(u_hi, u);
@@ -107,14 +107,14 @@ PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cel
     *out_size = int(b - a);
   };
   PixelRect r = w;
-  const int cap = ctx.opt.max_window_px * ctx.fine.factor;  // full-image pixels
+  const int cap = ctx.opt.render.max_window_px * ctx.fine.factor;  // full-image pixels
   grow(w.u0, w.width, u_lo, u_hi, cam.width, cap, &r.u0, &r.width);
   grow(w.v0, w.height, v_lo, v_hi, cam.height, cap, &r.v0, &r.height);
   return r;
 }
 
 // Listing 7.5: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
-// Or (ours, FilterOptions::stable_start, with a support plane): resting on the plane in one of
+// Or (ours, FilterOptions::support.stable_start, with a support plane): resting on the plane in one of
 // the mesh's stable poses (drawn by probability), turned by a uniform yaw about the plane's
 // normal, its centre of mass above the point of the plane below the centre of the cell's
 // visible surface (the volume without the depth extension), moved away from the camera along
@@ -125,7 +125,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   p.cell = cell;
   const Eigen::Vector3d c = vol.Centre();
   const double u_start = rng.Uniform();
-  if (!ctx.stable.empty() && u_start < ctx.opt.stable_start) {
+  if (!ctx.stable.empty() && u_start < ctx.opt.support.stable_start) {
     const double u_pose = rng.Uniform(), yaw = rng.Uniform(-M_PI, M_PI), back = rng.Uniform();
     std::size_t k = 0;
     for (double acc = ctx.stable[0].probability; k + 1 < ctx.stable.size() && u_pose >= acc;)
@@ -179,15 +179,15 @@ PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) 
   return PixelRect{u0, v0, u1 - u0, v1 - v0};
 }
 
-// The contact prior's penalty of a pose T (object → camera): FilterOptions::contact times the
+// The contact prior's penalty of a pose T (object → camera): FilterOptions::support.contact times the
 // fraction of contact_span_m by which the lowest hull point floats above, or sinks below, the
 // support plane beyond contact_tolerance_m (0 without a plane).
 double ContactPenalty(const Context& ctx, const Eigen::Isometry3d& T) {
   if (ctx.hull.empty()) return 0.0;
   double lowest = 1e30;
   for (const Eigen::Vector3d& v : ctx.hull) lowest = std::min(lowest, ctx.plane.Height(T * v));
-  const double off = std::fabs(lowest) - ctx.opt.contact_tolerance_m;
-  return off > 0 ? ctx.opt.contact * std::min(1.0, off / ctx.opt.contact_span_m) : 0.0;
+  const double off = std::fabs(lowest) - ctx.opt.support.contact_tolerance_m;
+  return off > 0 ? ctx.opt.support.contact * std::min(1.0, off / ctx.opt.support.contact_span_m) : 0.0;
 }
 
 // Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory. With
@@ -199,27 +199,27 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   const SceneInput& scene = level.scene;
   const Mesh& mesh = level.mesh.faces.empty() ? ctx.mesh : level.mesh;
   ScoreKernelParams k = MakeKernelParams(mesh, T, scene.camera);
-  k.near_m = float(ctx.opt.near_m);
+  k.near_m = float(ctx.opt.render.near_m);
   k.window = WeighWindow(ctx, T, p.cell);
   k.depth = scene.depth.data.data();
   k.depth_width = scene.depth.width;
   k.depth_height = scene.depth.height;
   k.inlier = ctx.inlier;
-  k.zbuffer = ctx.opt.zbuffer;
-  k.align_band_m = float(ctx.opt.align_band_m);
-  k.edge_band_m = float(ctx.opt.edge_band_m);
+  k.zbuffer = ctx.opt.render.zbuffer;
+  k.align_band_m = float(ctx.opt.diffusion.align_band_m);
+  k.edge_band_m = float(ctx.opt.score.edge_band_m);
   k.scene_normals = icp ? LevelNormals(ctx).data() : nullptr;
   const render::FacePlanes* planes = &level.face_planes;
   *out = ctx.engine == filter::Engine::kCpu ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
-  const std::int64_t n_raster = ctx.opt.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
+  const std::int64_t n_raster = ctx.opt.score.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
   const double r_raster = n_raster > 0 ? std::min(1.0, I / double(n_raster)) : 0.0;
   const long nd = long(level.valid_depth.Count(k.window));
   const double r_depth = nd > 0 ? std::min(1.0, I / double(nd)) : 0.0;
   const double rho = ctx.prior.Prob(p.cell, ctx.cls);
   const double r_edge = out->n_edge > 0 ? double(out->n_edge_continued) / double(out->n_edge) : 0.0;
-  return std::max(0.0, ctx.opt.alpha * r_raster + ctx.opt.beta * r_depth + ctx.opt.gamma * rho - ctx.opt.delta * r_edge -
+  return std::max(0.0, ctx.opt.score.alpha * r_raster + ctx.opt.score.beta * r_depth + ctx.opt.score.gamma * rho - ctx.opt.score.delta * r_edge -
                            ContactPenalty(ctx, T));
 }
 
@@ -335,15 +335,14 @@ namespace filter {
 
 Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                      const FilterOptions& options, bool runs) {
-  std::string why;
-  if (!options.IsValid(&why)) throw Error("invalid filter option: " + why);
+  std::string why;  // options: checked by the caller (filter::CheckOptions)
   if (!mesh.IsValid(&why)) throw Error("mesh '" + mesh.name + "': " + why);
   const SceneInput& scene = prep.scoring;
   if (cls < 0 || cls >= int(prior.classes.size())) throw Error("class index out of range for the prior");
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{.scene = scene, .mesh = mesh, .prior = prior, .cls = cls, .opt = options, .inlier = options.inlier};
+  Context ctx{.scene = scene, .mesh = mesh, .prior = prior, .cls = cls, .opt = options, .inlier = options.score.inlier};
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!filter::ParseEngine(options.engine, &ctx.engine)) throw Error("unknown engine '" + options.engine + "'");
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
@@ -363,7 +362,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
     const DepthImage support = factor > 1 ? SubsampleScene(SceneInput{prep.support, scene.camera}, factor).depth : prep.support;
     l.valid_depth = render::ValidDepthSat(support.data.data(), support.width, support.height);
     l.normals = render::SceneNormalTiles(support.width, support.height);
-    if (factor > 1 && options.anneal_simplify) {
+    if (factor > 1 && options.anneal.simplify) {
       const int budget = filter::CoarseMeshFaces(int(mesh.faces.size()), factor);
       if (int(mesh.faces.size()) > budget) {
         try {
@@ -379,15 +378,15 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
     return l;
   };
   ctx.fine = make_level(filter::FineFactor(options, prior, cls, ctx.volumes, scene.camera, diameter));
-  if (runs && options.anneal_subsample > 1 && filter::AnnealIterations(options) > 0)
-    ctx.coarse_level = make_level(ctx.fine.factor * options.anneal_subsample);
+  if (runs && options.anneal.subsample > 1 && filter::AnnealIterations(options) > 0)
+    ctx.coarse_level = make_level(ctx.fine.factor * options.anneal.subsample);
   if (prep.plane.found) ctx.plane = prep.plane;
-  if (options.contact > 0 && prep.plane.found) {
+  if (options.support.contact > 0 && prep.plane.found) {
     std::vector<Eigen::Vector3d> pts;
     for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
     ctx.hull = ComputeConvexHull(pts, "mesh '" + mesh.name + "'").vertices;
   }
-  if (runs && options.stable_start > 0 && prep.plane.found) {
+  if (runs && options.support.stable_start > 0 && prep.plane.found) {
     ctx.stable = ComputeStablePoses(mesh);
     if (!ctx.stable.empty())
       ctx.com_obj = ctx.stable[0].T_table_obj.inverse() * Eigen::Vector3d(0, 0, ctx.stable[0].com_height_m);
@@ -435,9 +434,10 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
 
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
-  Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
+  filter::CheckOptions(options);
+  Mesh lod;  // the mesh rendered at options.render.lod_max_faces (unused at 0: the full mesh)
   const filter::PreparedScene prep = filter::PrepareScene(scene, options);
-  const Context ctx = BuildContext(prep, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options, false);
+  const Context ctx = BuildContext(prep, MeshAtLod(mesh, options.render.lod_max_faces, &lod), prior, cls, options, false);
   std::vector<Particle> ps(hypotheses.size());
   for (std::size_t i = 0; i < hypotheses.size(); ++i) {
     if (hypotheses[i].second < 0 || hypotheses[i].second >= prior.layout.CellCount())
@@ -456,7 +456,7 @@ namespace {
 
 // One run of the filter (initialisation to convergence) on a prepared context.
 // `leaders` receives the best particle of each (hypothesis, orientation bin) niche of the
-// final set, best first, at most FilterOptions::polish_seeds of them.
+// final set, best first, at most FilterOptions::polish.seeds of them.
 EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng& rng, const ProgressFn& progress,
                          std::vector<Particle>* leaders) {
   EstimateResult res;
@@ -473,14 +473,14 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     const float thr = float(filter::AnnealedThreshold(options, it, anneal_its));
     const bool changed = thr != ctx.inlier.thr1_m;
     ctx.inlier.thr1_m = thr;
-    ctx.inlier.hard_thr_m = filter::ScaledHardThreshold<float>(options.inlier, thr);
+    ctx.inlier.hard_thr_m = filter::ScaledHardThreshold<float>(options.score.inlier, thr);
     // Never the run's last possible iteration: its weights are the answer's.
-    const bool coarse = ctx.coarse_level.factor > 1 && it < anneal_its && it + 1 < options.max_iterations;
+    const bool coarse = ctx.coarse_level.factor > 1 && it < anneal_its && it + 1 < options.stop.max_iterations;
     const bool level_changed = coarse != ctx.coarse;
     ctx.coarse = coarse;
     return changed || level_changed;
   };
-  ctx.inlier = options.inlier;
+  ctx.inlier = options.score.inlier;
   set_threshold(0);  // the oversampled start is weighed with the first iteration's threshold
 
   // 1. Initialisation: importance sampling of the prior's cells (§7.4).
@@ -506,7 +506,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   }
 
   Particle best;
-  for (int it = 0; it < options.max_iterations; ++it) {
+  for (int it = 0; it < options.stop.max_iterations; ++it) {
     const auto t_iter = Clock::now();
     if (set_threshold(it))
       for (auto& p : current) p.scored = false;
@@ -523,7 +523,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // 4. Converged, stalled or out of iterations: the last set is already weighed; report its best.
     if (filter::RunEnds(options, it, anneal_its, res.best_weight_history, &res.converged)) {
       std::set<std::pair<int, int>> niches;
-      for (int j = 0; j < Nc && int(niches.size()) < options.polish_seeds; ++j) {
+      for (int j = 0; j < Nc && int(niches.size()) < options.polish.seeds; ++j) {
         const Particle& p = current[ranked[j].index];
         if (niches.insert({ctx.hypothesis[p.cell], RotationBin(p.pose)}).second) leaders->push_back(p);
       }
@@ -537,8 +537,8 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     // take the whole set); the elite is the head of the pool, the rest is drawn from
     // the pool's CDF (threshold tracker) and diffused.
     const int pool_size = filter::ResamplePoolSize(options, Nc);
-    const int cap = filter::NicheCap(options.region_cap, pool_size);
-    const int rot_cap = filter::NicheCap(options.rotation_cap, pool_size);
+    const int cap = filter::NicheCap(options.niches.region_cap, pool_size);
+    const int rot_cap = filter::NicheCap(options.niches.rotation_cap, pool_size);
     std::vector<int> pool;  // indices into `ranked`
     pool.reserve(pool_size);
     std::vector<int> per_hypothesis(ctx.hypothesis_count, 0);
@@ -608,34 +608,47 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
 
 }  // namespace
 
-EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
-                            const FilterOptions& options, const ProgressFn& progress) {
-  filter::Engine engine = filter::Engine::kCpu;
-  if (filter::ParseEngine(options.engine, &engine) && engine == filter::Engine::kHw)
-    return EstimatePoseHw(scene, mesh, prior, cls, options, progress);  // src/hw/engine.cc
-  const auto t_start = Clock::now();
-  Mesh lod;  // the mesh rendered at options.lod_max_faces (unused at 0: the full mesh)
-  const filter::PreparedScene prep = filter::PrepareScene(scene, options);
-  Context ctx = BuildContext(prep, MeshAtLod(mesh, options.lod_max_faces, &lod), prior, cls, options, true);
-  // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
-  std::vector<double> cell_mass(prior.layout.CellCount(), 0.0);
-  for (int c = 0; c < prior.layout.CellCount(); ++c)
-    if (ctx.volumes.Valid(c)) cell_mass[c] = prior.Prob(c, cls);
-  if (!(std::accumulate(cell_mass.begin(), cell_mass.end(), 0.0) > 0))
-    throw filter::NoInitialMassError(prior, cls, options);
+namespace {
 
-  // Independent runs (restarts), each with its own random stream; the best weight wins.
-  std::vector<Particle> run_bests;  // seeds of the final polish
-  EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
-    return RunFilter(ctx, cell_mass, rng, run_progress, &run_bests);
-  });
-  if (options.polish_steps > 0) {
-    const Particle p = filter::Polish(ctx, run_bests, &best.stats);
-    if (p.weight > best.weight) filter::AdoptPose(&best, scene.camera, {p.pose, p.cell, p.weight}, options.confidence);
+// The float engines' runs: one context (windows, volumes, levels, LOD mesh) serves every run.
+class FloatEngine final : public filter::EngineRuns {
+ public:
+  FloatEngine(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
+              const FilterOptions& options)
+      : ctx_(BuildContext(prep, MeshAtLod(mesh, options.render.lod_max_faces, &lod_), prior, cls, options, true)) {
+    // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
+    cell_mass_.assign(std::size_t(prior.layout.CellCount()), 0.0);
+    for (int c = 0; c < prior.layout.CellCount(); ++c)
+      if (ctx_.volumes.Valid(c)) cell_mass_[std::size_t(c)] = prior.Prob(c, cls);
+    if (!(std::accumulate(cell_mass_.begin(), cell_mass_.end(), 0.0) > 0))
+      throw filter::NoInitialMassError(prior, cls, options);
   }
-  best.obj = mesh.name;
-  best.time_ms = MsSince(t_start);
-  return best;
+
+  EstimateResult Run(Rng& rng, const ProgressFn& progress) override {
+    return RunFilter(ctx_, cell_mass_, rng, progress, &run_bests_);
+  }
+
+  filter::PolishResult PolishRuns(FilterStats* stats) override {
+    const Particle p = filter::Polish(ctx_, run_bests_, stats);
+    return {p.pose, p.cell, p.weight};
+  }
+
+ private:
+  Mesh lod_;  // the mesh rendered at render.lod_max_faces (unused at 0: the full mesh); before ctx_
+  Context ctx_;
+  std::vector<double> cell_mass_;
+  std::vector<Particle> run_bests_;  // seeds of the final polish, from every run
+};
+
+}  // namespace
+
+namespace filter {
+
+std::unique_ptr<EngineRuns> MakeFloatEngine(const SceneInput&, const PreparedScene& prep, const Mesh& mesh,
+                                            const Prior& prior, int cls, const FilterOptions& options) {
+  return std::make_unique<FloatEngine>(prep, mesh, prior, cls, options);
 }
+
+}  // namespace filter
 
 }  // namespace posefilter

@@ -54,12 +54,12 @@ std::vector<Eigen::Matrix3d> CubeRotations() {
 
 Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* stats) {
   const FilterOptions& o = ctx.opt;
-  ctx.inlier = o.inlier;  // final thresholds, every pixel, the full mesh
+  ctx.inlier = o.score.inlier;  // final thresholds, every pixel, the full mesh
   ctx.coarse = false;
   const Eigen::Vector3d centre = ctx.box_centre;
   const Eigen::Matrix3d& A = ctx.box_axes;
   std::vector<Eigen::Matrix3d> turns = CubeRotations();
-  if (!o.polish_turns) turns.resize(1);
+  if (!o.polish.turns) turns.resize(1);
   // Pivots: a turn about the centre, and (polish_pivots) the same turn followed by the shift
   // that puts a corner of the turned box where that corner of the seed's box was — a turn
   // about an edge or corner, as when an object tips over onto another face. Half extents e
@@ -71,7 +71,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   for (const Particle& s : seeds)
     for (const Eigen::Matrix3d& R : turns) {
       const Eigen::Vector3d diff = half - R.cwiseAbs() * half;
-      const int pivots = o.polish_pivots && diff.norm() > kPivotMinShiftM ? kPivotsPerTurn : 1;
+      const int pivots = o.polish.pivots && diff.norm() > kPivotMinShiftM ? kPivotsPerTurn : 1;
       const Eigen::Matrix3d R_obj = A * R * A.transpose();
       for (int k = 0; k < pivots; ++k) {
         Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
@@ -91,7 +91,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   // dropped onto the plane, and the object standing there in each of its stable poses of at
   // least 1 % probability (at most 8), turned about the plane's normal in 24 steps of 15°: an
   // answer in the wrong stable pose, or the right one turned or flipped, gets the right one.
-  if (o.polish_stable && !ctx.stable.empty()) {
+  if (o.polish.stable && !ctx.stable.empty()) {
     const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
     const Eigen::Vector3d n = ctx.plane.normal, ex = n.unitOrthogonal();
     for (const Particle& s : seeds) {
@@ -114,21 +114,21 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
     }
   }
   // With pivots, weigh every copy once and polish only the best polish_keep of them.
-  if ((o.polish_pivots || o.polish_stable) && int(cands.size()) > o.polish_keep) {
+  if ((o.polish.pivots || o.polish.stable) && int(cands.size()) > o.polish.keep) {
     WeighAll(ctx, cands, stats, /*icp=*/true);
-    std::partial_sort(cands.begin(), cands.begin() + o.polish_keep, cands.end(),
+    std::partial_sort(cands.begin(), cands.begin() + o.polish.keep, cands.end(),
                       [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
-    cands.resize(o.polish_keep);
+    cands.resize(o.polish.keep);
   }
   const DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o, &ctx.plane, centre);
   Rng unused(0);  // the ICP move draws no random numbers
   std::vector<Particle> path_best(cands.size());  // best weighed state of each candidate
   for (auto& p : path_best) p.weight = -1;
-  for (int step = 0; step <= o.polish_steps; ++step) {
+  for (int step = 0; step <= o.polish.steps; ++step) {
     WeighAll(ctx, cands, stats, /*icp=*/true);
     for (std::size_t i = 0; i < cands.size(); ++i)
       if (cands[i].weight > path_best[i].weight) path_best[i] = cands[i];
-    if (step == o.polish_steps) break;
+    if (step == o.polish.steps) break;
     for (Particle& p : cands) ApplyMove(diffusion, Move::kIcpStep, &p, p.weight, unused);
   }
   std::sort(path_best.begin(), path_best.end(), [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
@@ -151,7 +151,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
     double step_m = kClimbStartStepM, angle_rad = kClimbStartAngleRad;
   };
   std::vector<Climber> climbers;
-  for (int i = 0; i < std::min(int(path_best.size()), o.polish_climbers); ++i) climbers.push_back({path_best[i]});
+  for (int i = 0; i < std::min(int(path_best.size()), o.polish.climbers); ++i) climbers.push_back({path_best[i]});
   for (int round = 0; round < kClimbRounds; ++round) {
     std::vector<Particle> trials;
     std::vector<int> owner;

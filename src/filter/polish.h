@@ -13,7 +13,7 @@
 
 namespace posefilter::filter {
 
-// Final polish (ours, FilterOptions::polish_steps): every seed, and with polish_turns each
+// Final polish (ours, FilterOptions::polish.steps): every seed, and with polish_turns each
 // seed turned about the centre c of the model's box (Context::box_axes) by the 23 other
 // rotations of a cube in the box's frame
 // (T' = T·[R_k | c − R_k·c], so the object stays where it is), takes polish_steps ICP steps

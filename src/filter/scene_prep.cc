@@ -15,7 +15,7 @@ PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options
   p.scoring.camera = scene.camera;
   p.scoring.depth = scene.depth;
   std::vector<float>& z = p.scoring.depth.data;
-  if (options.support_plane) {
+  if (options.support.plane) {
     p.plane = FindSupportPlane(scene.depth, scene.camera);
     const std::vector<std::uint8_t> on = SupportPlanePixels(scene.depth, scene.camera, p.plane);
     for (std::size_t i = 0; i < z.size(); ++i)
@@ -25,8 +25,8 @@ PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options
   if (!scene.mask.empty()) {
     // Further than any inlier ramp (2·thr1 at the annealing's start) and the align and edge
     // bands reach: a fragment on a shifted pixel is never an inlier, never aligned to it.
-    const double thr = std::max(options.anneal_start_m, double(options.inlier.thr1_m));
-    p.mask_shift_m = 2 * std::max({2 * thr, options.align_band_m, options.edge_band_m});
+    const double thr = std::max(options.anneal.start_m, double(options.score.inlier.thr1_m));
+    p.mask_shift_m = 2 * std::max({2 * thr, options.diffusion.align_band_m, options.score.edge_band_m});
     for (std::size_t i = 0; i < z.size(); ++i) {
       if (scene.mask[i]) continue;
       p.support.data[i] = 0;

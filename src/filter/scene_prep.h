@@ -2,7 +2,7 @@
 //
 // Two things change the depth image before any weighing (docs/ALGORITHM.md, "Support plane"
 // and "Mask priors"):
-//   - FilterOptions::support_plane: the pixels of the dominant plane (the table,
+//   - FilterOptions::support.plane: the pixels of the dominant plane (the table,
 //     support_plane.h) become missing: never an inlier, never an occluder, not in N_depth.
 //     A pose laid into the table or sunk below it then explains nothing, and rendered pixels
 //     below the table count against it instead of as "occluded".

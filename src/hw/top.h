@@ -10,7 +10,7 @@
 //                 M raster cores; weight merger → sorting network (§7.5.4).
 //   HwUpdateTop — the other half (§7.5.4, §7.6): resampling with elitism and the threshold
 //                 tracker, then diffusion into the other (ping-pong) sample memory.
-// The host (src/hw/engine.cc) calls HwWeighTop, reads the best weight (sorter output [0]) to
+// The host (src/filter/hw_driver.cc) calls HwWeighTop, reads the best weight (sorter output [0]) to
 // decide convergence, and calls HwUpdateTop unless the run stops — the thesis's control loop.
 //
 // Three tiny glue kernels of ours connect interfaces the kernel engineers defined

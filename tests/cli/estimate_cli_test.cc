@@ -245,14 +245,15 @@ TEST_F(CliTest, NonsenseOptionValues) {
     std::vector<std::string> opt;
     std::string needle;
   };
-  // Values CLI11 parses but the filter rejects: exit 1, the message names the option (where
-  // FilterOptions::IsValid names the field: num_particles → --particles, …).
-  for (const Case& c : std::vector<Case>{{{"--particles", "-5"}, "--particles must be in [2, 1000000]"},
-                                         {{"--alpha", "2"}, "--alpha, --beta, --gamma must each be in [0, 1]"},
+  // Values CLI11 parses but the filter rejects: exit 1, the message names the option as the
+  // option table spells it on the command line, its range and the value given.
+  for (const Case& c : std::vector<Case>{{{"--particles", "-5"}, "--particles must be in [2, 1000000] (got -5)"},
+                                         {{"--alpha", "2"}, "--alpha must be in [0, 1] (got 2)"},
+                                         {{"--alpha", "0.5"}, "--alpha + --beta + --gamma must equal 1"},
                                          {{"--confidence", "0"}, "--confidence must"},
                                          {{"--iterations", "0"}, "--iterations must"},
                                          {{"--inlier-thr", "0"}, "--inlier-thr must"},
-                                         {{"--elite", "5000"}, "--elite must be in [0, --particles)"},
+                                         {{"--elite", "5000"}, "--elite must be < --particles (got 5000 >= 510)"},
                                          {{"--pool", "0"}, "--pool must"},
                                          {{"--window", "4"}, "--window must"},
                                          {{"--sigma-t", "-1"}, "--sigma-t must"},
@@ -263,7 +264,13 @@ TEST_F(CliTest, NonsenseOptionValues) {
                                          {{"--anneal-subsample", "0"}, "--anneal-subsample must be in [1, 4]"},
                                          {{"--anneal-fraction", "1.5"}, "--anneal-fraction must be in [0, 1]"},
                                          {{"--fine-fraction", "0"}, "--fine-fraction must be in (0, 1]"},
-                                         {{"--cpu-isa", "avx9"}, "--cpu-isa must be 'auto', 'avx512', 'avx2' or 'portable'"},
+                                         {{"--contact-span", "0"}, "--contact-span must be > 0 (got 0)"},
+                                         {{"--lod", "2"}, "--lod must be 0 (the full mesh) or >= 4 (got 2)"},
+                                         {{"--heuristics-percentile-lo", "0.95"},
+                                          "--heuristics-percentile-lo must be <= --heuristics-percentile-hi"},
+                                         {{"--move-probabilities", "0", "0", "0", "0", "0", "0", "0", "0", "0", "0", "0",
+                                           "0", "0", "0", "0", "0", "0"},
+                                          "--move-probabilities: at least one must be > 0"},
                                          {{"--depth-scale", "-1"}, "--depth-scale"},
                                          {{"--unit-scale", "0"}, "--unit-scale"}}) {
     SCOPED_TRACE(c.opt[0] + " " + c.opt[1]);
@@ -273,6 +280,8 @@ TEST_F(CliTest, NonsenseOptionValues) {
   }
   // Values or options CLI11 rejects: exit 2, first line names the option.
   for (const Case& c : std::vector<Case>{{{"--engine", "gpu"}, "--engine"},
+                                         {{"--cpu-isa", "avx9"}, "--cpu-isa"},
+                                         {{"--move-probabilities", "1", "2"}, "--move-probabilities"},
                                          {{"--iterations", "abc"}, "--iterations"},
                                          {{"--frobnicate"}, "--frobnicate"}}) {
     SCOPED_TRACE(c.opt[0]);

@@ -66,9 +66,9 @@ FilterOptions Options(const std::string& engine, std::uint64_t seed) {
   FilterOptions o;
   o.engine = engine;
   o.num_particles = 48;
-  o.max_iterations = 5;
+  o.stop.max_iterations = 5;
   o.restarts = 2;
-  o.polish_steps = 2;
+  o.polish.steps = 2;
   o.seed = seed;
   o.threads = kWorkerThreads;
   return o;

@@ -1,6 +1,6 @@
 // Level of detail: SimplifyMesh (meshoptimizer) meets its face budget, keeps the shape (bounds,
 // diameter, surface distance, closedness, outward winding), leaves small meshes alone, rejects
-// bad arguments; MeshAtLod and FilterOptions::lod_max_faces apply it in the filter.
+// bad arguments; MeshAtLod and FilterOptions::render.lod_max_faces apply it in the filter.
 #include "posefilter/mesh_simplify.h"
 
 #include <gtest/gtest.h>
@@ -192,10 +192,10 @@ TEST(FilterOptionsLod, ValidatesTheBudget) {
   std::string why;
   EXPECT_TRUE(o.IsValid(&why)) << why;
   for (int v : {-1, 1, 3}) {
-    o.lod_max_faces = v;
+    o.render.lod_max_faces = v;
     ExpectInvalid(o, "lod_max_faces");
   }
-  o.lod_max_faces = 4;
+  o.render.lod_max_faces = 4;
   EXPECT_TRUE(o.IsValid(&why)) << why;
 }
 
@@ -223,10 +223,10 @@ TEST(FilterOptionsLod, WeighPosesRendersTheSimplifiedMesh) {
   // No silhouette edge penalty: the simplified outline lies up to ~1.5 px inside the true one
   // (vertices are kept, so the facets are inscribed), and the scene surface just outside it
   // counts as "continued" — that is the penalty's business, measured in docs/PERFORMANCE.md.
-  o.delta = 0;
+  o.score.delta = 0;
   const std::vector<std::pair<Pose6, int>> hyps = {{truth, cell}, {off, cell}};
   const std::vector<double> full = WeighPoses({scene.depth, scene.camera}, scene.target, prior, cls, o, hyps);
-  o.lod_max_faces = 500;
+  o.render.lod_max_faces = 500;
   const std::vector<double> lod = WeighPoses({scene.depth, scene.camera}, scene.target, prior, cls, o, hyps);
   ASSERT_EQ(full.size(), 2u);
   ASSERT_EQ(lod.size(), 2u);
@@ -234,7 +234,7 @@ TEST(FilterOptionsLod, WeighPosesRendersTheSimplifiedMesh) {
   EXPECT_GT(lod[0], lod[1] + 0.1);
   EXPECT_NEAR(lod[0], full[0], 0.05);
   EXPECT_NE(lod[0], full[0]);  // a different mesh was rendered
-  o.lod_max_faces = 2;
+  o.render.lod_max_faces = 2;
   ExpectError([&] { WeighPoses({scene.depth, scene.camera}, scene.target, prior, cls, o, hyps); },
               {"lod_max_faces"});
 }

@@ -51,9 +51,9 @@ double Spread(const DiffusionContext& ctx, Move move, double best_weight, double
 
 TEST(DiffusionTest, TranslationAndRotationSpreadsDecayLinearlyWithTheBestWeight) {
   Fixture f;
-  f.opt.sigma_t0_m = 0.02;
-  f.opt.sigma_r0_rad = 0.3;
-  f.opt.min_sigma_fraction = 0.05;
+  f.opt.diffusion.sigma_t0_m = 0.02;
+  f.opt.diffusion.sigma_r0_rad = 0.3;
+  f.opt.diffusion.min_sigma_fraction = 0.05;
   const prior::VolumeCache volumes(f.volumes);
   DiffusionContext ctx(f.camera, f.layout, volumes, f.opt);
   EXPECT_NEAR(Spread(ctx, Move::kTranslateX, 0.0, &Pose6::x), 0.02, 0.0006);
@@ -137,9 +137,9 @@ TEST(DiffusionTest, CellMovesReachNeighboursAndOtherLevelsAndCarryTheParticle) {
 
 TEST(DiffusionTest, PickMoveFollowsTheProbabilities) {
   Fixture f;
-  f.opt.move_probabilities.fill(0.0);
-  f.opt.move_probabilities[int(Move::kRotateYaw)] = 3;
-  f.opt.move_probabilities[int(Move::kFlipPitch)] = 1;
+  f.opt.diffusion.move_probabilities.fill(0.0);
+  f.opt.diffusion.move_probabilities[int(Move::kRotateYaw)] = 3;
+  f.opt.diffusion.move_probabilities[int(Move::kFlipPitch)] = 1;
   const prior::VolumeCache volumes(f.volumes);
   DiffusionContext ctx(f.camera, f.layout, volumes, f.opt);
   Rng rng(2);

@@ -18,8 +18,8 @@ TEST(HostSetupTest, DepthExtensionDefaultsToHalfTheDiameter) {
 
 TEST(HostSetupTest, MinWindowSideIsTheProjectedDiameter) {
   FilterOptions o;
-  o.min_window_diameters = 1.0;
-  o.near_m = 0.05;
+  o.render.min_window_diameters = 1.0;
+  o.render.near_m = 0.05;
   Camera cam;
   cam.fx = 500;
   // No volume: 1 m.

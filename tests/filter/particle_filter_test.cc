@@ -26,23 +26,23 @@ TEST(FilterOptionsTest, IsValidNamesTheViolatedConstraint) {
     EXPECT_NE(w.find(needle), std::string::npos) << w;
   };
   FilterOptions b = o;
-  b.alpha = 0.5;  // α + β + γ ≠ 1
-  expect_bad(b, "alpha + beta + gamma");
+  b.score.alpha = 0.5;  // α + β + γ ≠ 1
+  expect_bad(b, "score.alpha + score.beta + score.gamma must equal 1");
   b = o;
   b.num_particles = 1;
   expect_bad(b, "num_particles");
   b = o;
-  b.confidence = 0;
+  b.stop.confidence = 0;
   expect_bad(b, "confidence");
   b = o;
   b.num_elite = b.num_particles;
   expect_bad(b, "num_elite");
   b = o;
-  b.sigma_t0_m = std::nan("");
+  b.diffusion.sigma_t0_m = std::nan("");
   expect_bad(b, "sigma_t0_m");
   b = o;
-  b.move_probabilities.fill(0);
-  expect_bad(b, "move probabilit");
+  b.diffusion.move_probabilities.fill(0);
+  expect_bad(b, "diffusion.move_probabilities");
   b = o;
   b.engine = "gpu";
   expect_bad(b, "engine");
@@ -55,18 +55,18 @@ TEST(FilterOptionsTest, IsValidNamesTheViolatedConstraint) {
     EXPECT_TRUE(b.IsValid(nullptr)) << isa;
   }
   b = o;
-  b.inlier.thr1_m = -1;
-  expect_bad(b, "inlier");
+  b.score.inlier.thr1_m = -1;
+  expect_bad(b, "score.inlier.thr1_m");
   b = o;
-  b.stall_iterations = -1;
-  expect_bad(b, "stall_iterations");
+  b.stop.stall_iterations = -1;
+  expect_bad(b, "stop.stall_iterations");
   b = o;
-  b.stall_gain = std::nan("");
-  expect_bad(b, "stall_gain");
+  b.stop.stall_gain = std::nan("");
+  expect_bad(b, "stop.stall_gain");
   for (int f : {0, 5, -2}) {
     b = o;
-    b.anneal_subsample = f;
-    expect_bad(b, "anneal_subsample");
+    b.anneal.subsample = f;
+    expect_bad(b, "anneal.subsample");
   }
   for (double f : {0.0, 1.5, std::nan("")}) {
     b = o;
@@ -117,10 +117,10 @@ TEST(SubsampleSceneTest, KeepsEveryFthPixelAndScalesTheCamera) {
 
 TEST(RunEndsTest, StopsOnConfidenceOnAStallAtTheFinalThresholdOrAfterTheLastIteration) {
   FilterOptions o;
-  o.max_iterations = 17;
-  o.confidence = 0.9;
-  o.stall_iterations = 3;
-  o.stall_gain = 0.01;
+  o.stop.max_iterations = 17;
+  o.stop.confidence = 0.9;
+  o.stop.stall_iterations = 3;
+  o.stop.stall_gain = 0.01;
   const int anneal = 8;
   // Flat while annealing (the threshold still changes there: no stall), then slowing gains.
   const std::vector<double> h = {0.1, 0.2, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.5, 0.52, 0.522, 0.529, 0.529};
@@ -129,7 +129,7 @@ TEST(RunEndsTest, StopsOnConfidenceOnAStallAtTheFinalThresholdOrAfterTheLastIter
   EXPECT_FALSE(filter::RunEnds(o, 11, anneal, h, &converged));  // 0.529 − 0.5 ≥ 0.01
   EXPECT_TRUE(filter::RunEnds(o, 12, anneal, h, &converged));   // 0.529 − 0.52 < 0.01
   EXPECT_FALSE(converged);
-  o.stall_iterations = 0;  // off: only confidence or the last iteration end a run
+  o.stop.stall_iterations = 0;  // off: only confidence or the last iteration end a run
   EXPECT_FALSE(filter::RunEnds(o, 12, anneal, h, &converged));
   const std::vector<double> flat(17, 0.4);
   EXPECT_FALSE(filter::RunEnds(o, 15, anneal, flat, &converged));
@@ -180,7 +180,7 @@ struct EasyCase {
   static FilterOptions Small(int iterations) {
     FilterOptions o;
     o.num_particles = 64;
-    o.max_iterations = iterations;
+    o.stop.max_iterations = iterations;
     o.restarts = 1;
     return o;
   }
@@ -189,10 +189,10 @@ struct EasyCase {
   // which keep their weights once the threshold is final).
   static FilterOptions Countable(int iterations) {
     FilterOptions o = Small(iterations);
-    o.polish_steps = 0;
-    o.stall_iterations = 0;
-    o.move_probabilities[int(Move::kIcpStep)] = 0;
-    o.region_cap = o.rotation_cap = 1;
+    o.polish.steps = 0;
+    o.stop.stall_iterations = 0;
+    o.diffusion.move_probabilities[int(Move::kIcpStep)] = 0;
+    o.niches.region_cap = o.niches.rotation_cap = 1;
     return o;
   }
   SynthScene sc;
@@ -281,22 +281,22 @@ TEST(ParticleFilterTest, ConcurrentEstimatesGiveTheSequentialResults) {
 TEST(ParticleFilterTest, AStalledRunEndsEarlyAndTheSameSeedStallsAlike) {
   const EasyCase box("box", 3);
   FilterOptions o = EasyCase::Small(40);
-  o.polish_steps = 0;
-  o.confidence = 1;  // on this clean scene the weight can reach 0.9: only the stall rule ends the run
+  o.polish.steps = 0;
+  o.stop.confidence = 1;  // on this clean scene the weight can reach 0.9: only the stall rule ends the run
   const EstimateResult a = box.Run(o);
-  const int anneal = filter::AnnealIterations(o), k = o.stall_iterations;
+  const int anneal = filter::AnnealIterations(o), k = o.stop.stall_iterations;
   ASSERT_EQ(k, 3);
-  ASSERT_LT(a.iterations, o.max_iterations);
+  ASSERT_LT(a.iterations, o.stop.max_iterations);
   ASSERT_EQ(int(a.best_weight_history.size()), a.iterations);
   const std::vector<double>& h = a.best_weight_history;
   const int last = a.iterations - 1;
   ASSERT_GE(last - k, anneal);
-  EXPECT_LT(h[last] - h[last - k], o.stall_gain);
-  for (int it = anneal + k; it < last; ++it) EXPECT_GE(h[it] - h[it - k], o.stall_gain) << it;  // not earlier
+  EXPECT_LT(h[last] - h[last - k], o.stop.stall_gain);
+  for (int it = anneal + k; it < last; ++it) EXPECT_GE(h[it] - h[it - k], o.stop.stall_gain) << it;  // not earlier
   EXPECT_FALSE(a.converged);
   EXPECT_EQ(box.Run(o).best_weight_history, h);
-  o.stall_iterations = 0;
-  EXPECT_EQ(box.Run(o).iterations, o.max_iterations);
+  o.stop.stall_iterations = 0;
+  EXPECT_EQ(box.Run(o).iterations, o.stop.max_iterations);
 }
 
 // Coarse pixels while annealing (anneal_subsample): the annealing iterations weigh about a
@@ -305,11 +305,11 @@ TEST(ParticleFilterTest, AStalledRunEndsEarlyAndTheSameSeedStallsAlike) {
 TEST(ParticleFilterTest, CoarseAnnealingWeighsFewerPixelsAndAnswersAtFullResolution) {
   const EasyCase box("box", 3);
   FilterOptions o = EasyCase::Small(6);
-  o.polish_steps = 0;
-  o.stall_iterations = 0;
-  o.anneal_subsample = 1;
+  o.polish.steps = 0;
+  o.stop.stall_iterations = 0;
+  o.anneal.subsample = 1;
   const EstimateResult full = box.Run(o);
-  o.anneal_subsample = 2;
+  o.anneal.subsample = 2;
   ASSERT_EQ(filter::AnnealIterations(o), 3);  // iterations 0–2 coarse, 3–5 full
   const EstimateResult coarse = box.Run(o);
   EXPECT_EQ(coarse.iterations, 6);
@@ -325,9 +325,9 @@ TEST(ParticleFilterTest, CoarseAnnealingWeighsFewerPixelsAndAnswersAtFullResolut
   EXPECT_EQ(again.best_weight_history, coarse.best_weight_history);
   EXPECT_EQ(again.stats.fragments, coarse.stats.fragments);
   // A one-iteration run is never coarse: its only weighing is the answer.
-  o.max_iterations = 1;
+  o.stop.max_iterations = 1;
   FilterOptions o1 = o;
-  o1.anneal_subsample = 1;
+  o1.anneal.subsample = 1;
   EXPECT_EQ(box.Run(o).stats.fragments, box.Run(o1).stats.fragments);
 }
 
@@ -346,7 +346,7 @@ TEST(ParticleFilterTest, FineSetsHaveTheFineFractionOfTheParticles) {
   EXPECT_EQ(half.stats.weighings, 3 * 64 + 32 + 2 * (32 - 10));
   EXPECT_EQ(half.iterations, 6);
   EXPECT_EQ(box.Run(o).best_weight_history, half.best_weight_history);  // same seed, same run
-  o.anneal_start_m = 0;  // no annealing: every set has N particles (the thesis)
+  o.anneal.start_m = 0;  // no annealing: every set has N particles (the thesis)
   EXPECT_EQ(box.Run(o).stats.weighings, 64 + 5 * (64 - 10));
 }
 
@@ -364,7 +364,7 @@ TEST(ParticleFilterTest, CoarseIterationsWeighTheSimplifiedMesh) {
   const EstimateResult r = torus.Run(o);
   EXPECT_EQ(r.stats.weighings, coarse_weighings + fine_weighings);
   EXPECT_EQ(r.stats.faces_total, coarse_weighings * Fc + fine_weighings * F);
-  o.anneal_simplify = false;
+  o.anneal.simplify = false;
   EXPECT_EQ(torus.Run(o).stats.faces_total, (coarse_weighings + fine_weighings) * F);
   // Meshes at or below the floor are weighed as they are.
   EXPECT_EQ(filter::CoarseMeshFaces(12, 3), filter::kCoarseMinFaces);
@@ -375,10 +375,10 @@ TEST(ParticleFilterTest, CountsTheThesisQuantities) {
   const Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
   FilterOptions o;
   o.num_particles = 100;
-  o.max_iterations = 3;
+  o.stop.max_iterations = 3;
   o.restarts = 1;
-  o.anneal_start_m = 0;
-  o.polish_steps = 0;  // the filter's own weighings only
+  o.anneal.start_m = 0;
+  o.polish.steps = 0;  // the filter's own weighings only
   const EstimateResult r =
       EstimatePose(SceneInput{sc.depth, sc.camera}, sc.target, prior, prior.ClassIndex(sc.target.name), o);
   EXPECT_GT(r.stats.init_cdf_reads_linear, 0);
@@ -397,7 +397,7 @@ TEST(ParticleFilterTest, RejectsAClassWithoutMassAndAPriorOfAnotherSize) {
   const SynthScene sc = EasyScene("box", 1);
   FilterOptions o;
   o.num_particles = 16;
-  o.max_iterations = 1;
+  o.stop.max_iterations = 1;
   const SceneInput in{sc.depth, sc.camera};
   Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
   std::fill(prior.prob.begin(), prior.prob.end(), 0.0f);

@@ -7,6 +7,7 @@
 
 #include "filter/diffusion.h"
 #include "filter/driver.h"
+#include "filter/scene_prep.h"
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
 #include "posefilter/metrics.h"
@@ -137,9 +138,9 @@ TEST(RestartsTest, RunsAreIndependentAndTheBestWins) {
   const Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
   FilterOptions o;
   o.num_particles = 40;
-  o.max_iterations = 4;
+  o.stop.max_iterations = 4;
   o.restarts = 3;
-  o.polish_steps = 0;  // the runs' own results only
+  o.polish.steps = 0;  // the runs' own results only
   const SceneInput in{sc.depth, sc.camera};
   const EstimateResult r = EstimatePose(in, sc.target, prior, prior.ClassIndex("box"), o);
   EXPECT_EQ(r.iterations, 12);
@@ -163,14 +164,14 @@ TEST(PolishTest, NeverLowersTheWeightAndIsDeterministic) {
   const Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
   FilterOptions o;
   o.num_particles = 60;
-  o.max_iterations = 4;
+  o.stop.max_iterations = 4;
   o.restarts = 2;
-  o.polish_steps = 0;
+  o.polish.steps = 0;
   const SceneInput in{sc.depth, sc.camera};
   const int cls = prior.ClassIndex("lshape");
   const EstimateResult plain = EstimatePose(in, sc.target, prior, cls, o);
-  o.polish_steps = 3;
-  o.polish_climbers = 2;
+  o.polish.steps = 3;
+  o.polish.climbers = 2;
   const EstimateResult polished = EstimatePose(in, sc.target, prior, cls, o);
   EXPECT_GE(polished.weight, plain.weight);
   EXPECT_GT(polished.stats.weighings, plain.stats.weighings + 2 * 24 * 3);  // 2 seeds × 24 turns × 3 steps
@@ -202,27 +203,27 @@ TEST(LazyIcpTest, IcpOnlyDiffusionReweighsParentsAndMovesChildren) {
   const auto& [sc, prior, cls, in] = CleanBox(6);
   FilterOptions o;
   o.num_particles = 60;
-  o.max_iterations = 5;
+  o.stop.max_iterations = 5;
   o.restarts = 1;
-  o.polish_steps = 0;
-  o.anneal_start_m = 0;
-  o.confidence = 1;
-  o.stall_iterations = 0;  // all max_iterations iterations (the counts below assume them)
-  o.move_probabilities.fill(0.0);
-  o.move_probabilities[int(Move::kIcpStep)] = 1;
+  o.polish.steps = 0;
+  o.anneal.start_m = 0;
+  o.stop.confidence = 1;
+  o.stop.stall_iterations = 0;  // all max_iterations iterations (the counts below assume them)
+  o.diffusion.move_probabilities.fill(0.0);
+  o.diffusion.move_probabilities[int(Move::kIcpStep)] = 1;
   // Every cell keeps a volume (the table's pixels too), so that the 60 particles spread over
   // many hypotheses, the resampling pool holds num_elite particles and the children below
   // are N − num_elite per iteration.
-  o.support_plane = false;
+  o.support.plane = false;
   const EstimateResult a = EstimatePose(in, sc.target, prior, cls, o);
-  const int children = (o.max_iterations - 1) * (o.num_particles - o.num_elite);
+  const int children = (o.stop.max_iterations - 1) * (o.num_particles - o.num_elite);
   EXPECT_GT(a.stats.weighings, o.num_particles + children);  // + the parents weighed again
   const EstimateResult b = EstimatePose(in, sc.target, prior, cls, o);
   EXPECT_EQ(a.best_weight_history, b.best_weight_history);
   EXPECT_EQ(a.stats.weighings, b.stats.weighings);
   // Without any ICP move nothing is weighed twice: exactly N + children weighings.
-  o.move_probabilities.fill(0.0);
-  o.move_probabilities[int(Move::kTranslateAll)] = 1;
+  o.diffusion.move_probabilities.fill(0.0);
+  o.diffusion.move_probabilities[int(Move::kTranslateAll)] = 1;
   const EstimateResult c = EstimatePose(in, sc.target, prior, cls, o);
   EXPECT_EQ(c.stats.weighings, o.num_particles + children);
 }
@@ -247,15 +248,16 @@ TEST(PolishTest, PolishPosesBringsATippedSeedBack) {
   ASSERT_FALSE(ComputePoseErrors(SamplePoints(sc.target), sc.target.Diameter(), T_seed, T_gt).adds_ok);
   const std::vector<double> w0 = WeighPoses(in, sc.target, prior, cls, o, {{seed, cell}});
   FilterStats stats;
-  const filter::PolishResult r = filter::PolishPoses(in, sc.target, prior, cls, o, {{seed, cell}}, &stats);
+  const filter::PreparedScene prep = filter::PrepareScene(in, o);
+  const filter::PolishResult r = filter::PolishPoses(prep, sc.target, prior, cls, o, {{seed, cell}}, &stats);
   EXPECT_GT(r.weight, w0[0]);
   EXPECT_GT(stats.weighings, 24);
   const Eigen::Isometry3d T = sc.camera.base_to_camera * PoseToTransform(r.pose);
   const PoseErrors e = ComputePoseErrors(SamplePoints(sc.target), sc.target.Diameter(), T, T_gt);
   EXPECT_TRUE(e.adds_ok) << "ADD-S " << 1000 * e.adds << " mm";
-  EXPECT_THROW(filter::PolishPoses(in, sc.target, prior, cls, o, {}, &stats), Error);
-  EXPECT_THROW(filter::PolishPoses(in, sc.target, prior, cls, o, {{seed, -1}}, &stats), Error);
-  EXPECT_THROW(filter::PolishPoses(in, sc.target, prior, cls, o, {{seed, prior.layout.CellCount()}}, &stats), Error);
+  EXPECT_THROW(filter::PolishPoses(prep, sc.target, prior, cls, o, {}, &stats), Error);
+  EXPECT_THROW(filter::PolishPoses(prep, sc.target, prior, cls, o, {{seed, -1}}, &stats), Error);
+  EXPECT_THROW(filter::PolishPoses(prep, sc.target, prior, cls, o, {{seed, prior.layout.CellCount()}}, &stats), Error);
 }
 
 }  // namespace

@@ -100,7 +100,7 @@ TEST(TableSceneTest, APoseSunkIntoTheTableWeighsLessThanTheTruePose) {
   // The same poses scored against every pixel (the thesis's weighing) and no contact prior:
   // the table explains the sunk poses much better.
   FilterOptions thesis;
-  thesis.support_plane = false;
+  thesis.support.plane = false;
   const std::vector<double> t = WeighPoses(in, Plate(), p.prior, p.cls, thesis, hyps);
   EXPECT_GT(t[1] - w[1], 0.1);
 }
@@ -120,12 +120,12 @@ TEST(TableSceneTest, TheContactPriorPenalisesFloatingPoses) {
   const int cell = p.prior.layout.CellCount() - 1;  // any cell: only the differences matter
   const std::vector<std::pair<Pose6, int>> hyps = {{raised(0.0), cell}, {raised(0.01), cell}, {raised(0.2), cell}};
   FilterOptions with, without;
-  without.contact = 0;
+  without.support.contact = 0;
   const std::vector<double> a = WeighPoses(in, Plate(), p.prior, p.cls, with, hyps);
   const std::vector<double> b = WeighPoses(in, Plate(), p.prior, p.cls, without, hyps);
   EXPECT_NEAR(a[0], b[0], 1e-12);  // resting: no penalty
   EXPECT_NEAR(a[1], b[1], 1e-12);  // 1 cm: within the 1.5 cm tolerance
-  EXPECT_NEAR(b[2] - a[2], std::min(b[2], with.contact), 1e-9);  // 20 cm: the whole penalty
+  EXPECT_NEAR(b[2] - a[2], std::min(b[2], with.support.contact), 1e-9);  // 20 cm: the whole penalty
 }
 
 // With the plate's instance mask, the mask alone is its prior: it is found, and a pose on a
@@ -158,7 +158,7 @@ TEST(TableSceneTest, StableStartsAreDeterministicAndRestOnTheTable) {
   const PlateScene p = FindPlateScene(2);
   const SceneInput in{p.scene.depth, p.scene.camera, {}};
   FilterOptions o = SmallOptions();
-  o.stable_start = 1;
+  o.support.stable_start = 1;
   o.restarts = 1;
   const EstimateResult a = EstimatePose(in, Plate(), p.prior, p.cls, o);
   const EstimateResult b = EstimatePose(in, Plate(), p.prior, p.cls, o);

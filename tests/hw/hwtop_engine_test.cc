@@ -1,5 +1,5 @@
 // Tests of the hw engine's top functions (src/hw/top.h), cycle model (src/hw/cycle_model.h),
-// driver (EstimatePoseHw, ProfileHw: src/hw/engine.cc) and its input errors. Suites HwTop*.
+// driver (EstimatePose with engine "hw", ProfileHw: src/filter/hw_driver.cc) and its input errors. Suites HwTop*.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -219,9 +219,9 @@ FilterOptions SmallHwOptions() {
   FilterOptions o;
   o.engine = "hw";
   o.num_particles = 96;
-  o.max_iterations = 3;
+  o.stop.max_iterations = 3;
   o.restarts = 1;
-  o.polish_steps = 0;  // the hardware's own answer (no host-side float polish)
+  o.polish.steps = 0;  // the hardware's own answer (no host-side float polish)
   return o;
 }
 
@@ -229,7 +229,7 @@ TEST(HwTopEngine, DispatchIsDeterministicAndTheWeightMatchesTheFloatWeighing) {
   const SceneFixture f = MakeScene("box", 2);
   FilterOptions o = SmallHwOptions();
   const EstimateResult a = EstimatePose(f.input(), f.scene.target, f.prior, f.cls, o);
-  const EstimateResult b = EstimatePoseHw(f.input(), f.scene.target, f.prior, f.cls, o);
+  const EstimateResult b = EstimatePose(f.input(), f.scene.target, f.prior, f.cls, o);
   EXPECT_EQ(a.weight, b.weight);
   EXPECT_EQ(a.pose_base.x, b.pose_base.x);
   EXPECT_EQ(a.iterations, 3);
@@ -253,8 +253,8 @@ TEST(HwTopEngine, HostPolishStartsFromTheRunsBestAndReportsTheFloatWeight) {
   const SceneFixture f = MakeScene("box", 2);
   FilterOptions o = SmallHwOptions();
   const EstimateResult raw = EstimatePose(f.input(), f.scene.target, f.prior, f.cls, o);
-  o.polish_steps = 4;
-  o.polish_climbers = 2;
+  o.polish.steps = 4;
+  o.polish.climbers = 2;
   const EstimateResult pol = EstimatePose(f.input(), f.scene.target, f.prior, f.cls, o);
   // The same hardware runs (the polish draws no random numbers), then more weighings.
   EXPECT_EQ(pol.best_weight_history, raw.best_weight_history);
@@ -277,7 +277,7 @@ TEST(HwTopEngine, LargeMeshIsReducedToTheHardwareBound) {
   const Mesh big = MakeTorus(0.06, 0.025, 64, 48, f.scene.target.name);  // 3072 vertices
   ASSERT_GT(big.vertices.size(), 1024u);
   FilterOptions o = SmallHwOptions();
-  o.max_iterations = 1;
+  o.stop.max_iterations = 1;
   o.num_particles = 20;
   HwProfileOptions p;
   p.cores = {2};
@@ -291,8 +291,8 @@ TEST(HwTopEngine, ProfileIsConsistent) {
   const SceneFixture f = MakeScene("lshape", 3);
   FilterOptions o = SmallHwOptions();
   o.num_particles = 60;
-  o.max_iterations = 2;
-  o.min_window_diameters = 4;  // 200×200 windows, as the thesis
+  o.stop.max_iterations = 2;
+  o.render.min_window_diameters = 4;  // 200×200 windows, as the thesis
   HwProfileOptions p;
   p.raw_pyramid = f.scene.raw_pyramid;
   const HwProfile prof = ProfileHw(f.input(), f.scene.target, f.prior, f.cls, o, p);
@@ -341,21 +341,21 @@ TEST(HwTopEngineErrors, InputsTheHardwareCannotTake) {
   o.num_particles = 511;
   expect_error(o, "num_particles");
   o = SmallHwOptions();
-  o.max_window_px = 256;
+  o.render.max_window_px = 256;
   expect_error(o, "max_window_px");
   o = SmallHwOptions();
-  o.near_m = 0.01;
+  o.render.near_m = 0.01;
   expect_error(o, "near_m");
   o = SmallHwOptions();
-  o.sigma_t0_m = 5;
+  o.diffusion.sigma_t0_m = 5;
   expect_error(o, "sigma_t0_m");
   o = SmallHwOptions();
   o.engine = "fpga";
   expect_error(o, "engine");
   // A move set with only the float-only move (ICP) has nothing to model.
   o = SmallHwOptions();
-  o.move_probabilities.fill(0.0);
-  o.move_probabilities[int(Move::kIcpStep)] = 1;
+  o.diffusion.move_probabilities.fill(0.0);
+  o.diffusion.move_probabilities[int(Move::kIcpStep)] = 1;
   expect_error(o, "move probabilities");
 
   // An image larger than the hardware's depth memory.
@@ -364,7 +364,7 @@ TEST(HwTopEngineErrors, InputsTheHardwareCannotTake) {
   big.scene.depth = DepthImage(800, 480);
   big.scene.depth.data.assign(800 * 480, 1.0f);
   try {
-    EstimatePoseHw(SceneInput{big.scene.depth, big.scene.camera}, f.scene.target, f.prior, f.cls, SmallHwOptions());
+    EstimatePose(SceneInput{big.scene.depth, big.scene.camera}, f.scene.target, f.prior, f.cls, SmallHwOptions());
     ADD_FAILURE() << "no error for an 800-pixel-wide image";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("640x480"), std::string::npos) << e.what();
@@ -373,7 +373,7 @@ TEST(HwTopEngineErrors, InputsTheHardwareCannotTake) {
   Prior small = f.prior;
   small.layout.levels.pop_back();
   try {
-    EstimatePoseHw(f.input(), f.scene.target, small, f.cls, SmallHwOptions());
+    EstimatePose(f.input(), f.scene.target, small, f.cls, SmallHwOptions());
     ADD_FAILURE() << "no error for a 2-level pyramid";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("thesis pyramid"), std::string::npos) << e.what();
@@ -382,7 +382,7 @@ TEST(HwTopEngineErrors, InputsTheHardwareCannotTake) {
   Prior empty = f.prior;
   for (int c = 0; c < kNumCells; ++c) empty.prob[std::size_t(c) * empty.layout.num_classes + f.cls] = 0;
   try {
-    EstimatePoseHw(f.input(), f.scene.target, empty, f.cls, SmallHwOptions());
+    EstimatePose(f.input(), f.scene.target, empty, f.cls, SmallHwOptions());
     ADD_FAILURE() << "no error for a class without mass";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("probability mass"), std::string::npos) << e.what();

@@ -1,0 +1,46 @@
+// src/filter/engine.h — the one interface every engine implements behind EstimatePose.
+//
+// EstimatePose (driver.cc) validates the options and prepares the scene once (scene_prep.h),
+// parses FilterOptions::engine once, makes that engine's runs from the shared host set-up
+// (host_setup.h), runs options.restarts of them (RunRestarts) and ends with the engine's final
+// polish (polish.h). An engine supplies only what differs:
+//   - Run: one run of the filter, initialisation to convergence, on a given random stream;
+//   - PolishRuns: the final polish of what its runs found.
+// The float engines (`reference`, `cpu`) differ only in their weighing kernel and share one
+// implementation (particle_filter.cc); the `hw` engine runs the C-simulated hardware
+// (hw_driver.cc). A new engine is a new EngineRuns and one line in MakeEngine (driver.cc).
+#pragma once
+
+#include <memory>
+
+#include "filter/driver.h"
+#include "filter/scene_prep.h"
+#include "posefilter/filter.h"
+#include "posefilter/rng.h"
+
+namespace posefilter::filter {
+
+class EngineRuns {
+ public:
+  virtual ~EngineRuns() = default;
+  // One run from initialisation to convergence on `rng`; `progress` (may be empty) sees
+  // (iteration within the run, best weight of the run so far). Remembers what the final
+  // polish starts from.
+  virtual EstimateResult Run(Rng& rng, const ProgressFn& progress) = 0;
+  // The final polish (options.polish.steps > 0) of what the runs so far found: the best pose
+  // and its float weight (eq. 7.4 at the final inlier threshold); counters into *stats.
+  virtual PolishResult PolishRuns(FilterStats* stats) = 0;
+  // Whether the polished pose is the answer even when its weight is below the runs' best: the
+  // hw engine's runs weigh in fixed point, which the float weight does not compare with.
+  virtual bool PolishReplacesRuns() const { return false; }
+};
+
+// The engine's runs for one estimate. `scene` is the caller's scene, `prep` its preparation
+// (PrepareScene, with the same options); both, `mesh` and `prior` outlive the result.
+// Throws Error on inputs the engine cannot take.
+std::unique_ptr<EngineRuns> MakeFloatEngine(const SceneInput& scene, const PreparedScene& prep, const Mesh& mesh,
+                                            const Prior& prior, int cls, const FilterOptions& options);  // particle_filter.cc
+std::unique_ptr<EngineRuns> MakeHwEngine(const SceneInput& scene, const PreparedScene& prep, const Mesh& mesh,
+                                         const Prior& prior, int cls, const FilterOptions& options);  // hw_driver.cc
+
+}  // namespace posefilter::filter
