@@ -14,6 +14,7 @@
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/mask_prior.h"
+#include "posefilter/auto_prior.h"
 #include "posefilter/overlay.h"
 #include "posefilter/prior.h"
 #include "posefilter/scene_io.h"
@@ -50,7 +51,8 @@ int RunEstimate(int argc, char** argv) {
   app.add_option("--mesh", mesh_args, "object mesh, NAME=PATH or PATH (repeatable; NAME = prior class)")->required();
   app.add_option("--unit-scale", unit_scale, "mesh units to metres (0.001 for millimetre meshes)")->capture_default_str();
   app.add_option("--prior", prior_arg,
-                 "stage-1 prior: detections JSON (*.json), raw pyramid file (15x20+30x40+60x80 cells x (classes+5) float32), or 'none'")
+                 "stage-1 prior: detections JSON (*.json), raw pyramid file (15x20+30x40+60x80 cells x (classes+5) float32), "
+                 "'auto' (no detector: candidate regions found in the depth image) or 'none' (uniform)")
       ->capture_default_str();
   app.add_option("--mask", mask_path,
                  "instance or label PNG (8/16-bit ids, 0 = background) of a segmentation front end: one estimate per "
@@ -73,15 +75,16 @@ int RunEstimate(int argc, char** argv) {
     if (!mask_path.empty() && prior_arg != "none")
       throw Error("--mask and --prior: give one stage-1 prior (a mask's box is its detection)");
     if (mask_path.empty() && !mask_classes_path.empty()) throw Error("--mask-classes needs --mask");
-    if (!classes_path.empty() && (prior_arg == "none" || json_prior || !mask_path.empty()))
+    const bool named_prior = prior_arg == "none" || prior_arg == "auto";  // no file
+    if (!classes_path.empty() && (named_prior || json_prior || !mask_path.empty()))
       throw Error("--classes names the classes of a raw pyramid --prior; it does not apply to " +
-                  std::string(!mask_path.empty() ? "--mask" : json_prior ? "a detections JSON" : "--prior none"));
+                  std::string(!mask_path.empty() ? "--mask" : json_prior ? "a detections JSON" : "--prior " + prior_arg));
     if (!rgb_path.empty() && overlay_path.empty()) throw Error("--rgb is the background of --overlay; give --overlay too");
     // Every output is checked before the work: writable, and none of the inputs.
     std::vector<NamedPath> inputs = {{depth_path, "--depth"}, {camera_path, "--camera"},
                                      {rgb_path, "--rgb"},     {mask_path, "--mask"},
                                      {mask_classes_path, "--mask-classes"}, {classes_path, "--classes"}};
-    if (prior_arg != "none") inputs.push_back({prior_arg, "--prior"});
+    if (!named_prior) inputs.push_back({prior_arg, "--prior"});
     for (const auto& [name, path] : mesh_list) inputs.push_back({path, "--mesh"});
     CheckOutputPaths({{out_path, "--out"}, {overlay_path, "--overlay"}}, inputs);
     CameraFile cam = ReadCameraJson(camera_path);
@@ -134,6 +137,14 @@ int RunEstimate(int argc, char** argv) {
         }
         if (!any) throw Error(mask_path + ": no instance of '" + mesh.name + "' (a --mesh class) in the mask");
       }
+    } else if (prior_arg == "auto") {
+      std::vector<std::string> classes;
+      std::vector<std::pair<std::string, double>> objects;
+      for (const auto& m : meshes) classes.push_back(m.name), objects.push_back({m.name, m.Diameter()});
+      const std::vector<Detection> dets = AutoDetections(scene.depth, scene.camera, objects);
+      if (dets.empty())
+        throw Error("--prior auto: no candidates: no region of the depth image stands above the support plane");
+      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else if (prior_arg == "none") {
       std::vector<std::string> classes;
       for (const auto& m : meshes) classes.push_back(m.name);

@@ -32,6 +32,7 @@
 #include "posefilter/file_io.h"
 #include "posefilter/file_io.h"
 #include "posefilter/filter.h"
+#include "posefilter/auto_prior.h"
 #include "posefilter/prior.h"
 #include "posefilter/rng.h"
 
@@ -127,7 +128,7 @@ int RunRunDataset(int argc, char** argv) {
   std::string dataset_dir, split = "test", detections_path, out_path, targets_path;
   double jitter_px = 0;
   double gt_box_score = 0.9;
-  bool uniform = false, quiet = false;
+  bool uniform = false, auto_prior = false, quiet = false;
   int limit = -1;
   FilterOptions opt;
   app.add_option("--dataset", dataset_dir, "dataset folder (BOP: models/ + <split>/; or YCB-Video: scenes/ + models/)")
@@ -138,8 +139,12 @@ int RunRunDataset(int argc, char** argv) {
   auto* gt_opt = app.add_option("--gt-boxes", jitter_px,
                                 "prior from the ground-truth silhouette boxes jittered by this sigma (pixels)");
   auto* uni_opt = app.add_flag("--uniform-prior", uniform, "no stage-1 prior (uniform over cells)");
-  det_opt->excludes(gt_opt)->excludes(uni_opt);
-  gt_opt->excludes(uni_opt);
+  auto* auto_opt = app.add_flag("--auto-prior", auto_prior,
+                                "no detector: candidate regions found in the depth image, for every target's object "
+                                "(posefilter/auto_prior.h)");
+  det_opt->excludes(gt_opt)->excludes(uni_opt)->excludes(auto_opt);
+  gt_opt->excludes(uni_opt)->excludes(auto_opt);
+  uni_opt->excludes(auto_opt);
   app.add_option("--gt-box-score", gt_box_score, "score of the ground-truth boxes, [0, 1]")->capture_default_str();
   app.add_option("--out", out_path, "results CSV (appended to; images already in it are skipped)")->required();
   app.add_option("--targets", targets_path,
@@ -149,8 +154,8 @@ int RunRunDataset(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "no progress bar on stderr");
   AddFilterOptions(app, &opt);
   app.callback([&] {
-    if (det_opt->count() + gt_opt->count() + uni_opt->count() == 0)
-      throw CLI::RequiredError("a prior: --detections FILE, --gt-boxes JITTER_PX or --uniform-prior");
+    if (det_opt->count() + gt_opt->count() + uni_opt->count() + auto_opt->count() == 0)
+      throw CLI::RequiredError("a prior: --detections FILE, --gt-boxes JITTER_PX, --uniform-prior or --auto-prior");
   });
 
   return RunApp(app, argc, argv, [&] {
@@ -222,6 +227,13 @@ int RunRunDataset(int argc, char** argv) {
       if (use_dets) {
         if (const auto it = dets_by_image.find(key); it != dets_by_image.end())
           dets = ToPriorDetections(it->second, ds, detections_path);
+      } else if (auto_prior) {
+        std::vector<std::pair<std::string, double>> wanted;  // the image's target objects
+        for (const DatasetTarget& t : targets.at(key)) {
+          const Mesh& mesh = mesh_of(t.obj_id);
+          wanted.push_back({ds.Model(t.obj_id)->name, mesh.Diameter()});
+        }
+        dets = AutoDetections(scene.depth, scene.camera, wanted);
       } else if (use_gt) {
         if (!im->has_gt) throw Error(where + ": --gt-boxes needs ground truth, the dataset has none for it");
         Rng rng(MixSeed(opt.seed, im->scene_id, im->im_id, 0, -1));
@@ -247,7 +259,7 @@ int RunRunDataset(int argc, char** argv) {
         for (int inst = 0; inst < t.inst_count; ++inst) {
           Prior single;
           const Prior* prior = &image_prior;
-          if (t.inst_count > 1 && !uniform) {
+          if (t.inst_count > 1 && !uniform && !auto_prior) {
             if (inst >= int(own.size())) break;
             single = PriorFromDetections({*own[inst]}, layout, classes);
             prior = &single;

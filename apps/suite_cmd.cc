@@ -25,6 +25,7 @@
 #include "posefilter/bop_metrics.h"
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
+#include "posefilter/auto_prior.h"
 #include "posefilter/mask_prior.h"
 #include "posefilter/metrics.h"
 #include "posefilter/synth.h"
@@ -67,7 +68,7 @@ void WriteJson(const std::string& path, const nlohmann::json& j) {
 
 struct TableSuiteArgs {
   std::string models_dir;
-  std::string prior_kind;           // "boxes" or "masks"
+  std::string prior_kind;           // "boxes", "masks", "auto" (no detector) or "none" (uniform)
   std::vector<std::string> classes; // classes estimated (empty: all)
   std::string write_dir;
   std::string json_path;
@@ -112,7 +113,23 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
     }
     const int W = scene.camera.width, H = scene.camera.height;
     const PyramidLayout layout = PyramidLayout::Thesis(W, H, int(classes.size()));
-    const Prior box_prior = PriorFromDetections(scene.detections, layout, classes);
+    Prior box_prior;
+    std::string scene_status = "ok";
+    if (a.prior_kind == "auto") {
+      // No detector: candidate regions in the depth, for every object class the scene is
+      // searched for (its targets), as `estimate --prior auto` does for its meshes.
+      std::vector<std::pair<std::string, double>> wanted;
+      for (const TableObject& o : scene.objects)
+        if (o.target && std::none_of(wanted.begin(), wanted.end(), [&](const auto& w) { return w.first == o.cls; }))
+          wanted.push_back({o.cls, world.models()[std::size_t(o.model)].diameter});
+      const std::vector<Detection> dets = AutoDetections(scene.depth, scene.camera, wanted);
+      if (dets.empty()) scene_status = "no candidates";
+      box_prior = PriorFromDetections(dets, layout, classes);
+    } else if (a.prior_kind == "none") {
+      box_prior = UniformPrior(layout, classes);
+    } else {
+      box_prior = PriorFromDetections(scene.detections, layout, classes);
+    }
     for (std::size_t j = 0; j < scene.objects.size(); ++j) {
       const TableObject& obj = scene.objects[j];
       if (!obj.target) continue;
@@ -120,7 +137,7 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
       const TableModel& model = world.models()[std::size_t(obj.model)];
       SceneInput input{scene.depth, scene.camera, {}};
       Prior prior = box_prior;
-      std::string status = "ok";
+      std::string status = scene_status;
       if (a.prior_kind == "masks") {
         LabelImage l{W, H, {}};
         l.ids.resize(scene.masks.size());
@@ -236,8 +253,10 @@ int RunSuite(int argc, char** argv) {
   app.add_option("--max-distance", synth.max_distance_m, "max camera→target distance, m (ycbv: 1.3)")->capture_default_str();
   app.add_option("--models", ta.models_dir, "ycbv: folder of the 21 YCB-Video meshes <class>.ply (and points/<class>.xyz)")
       ->capture_default_str();
-  app.add_option("--prior", ta.prior_kind, "ycbv: boxes (jittered, with false boxes) or masks (noisy instance masks)")
-      ->check(CLI::IsMember({"boxes", "masks"}))
+  app.add_option("--prior", ta.prior_kind,
+                 "ycbv: boxes (jittered, with false boxes), masks (noisy instance masks), auto (no detector: regions "
+                 "found in the depth) or none (uniform)")
+      ->check(CLI::IsMember({"boxes", "masks", "auto", "none"}))
       ->capture_default_str();
   app.add_option("--min-objects", table.min_objects, "ycbv: objects per scene, at least")->capture_default_str();
   app.add_option("--max-objects", table.max_objects, "ycbv: objects per scene, at most")->capture_default_str();

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "filter/cdf_sampler.h"
+#include "posefilter/auto_prior.h"
 #include "posefilter/camera.h"
 #include "posefilter/depth_image.h"
 #include "posefilter/error.h"

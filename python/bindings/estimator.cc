@@ -85,6 +85,14 @@ class Estimator {
       prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else if (py::isinstance<Prior>(prior_arg)) {
       prior = prior_arg.cast<Prior>();
+    } else if (py::isinstance<py::str>(prior_arg) && prior_arg.cast<std::string>() == "auto") {
+      // No detector: candidate regions of the depth image for every mesh (posefilter/auto_prior.h).
+      std::vector<std::pair<std::string, double>> objects;
+      for (std::size_t i = 0; i < objs.size(); ++i) objects.push_back({objs[i], meshes[i].Diameter()});
+      const auto dets = AutoDetections(scene.depth, camera, objects);
+      if (dets.empty()) Fail("prior 'auto': no candidates: no region of the depth image stands above the support plane");
+      const auto classes = ClassesForObjects(objs, {});
+      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else if (py::isinstance<py::str>(prior_arg) || py::hasattr(prior_arg, "__fspath__")) {
       const std::string path = py::str(py::module_::import("os").attr("fspath")(prior_arg));
       const auto dets = ReadDetectionsJson(path);
@@ -97,7 +105,7 @@ class Estimator {
       const auto classes = ClassesForObjects(objs, dets);
       prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else {
-      throw py::type_error("prior: expected None, a Prior, a detections JSON path or a list of detections");
+      throw py::type_error("prior: expected None, 'auto', a Prior, a detections JSON path or a list of detections");
     }
     if (prior.layout.image_width != W || prior.layout.image_height != H)
       Fail("prior: made for a " + std::to_string(prior.layout.image_width) + "x" +
@@ -227,7 +235,8 @@ void BindEstimation(py::module_& m) {
       .def("estimate", &Estimator::Estimate, "depth"_a, "camera"_a, "mesh"_a, "prior"_a = py::none(), py::kw_only(),
            "obj"_a = py::none(), "depth_scale"_a = py::none(), "progress"_a = py::none(), "mask"_a = py::none(),
            "Pose(s) of mesh (a Mesh → Result; a list of Mesh → BatchResult) in depth (H x W float metres, or "
-           "uint16 with depth_scale). prior: None (uniform, or the mask's box), a Prior, a detections JSON path, "
+           "uint16 with depth_scale). prior: None (uniform, or the mask's box), 'auto' (no detector: candidate "
+           "regions of the depth), a Prior, a detections JSON path, "
            "or a list of Detection/dicts. obj: prior class name(s), default the meshes' names. mask: the "
            "object's instance mask (H x W, non-zero = the object; one Mesh), scored against. progress(obj, "
            "iteration, best_weight) is called after each iteration (best_weight: the best at the final inlier "

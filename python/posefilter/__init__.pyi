@@ -202,7 +202,7 @@ class BatchResult:
     @property
     def weights(self) -> F64: ...
 
-PriorLike = None | Prior | StrPath | Sequence[DetectionLike]
+PriorLike = None | Literal["auto"] | Prior | StrPath | Sequence[DetectionLike]
 ProgressFn = Callable[[str, int, float], object]
 
 class Estimator:

@@ -118,6 +118,12 @@ def test_prior_forms(easy_scene, tiny_estimator, tmp_path):
     # No prior: a uniform one over the object's class; the call still returns a valid pose.
     uniform = pf.Estimator(**TINY).estimate(s.depth, s.camera, s.target)
     assert_valid_result(uniform, TINY)
+    # No detector: candidate regions of the depth image; the same as the CLI's --prior auto.
+    auto = pf.Estimator(**TINY).estimate(s.depth, s.camera, s.target, "auto")
+    assert_valid_result(auto, TINY)
+    table_only = np.where(s.depth > 0, s.depth.max(), 0).astype(np.float32)  # a wall: no region stands out
+    with pytest.raises(ValueError, match="no candidates"):
+        pf.Estimator(**TINY).estimate(table_only, s.camera, s.target, "auto")
 
 
 def test_batch_returns_stacked_arrays(easy_scene):

@@ -33,12 +33,24 @@ using testing_util::WriteFile;
 // ---------------------------------------------------------------------------------------------
 // estimate: success paths.
 
+// --prior auto on a scene with nothing above the table: "no candidates", exit 1, nothing written.
+TEST_F(CliTest, AutoPriorWithoutCandidatesIsAClearError) {
+  const CameraFile cam = ReadCameraJson(Scene("camera.json"));
+  const DepthImage flat(cam.camera.width, cam.camera.height, 1.2f);  // a wall 1.2 m away, nothing before it
+  SaveDepthPng(flat, Path("flat.png"), cam.depth_scale);
+  const RunResult r = Run(EstimateArgs(Path("flat.png"), Scene("camera.json"),
+                                       {"--mesh", Scene("box.ply"), "--prior", "auto", "--out", Path("r.json")}));
+  ExpectInputError(r, "estimate", "--prior auto: no candidates");
+  EXPECT_FALSE(std::filesystem::exists(Path("r.json")));
+}
+
 TEST_F(CliTest, EstimateWithEveryPriorFormWritesResultsAndOverlay) {
   const CameraFile cam = ReadCameraJson(Scene("camera.json"));
   const std::vector<std::vector<std::string>> priors = {
       {"--prior", Scene("detections.json")},
       {"--prior", Scene("prior.pyr"), "--classes", Scene("classes.txt")},
-      {"--prior", "none"}};
+      {"--prior", "none"},
+      {"--prior", "auto"}};
   for (std::size_t i = 0; i < priors.size(); ++i) {
     SCOPED_TRACE(priors[i][1]);
     const std::string out = Path("results" + std::to_string(i) + ".json");

@@ -1,0 +1,72 @@
+// posefilter/auto_prior.h — a stage 1 without a detector (`--prior auto`): candidate object
+// regions found in the depth image alone, turned into detections for the filter's prior.
+//
+// Method (docs/ALGORITHM.md, "No detector"):
+//   1. the dominant support plane (FindSupportPlane) and its pixels are taken out;
+//   2. the remaining valid pixels between min_height_m and max_height_m above the plane (all
+//      valid pixels when no plane is found) are grouped into regions: 4-connected pixels whose
+//      depths differ by at most max_step_fraction · z;
+//   3. regions of fewer than min_pixels pixels are dropped;
+//   4. for each object (name, diameter in metres), every region gives detections of the
+//      object's projected size s = diameter · f / z (z the region's median depth): a region
+//      that fits in fit_factor · s is one detection (its bounding box); a larger region (objects
+//      that touch) is covered by s × s boxes on a grid of stride s / 2, each kept where region
+//      pixels fill at least min_fill of it. Scores: fit_score for a region that fits (less
+//      for a region much smaller than s, see full_size), and tile_score times the box's fill
+//      for a tile (times tile_weight_when_one_fits where another of the objects fits the
+//      whole region: it is more likely that object than several touching ones).
+// The detections go into PriorFromDetections like a detector's; the filter's niches keep the
+// hypotheses apart until the fine threshold ranks them. Deterministic; metres, pixels.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "posefilter/camera.h"
+#include "posefilter/depth_image.h"
+#include "posefilter/prior.h"
+#include "posefilter/support_plane.h"
+
+namespace posefilter {
+
+struct AutoPriorOptions {
+  SupportPlaneOptions plane;
+  double min_height_m = 0.004;       // above the plane's band: lower points are the table's, m
+  double max_height_m = 0.6;         // higher points (walls, the robot) are not objects, m
+  double max_step_fraction = 0.03;   // neighbours in one region: |Δz| ≤ this · z, (0, 1]
+  int min_pixels = 40;               // smaller regions are noise, ≥ 1
+  double fit_factor = 1.2;           // a region within fit_factor · s on both sides is one box, ≥ 1
+  double min_fill = 0.2;             // a tile is kept where region pixels fill this much, (0, 1]
+  double fit_score = 0.9;            // detection scores, (0, 1]
+  double tile_score = 0.6;
+  // A region that fits but spans less than full_size · s scores less, in proportion, down to
+  // min_size_weight · fit_score: it is a smaller object, or a sliver of this one.
+  double full_size = 0.6;
+  double min_size_weight = 0.25;
+  // Tiles of a region that one of the objects fits whole score this fraction of the above.
+  double tile_weight_when_one_fits = 0.15;
+  bool IsValid(std::string* why) const;
+};
+
+// One region of step 2–3: pixel bounding box [x0, x1) × [y0, y1), pixel count, median depth.
+struct CandidateRegion {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  int pixels = 0;
+  double median_z = 0;  // metres
+};
+
+// Steps 1–3. `labels` (optional) receives width × height region indices + 1 (0 = no region).
+// Throws Error on invalid options or a depth image whose size differs from the camera's.
+std::vector<CandidateRegion> FindCandidateRegions(const DepthImage& depth, const Camera& camera,
+                                                  const AutoPriorOptions& opt = {},
+                                                  std::vector<int>* labels = nullptr);
+
+// Step 4 for the objects (name, diameter in metres, > 0): the detections, by region then
+// object. Empty when there is no region (nothing stands above the table): the caller reports
+// "no candidates". Throws Error on invalid options or an object without a positive diameter.
+std::vector<Detection> AutoDetections(const DepthImage& depth, const Camera& camera,
+                                      const std::vector<std::pair<std::string, double>>& objects,
+                                      const AutoPriorOptions& opt = {});
+
+}  // namespace posefilter
