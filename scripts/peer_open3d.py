@@ -4,7 +4,9 @@
 The peer is the pipeline of Open3D's registration tutorial, as a robotics engineer would set
 it up for a detected object (Debian's python3-open3d; `scripts/setup.sh peers` installs it):
   1. the scene's point cloud from the depth image, the dominant (table) plane removed
-     (RANSAC, 8 mm), cropped to the pixels of the detection box (or of the instance mask);
+     (RANSAC, 8 mm), cropped to the pixels of the detection box (or of the instance mask; with
+     --prior auto, no detector: the whole scene minus the plane, against posefilter's
+     `--prior auto`);
   2. the model: points sampled on the mesh; both clouds voxel-downsampled (voxel = 1/20 of the
      object's diameter, at least 4 mm), normals, FPFH features;
   3. RANSAC over FPFH correspondences (edge-length and distance checkers, 100k iterations,
@@ -16,7 +18,7 @@ Both methods get the same scenes and the same boxes (or masks): this script runs
 prints per-class recall (ADD-S < 10 % of the diameter), AUC of ADD-S and time per object
 side by side.
 
-usage: scripts/peer_open3d.py [--count N] [--first-seed S] [--prior boxes|masks]
+usage: scripts/peer_open3d.py [--count N] [--first-seed S] [--prior boxes|masks|auto]
                               [--models DIR] [--out DIR] [--json FILE] [-- SUITE OPTIONS...]
 Options after `--` go to `posefilter suite` (e.g. filter options).
 """
@@ -171,7 +173,9 @@ def run_peer(scene_dirs, models_dir, prior):
             cls = obj["obj"]
             t1 = time.perf_counter()
             regions = []
-            if prior == "masks":
+            if prior == "auto":  # no detector: the whole scene minus the table plane
+                regions.append(off_plane)
+            elif prior == "masks":
                 regions.append((masks == obj["instance"]) & off_plane)
             else:
                 for det in dets:
@@ -198,7 +202,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--count", type=int, default=20, help="scenes (default 20)")
     ap.add_argument("--first-seed", type=int, default=1)
-    ap.add_argument("--prior", choices=["boxes", "masks"], default="boxes")
+    ap.add_argument("--prior", choices=["boxes", "masks", "auto"], default="boxes")
     ap.add_argument("--models", default=os.path.join(ROOT, "..", "shared", "data", "ycbv", "models"))
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "peer_open3d"), help="scenes and results folder")
     ap.add_argument("--posefilter", default=os.path.join(ROOT, "build", "release", "posefilter"))
