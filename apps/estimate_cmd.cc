@@ -138,13 +138,9 @@ int RunEstimate(int argc, char** argv) {
         if (!any) throw Error(mask_path + ": no instance of '" + mesh.name + "' (a --mesh class) in the mask");
       }
     } else if (prior_arg == "auto") {
-      std::vector<std::string> classes;
       std::vector<std::pair<std::string, double>> objects;
-      for (const auto& m : meshes) classes.push_back(m.name), objects.push_back({m.name, m.Diameter()});
-      const std::vector<Detection> dets = AutoDetections(scene.depth, scene.camera, objects);
-      if (dets.empty())
-        throw Error("--prior auto: no candidates: no region of the depth image stands above the support plane");
-      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+      for (const auto& m : meshes) objects.push_back({m.name, m.Diameter()});
+      prior = AutoPrior(scene.depth, scene.camera, objects, "--prior auto");
     } else if (prior_arg == "none") {
       std::vector<std::string> classes;
       for (const auto& m : meshes) classes.push_back(m.name);

@@ -210,6 +210,13 @@ int RunRunDataset(int argc, char** argv) {
       if (it == meshes.end()) it = meshes.emplace(obj_id, LoadDatasetMesh(*ds.Model(obj_id))).first;
       return it->second;
     };
+    // The meshes' own diameters (Mesh::Diameter, the size the filter works with), once per object.
+    std::map<int, double> mesh_diameters;
+    auto mesh_diameter_of = [&](int obj_id) {
+      auto it = mesh_diameters.find(obj_id);
+      if (it == mesh_diameters.end()) it = mesh_diameters.emplace(obj_id, mesh_of(obj_id).Diameter()).first;
+      return it->second;
+    };
 
     const bool tty = isatty(fileno(stderr));
     const auto t_start = Clock::now();
@@ -229,10 +236,8 @@ int RunRunDataset(int argc, char** argv) {
           dets = ToPriorDetections(it->second, ds, detections_path);
       } else if (auto_prior) {
         std::vector<std::pair<std::string, double>> wanted;  // the image's target objects
-        for (const DatasetTarget& t : targets.at(key)) {
-          const Mesh& mesh = mesh_of(t.obj_id);
-          wanted.push_back({ds.Model(t.obj_id)->name, mesh.Diameter()});
-        }
+        for (const DatasetTarget& t : targets.at(key))
+          wanted.push_back({ds.Model(t.obj_id)->name, mesh_diameter_of(t.obj_id)});
         dets = AutoDetections(scene.depth, scene.camera, wanted);
       } else if (use_gt) {
         if (!im->has_gt) throw Error(where + ": --gt-boxes needs ground truth, the dataset has none for it");

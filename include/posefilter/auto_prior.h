@@ -69,4 +69,10 @@ std::vector<Detection> AutoDetections(const DepthImage& depth, const Camera& cam
                                       const std::vector<std::pair<std::string, double>>& objects,
                                       const AutoPriorOptions& opt = {});
 
+// The prior of `--prior auto` for the objects: AutoDetections made into a detections prior
+// (PriorFromDetections on the thesis pyramid), the objects' names (each once) as its classes. Throws Error
+// "<what>: no candidates: …" when no region stands above the support plane.
+Prior AutoPrior(const DepthImage& depth, const Camera& camera, const std::vector<std::pair<std::string, double>>& objects,
+                const std::string& what, const AutoPriorOptions& opt = {});
+
 }  // namespace posefilter

@@ -89,10 +89,7 @@ class Estimator {
       // No detector: candidate regions of the depth image for every mesh (posefilter/auto_prior.h).
       std::vector<std::pair<std::string, double>> objects;
       for (std::size_t i = 0; i < objs.size(); ++i) objects.push_back({objs[i], meshes[i].Diameter()});
-      const auto dets = AutoDetections(scene.depth, camera, objects);
-      if (dets.empty()) Fail("prior 'auto': no candidates: no region of the depth image stands above the support plane");
-      const auto classes = ClassesForObjects(objs, {});
-      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+      prior = AutoPrior(scene.depth, camera, objects, "prior 'auto'");
     } else if (py::isinstance<py::str>(prior_arg) || py::hasattr(prior_arg, "__fspath__")) {
       const std::string path = py::str(py::module_::import("os").attr("fspath")(prior_arg));
       const auto dets = ReadDetectionsJson(path);

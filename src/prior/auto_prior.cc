@@ -158,4 +158,14 @@ std::vector<Detection> AutoDetections(const DepthImage& depth, const Camera& cam
   return out;
 }
 
+Prior AutoPrior(const DepthImage& depth, const Camera& camera, const std::vector<std::pair<std::string, double>>& objects,
+                const std::string& what, const AutoPriorOptions& opt) {
+  const std::vector<Detection> dets = AutoDetections(depth, camera, objects, opt);
+  if (dets.empty()) throw Error(what + ": no candidates: no region of the depth image stands above the support plane");
+  std::vector<std::string> names;
+  for (const auto& o : objects) names.push_back(o.first);
+  const std::vector<std::string> classes = ClassesForObjects(names, {});  // each name once
+  return PriorFromDetections(dets, PyramidLayout::Thesis(camera.width, camera.height, int(classes.size())), classes);
+}
+
 }  // namespace posefilter
