@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "posefilter/error.h"
@@ -32,60 +33,37 @@ CLI::Validator SeedValidator() {
 void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   for (const OptionInfo& f : FilterOptionTable()) {
     const std::string flag = f.Name(OptionNaming::kCli);
-    CLI::Option* added = nullptr;
-    switch (f.type) {
-      case OptionType::kBool:
+    CLI::Option* added = VisitOption(f, *o, [&](auto& value) {
+      using T = std::remove_cvref_t<decltype(value)>;
+      if constexpr (std::is_same_v<T, bool>) {
         // "--name" sets it, "--no-name" clears it; --help shows the default.
-        added = app.add_flag(flag + ",!--no-" + f.name, f.Of<bool>(*o), f.help)->capture_default_str();
-        break;
-      case OptionType::kInt:
-        added = app.add_option(flag, f.Of<int>(*o), f.help)->capture_default_str();
-        break;
-      case OptionType::kFloat:
-        added = app.add_option(flag, f.Of<float>(*o), f.help)->capture_default_str();
-        break;
-      case OptionType::kDouble:
-        added = app.add_option(flag, f.Of<double>(*o), f.help)->capture_default_str();
-        break;
-      case OptionType::kString: {
-        added = app.add_option(flag, f.Of<std::string>(*o), f.help)->capture_default_str();
-        if (f.choices != nullptr) {
-          std::vector<std::string> choices;
-          for (std::string c = f.choices; !c.empty();) {
-            const std::size_t bar = c.find('|');
-            choices.push_back(c.substr(0, bar));
-            c = bar == std::string::npos ? "" : c.substr(bar + 1);
-          }
-          added->check(CLI::IsMember(choices));
-        }
-        break;
+        return app.add_flag(flag + ",!--no-" + f.name, value, f.help)->capture_default_str();
+      } else if constexpr (std::is_same_v<T, std::array<double, kNumMoves>>) {
+        return app
+            .add_option_function<std::vector<double>>(
+                flag,
+                [&value, flag](const std::vector<double>& v) {
+                  if (v.size() != value.size())
+                    throw CLI::ValidationError(flag, "takes " + std::to_string(value.size()) + " numbers, got " +
+                                                         std::to_string(v.size()));
+                  std::copy(v.begin(), v.end(), value.begin());
+                },
+                f.help)
+            ->expected(kNumMoves)
+            ->default_str(f.ValueText(FilterOptions{}));
+      } else {
+        CLI::Option* opt = app.add_option(flag, value, f.help)->capture_default_str();
+        if constexpr (std::is_same_v<T, std::uint64_t>) opt->check(SeedValidator());
+        if (const std::vector<std::string> choices = f.Choices(); !choices.empty()) opt->check(CLI::IsMember(choices));
+        return opt;
       }
-      case OptionType::kUint64:
-        added = app.add_option(flag, f.Of<std::uint64_t>(*o), f.help)->capture_default_str()->check(SeedValidator());
-        break;
-      case OptionType::kMoveProbabilities: {
-        auto* moves = &f.Of<std::array<double, kNumMoves>>(*o);
-        added = app.add_option_function<std::vector<double>>(
-                       flag,
-                       [moves, flag](const std::vector<double>& v) {
-                         if (v.size() != moves->size())
-                           throw CLI::ValidationError(flag, "takes " + std::to_string(moves->size()) + " numbers, got " +
-                                                                std::to_string(v.size()));
-                         std::copy(v.begin(), v.end(), moves->begin());
-                       },
-                       f.help)
-                    ->expected(kNumMoves)
-                    ->default_str(f.ValueText(FilterOptions{}));
-        break;
-      }
-    }
+    });
     added->group(std::string("Filter options: ") + f.group);
   }
 }
 
 void CheckFilterOptions(const FilterOptions& opt) {
-  std::string why;
-  if (!ValidateFilterOptions(opt, OptionNaming::kCli, &why)) throw Error("invalid filter option: " + why);
+  ThrowIfInvalid(opt, OptionNaming::kCli);
   for (const std::string& w : IgnoredOptions(opt, OptionNaming::kCli)) std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 

@@ -65,12 +65,31 @@ struct OptionInfo {
   std::string RangeText() const;
   // The engines as text: "all" or e.g. "reference, cpu".
   std::string EnginesText() const;
+  // The allowed values of a kString option with choices ({"cpu", "reference", "hw"}); empty
+  // when any value goes.
+  std::vector<std::string> Choices() const;
 
   template <class T>
   T& Of(FilterOptions& o) const { return *static_cast<T*>(ref(o)); }
   template <class T>
   const T& Of(const FilterOptions& o) const { return *static_cast<const T*>(ref(const_cast<FilterOptions&>(o))); }
 };
+
+// Calls fn(field) with the field of `o` that `f` describes, as its C++ type (bool&, int&, …;
+// const with a const `o`), and returns what fn returns (the same type for every field type).
+template <class Options, class Fn>
+decltype(auto) VisitOption(const OptionInfo& f, Options& o, Fn&& fn) {
+  switch (f.type) {
+    case OptionType::kBool: return fn(f.Of<bool>(o));
+    case OptionType::kInt: return fn(f.Of<int>(o));
+    case OptionType::kFloat: return fn(f.Of<float>(o));
+    case OptionType::kDouble: return fn(f.Of<double>(o));
+    case OptionType::kString: return fn(f.Of<std::string>(o));
+    case OptionType::kUint64: return fn(f.Of<std::uint64_t>(o));
+    case OptionType::kMoveProbabilities: break;
+  }
+  return fn(f.Of<std::array<double, kNumMoves>>(o));
+}
 
 // Every option, in the order of filter_options.h's groups.
 std::span<const OptionInfo> FilterOptionTable();
@@ -83,6 +102,11 @@ const OptionInfo* FindOption(const std::string& field_or_name);
 // num_elite < num_particles, the cpu ISA this machine runs, lod 0 or ≥ 4, move probabilities,
 // the heuristics' percentiles, the thread cap).
 bool ValidateFilterOptions(const FilterOptions& o, OptionNaming naming, std::string* why);
+
+// Throws Error("invalid filter option: " + the message of ValidateFilterOptions) unless `o`
+// is valid. Every entry point calls it once, before any work: EstimatePose, WeighPoses and
+// ProfileHw (kField), the CLI (kCli) and Python (kPython).
+void ThrowIfInvalid(const FilterOptions& o, OptionNaming naming);
 
 // The options set away from their defaults that `o.engine` does not read, each as
 // "<name> is ignored by the <engine> engine" in `naming`'s spelling. Empty when every set

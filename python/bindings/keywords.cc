@@ -19,17 +19,9 @@ Keyword<FilterOptions> TableKeyword(const OptionInfo& f) {
 const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
   static const std::vector<Keyword<FilterOptions>> k = [] {
     std::vector<Keyword<FilterOptions>> out;
-    for (const OptionInfo& f : FilterOptionTable()) {
-      switch (f.type) {
-        case OptionType::kBool: out.push_back(TableKeyword<bool>(f)); break;
-        case OptionType::kInt: out.push_back(TableKeyword<int>(f)); break;
-        case OptionType::kFloat: out.push_back(TableKeyword<float>(f)); break;
-        case OptionType::kDouble: out.push_back(TableKeyword<double>(f)); break;
-        case OptionType::kString: out.push_back(TableKeyword<std::string>(f)); break;
-        case OptionType::kUint64: out.push_back(TableKeyword<std::uint64_t>(f)); break;
-        case OptionType::kMoveProbabilities: out.push_back(TableKeyword<std::array<double, kNumMoves>>(f)); break;
-      }
-    }
+    FilterOptions typed;  // only the fields' types are read
+    for (const OptionInfo& f : FilterOptionTable())
+      VisitOption(f, typed, [&](auto& v) { out.push_back(TableKeyword<std::remove_cvref_t<decltype(v)>>(f)); });
     return out;
   }();
   return k;
@@ -89,8 +81,7 @@ const std::vector<Keyword<SynthOptions>>& SynthKeywords() {
 }
 
 FilterOptions CheckedFilterOptions(const FilterOptions& o) {
-  std::string why;
-  if (!ValidateFilterOptions(o, OptionNaming::kPython, &why)) Fail("invalid filter option: " + why);
+  ThrowIfInvalid(o, OptionNaming::kPython);
   WarnAll(IgnoredOptions(o, OptionNaming::kPython));
   return o;
 }

@@ -4,11 +4,10 @@
 // and the no-initial-mass error.
 #include "filter/driver.h"
 
-#include <memory>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <utility>
 
@@ -18,13 +17,9 @@
 #include "filter/polish.h"
 #include "filter/scene_prep.h"
 #include "posefilter/mesh_simplify.h"
+#include "posefilter/option_table.h"
 
 namespace posefilter::filter {
-
-void CheckOptions(const FilterOptions& options) {
-  std::string why;
-  if (!options.IsValid(&why)) throw Error("invalid filter option: " + why);
-}
 
 bool ParseEngine(const std::string& name, Engine* out) {
   if (name == "reference") *out = Engine::kReference;
@@ -158,13 +153,13 @@ namespace posefilter {
 EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                             const FilterOptions& options, const ProgressFn& progress) {
   const auto t_start = filter::Clock::now();
-  filter::CheckOptions(options);
+  ThrowIfInvalid(options, OptionNaming::kField);
   const filter::PreparedScene prep = filter::PrepareScene(scene, options);
   filter::Engine engine = filter::Engine::kCpu;
   filter::ParseEngine(options.engine, &engine);  // a valid name (checked above)
   const std::unique_ptr<filter::EngineRuns> runs = engine == filter::Engine::kHw
-                                                       ? filter::MakeHwEngine(scene, prep, mesh, prior, cls, options)
-                                                       : filter::MakeFloatEngine(scene, prep, mesh, prior, cls, options);
+                                                       ? filter::MakeHwEngine(prep, mesh, prior, cls, options)
+                                                       : filter::MakeFloatEngine(prep, mesh, prior, cls, options);
   // Independent runs (restarts), each with its own random stream; the best weight wins.
   EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
     return runs->Run(rng, run_progress);

@@ -1,5 +1,5 @@
 // Host-side steps shared by every engine (bodies in src/filter/driver.cc, beside EstimatePose):
-// option checks, the engine's name, the annealing schedule, restarts and the final polish. The
+// the engine's name, the annealing schedule, restarts and the final polish. The
 // float engines use them in src/filter/particle_filter.cc; the hw engine's host driver
 // (src/filter/hw_driver.cc) uses them around the C-simulated hardware runs.
 #pragma once
@@ -16,10 +16,6 @@
 #include "prior/volume_cache.h"
 
 namespace posefilter::filter {
-
-// Throws Error("invalid filter option: …", naming the field) unless options.IsValid(). Every
-// public entry point (EstimatePose, WeighPoses, ProfileHw) calls it once, before any work.
-void CheckOptions(const FilterOptions& options);
 
 // The engine of FilterOptions::engine, parsed once per estimate: "reference" (float, readable),
 // "cpu" (the SIMD kernel, same results), "hw" (the C-simulated hardware, hw_driver.cc).

@@ -35,12 +35,12 @@ class EngineRuns {
   virtual bool PolishReplacesRuns() const { return false; }
 };
 
-// The engine's runs for one estimate. `scene` is the caller's scene, `prep` its preparation
-// (PrepareScene, with the same options); both, `mesh` and `prior` outlive the result.
-// Throws Error on inputs the engine cannot take.
-std::unique_ptr<EngineRuns> MakeFloatEngine(const SceneInput& scene, const PreparedScene& prep, const Mesh& mesh,
-                                            const Prior& prior, int cls, const FilterOptions& options);  // particle_filter.cc
-std::unique_ptr<EngineRuns> MakeHwEngine(const SceneInput& scene, const PreparedScene& prep, const Mesh& mesh,
-                                         const Prior& prior, int cls, const FilterOptions& options);  // hw_driver.cc
+// The engine's runs for one estimate on the prepared scene (PrepareScene, with the same
+// options); `prep`, `mesh` and `prior` outlive the result. Throws Error on inputs the engine
+// cannot take.
+std::unique_ptr<EngineRuns> MakeFloatEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
+                                            const FilterOptions& options);  // particle_filter.cc
+std::unique_ptr<EngineRuns> MakeHwEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
+                                         const FilterOptions& options);  // hw_driver.cc
 
 }  // namespace posefilter::filter

@@ -90,7 +90,7 @@ struct Context {
   mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
 };
 
-// Checks the mesh, class and prior (the options were checked by the caller, CheckOptions) and
+// Checks the mesh, class and prior (the options were checked by the caller, ThrowIfInvalid) and
 // precomputes volumes, windows and N_depth for every cell.
 // `runs`: the context will run the filter (EstimatePose), so it also gets the coarse level
 // of the annealing iterations; weighing given poses and the polish need only every pixel.

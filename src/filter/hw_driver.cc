@@ -38,6 +38,7 @@
 #include "posefilter/error.h"
 #include "posefilter/hw_engine.h"
 #include "posefilter/mesh_simplify.h"
+#include "posefilter/option_table.h"
 #include "posefilter/rng.h"
 
 namespace posefilter {
@@ -457,8 +458,8 @@ class HwEngine final : public filter::EngineRuns {
 
 namespace filter {
 
-std::unique_ptr<EngineRuns> MakeHwEngine(const SceneInput&, const PreparedScene& prep, const Mesh& mesh,
-                                         const Prior& prior, int cls, const FilterOptions& options) {
+std::unique_ptr<EngineRuns> MakeHwEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
+                                         const FilterOptions& options) {
   return std::make_unique<HwEngine>(prep, mesh, prior, cls, options);
 }
 
@@ -514,7 +515,7 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
                     const HwProfileOptions& popt) {
   std::string why;
   if (!popt.IsValid(&why)) throw Error("hw-report: invalid profile option: " + why);
-  filter::CheckOptions(options);
+  ThrowIfInvalid(options, OptionNaming::kField);
   FilterOptions opt = options;
   opt.restarts = 1;
   const filter::PreparedScene prep = filter::PrepareScene(scene, opt);

@@ -2,6 +2,7 @@
 // and what is derived from it: names, value text, ranges, ignored-option checks, Markdown.
 #include "posefilter/option_table.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -9,6 +10,7 @@
 #include <type_traits>
 
 #include "core/threads.h"
+#include "posefilter/error.h"
 #include "posefilter/hw_engine.h"
 #include "posefilter/mesh_simplify.h"
 #include "render/cpu_kernel.h"
@@ -249,37 +251,31 @@ std::string OptionInfo::Name(OptionNaming naming) const {
 }
 
 std::string OptionInfo::ValueText(const FilterOptions& o) const {
-  switch (type) {
-    case OptionType::kBool: return Of<bool>(o) ? "true" : "false";
-    case OptionType::kInt: return std::to_string(Of<int>(o));
-    case OptionType::kFloat: return NumberText(Of<float>(o));
-    case OptionType::kDouble: return NumberText(Of<double>(o));
-    case OptionType::kString: return Of<std::string>(o);
-    case OptionType::kUint64: return std::to_string(Of<std::uint64_t>(o));
-    case OptionType::kMoveProbabilities: {
+  return VisitOption(*this, o, [](const auto& v) -> std::string {
+    using T = std::remove_cvref_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, bool>) {
+      return v ? "true" : "false";
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      return v;
+    } else if constexpr (std::is_integral_v<T>) {
+      return std::to_string(v);
+    } else if constexpr (std::is_floating_point_v<T>) {
+      return NumberText(v);
+    } else {  // the move probabilities
       std::string s;
-      for (double p : Of<std::array<double, kNumMoves>>(o)) {
+      for (double p : v) {
         if (!s.empty()) s += ',';
         s += NumberText(p);
       }
       return s;
     }
-  }
-  return "";
+  });
 }
 
 bool OptionInfo::SameValue(const FilterOptions& a, const FilterOptions& b) const {
-  switch (type) {
-    case OptionType::kBool: return Of<bool>(a) == Of<bool>(b);
-    case OptionType::kInt: return Of<int>(a) == Of<int>(b);
-    case OptionType::kFloat: return Of<float>(a) == Of<float>(b);
-    case OptionType::kDouble: return Of<double>(a) == Of<double>(b);
-    case OptionType::kString: return Of<std::string>(a) == Of<std::string>(b);
-    case OptionType::kUint64: return Of<std::uint64_t>(a) == Of<std::uint64_t>(b);
-    case OptionType::kMoveProbabilities:
-      return Of<std::array<double, kNumMoves>>(a) == Of<std::array<double, kNumMoves>>(b);
-  }
-  return false;
+  return VisitOption(*this, a, [&](const auto& va) {
+    return va == Of<std::remove_cvref_t<decltype(va)>>(b);
+  });
 }
 
 std::string OptionInfo::RangeText() const {
@@ -302,6 +298,17 @@ std::string OptionInfo::EnginesText() const {
   return s;
 }
 
+std::vector<std::string> OptionInfo::Choices() const {
+  std::vector<std::string> out;
+  if (choices == nullptr) return out;
+  for (std::string c = choices;;) {
+    const std::size_t bar = c.find('|');
+    out.push_back(c.substr(0, bar));
+    if (bar == std::string::npos) return out;
+    c = c.substr(bar + 1);
+  }
+}
+
 std::vector<std::string> IgnoredOptions(const FilterOptions& o, OptionNaming naming) {
   std::vector<std::string> out;
   const unsigned bit = EngineBit(o.engine);
@@ -317,8 +324,8 @@ std::string OptionTableMarkdown() {
   const FilterOptions defaults;
   std::string md =
       "# Filter options\n\n"
-      "Every option of the particle filter, as `posefilter estimate`, `demo`, `suite`, `run-dataset` and `bench`\n"
-      "take it (`--name`; a switch also as `--no-name`) and as `posefilter.Estimator` takes it (the keyword is\n"
+      "Every option of the particle filter, as `posefilter estimate`, `demo`, `suite`, `run-dataset` and\n"
+      "`hw-report` take it (`--name`; a switch also as `--no-name`) and as `posefilter.Estimator` takes it (the keyword is\n"
       "the name with `-` as `_`). C++ sets the field of `posefilter::FilterOptions` (posefilter/filter_options.h).\n"
       "Ranges are checked before any work, and an error names the option. Engines: the engines that read the\n"
       "option; setting one away from its default for another engine prints a warning.\n\n"
@@ -353,41 +360,26 @@ bool ValidateRanges(const FilterOptions& o, OptionNaming naming, std::string* wh
     return false;
   };
   for (const OptionInfo& f : Table()) {
-    switch (f.type) {
-      case OptionType::kInt:
-        if (!InRange(f.Of<int>(o), f)) return fail(f, f.ValueText(o));
-        break;
-      case OptionType::kFloat:
-        if (!InRange(f.Of<float>(o), f)) return fail(f, f.ValueText(o));
-        break;
-      case OptionType::kDouble:
-        if (!InRange(f.Of<double>(o), f)) return fail(f, f.ValueText(o));
-        break;
-      case OptionType::kString: {
-        if (f.choices == nullptr) break;
-        const std::string v = f.Of<std::string>(o);
-        bool ok = false;
-        std::string c = f.choices;
-        for (std::size_t start = 0;;) {
-          const std::size_t bar = c.find('|', start);
-          if (c.compare(start, bar == std::string::npos ? std::string::npos : bar - start, v) == 0) ok = true;
-          if (bar == std::string::npos) break;
-          start = bar + 1;
-        }
-        if (!ok) return fail(f, "'" + v + "'");
-        break;
-      }
-      case OptionType::kMoveProbabilities:
-        for (double p : f.Of<std::array<double, kNumMoves>>(o))
+    const bool ok = VisitOption(f, o, [&](const auto& v) {
+      using T = std::remove_cvref_t<decltype(v)>;
+      if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::uint64_t>) {
+        return true;  // every value is in range
+      } else if constexpr (std::is_same_v<T, std::string>) {
+        const std::vector<std::string> choices = f.Choices();
+        if (choices.empty() || std::find(choices.begin(), choices.end(), v) != choices.end()) return true;
+        return fail(f, "'" + v + "'");
+      } else if constexpr (std::is_arithmetic_v<T>) {
+        return InRange(v, f) || fail(f, f.ValueText(o));
+      } else {  // the move probabilities: each in range
+        for (double p : v)
           if (!InRange(p, f)) {
             if (why) *why = f.Name(naming) + " must each be finite and >= 0 (got " + NumberText(p) + ")";
             return false;
           }
-        break;
-      case OptionType::kBool:
-      case OptionType::kUint64:
-        break;
-    }
+        return true;
+      }
+    });
+    if (!ok) return false;
   }
   return true;
 }
@@ -440,6 +432,11 @@ bool ValidateFilterOptions(const FilterOptions& o, OptionNaming naming, std::str
   if (o.heuristics.percentile_lo > o.heuristics.percentile_hi)
     return fail(name("heuristics.percentile_lo") + " must be <= " + name("heuristics.percentile_hi"));
   return true;
+}
+
+void ThrowIfInvalid(const FilterOptions& o, OptionNaming naming) {
+  std::string why;
+  if (!ValidateFilterOptions(o, naming, &why)) throw Error("invalid filter option: " + why);
 }
 
 bool FilterOptions::IsValid(std::string* why) const { return ValidateFilterOptions(*this, OptionNaming::kField, why); }

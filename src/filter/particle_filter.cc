@@ -32,6 +32,7 @@
 #include "posefilter/error.h"
 #include "posefilter/filter.h"
 #include "posefilter/mesh_simplify.h"
+#include "posefilter/option_table.h"
 #include "posefilter/rng.h"
 #include "posefilter/stable_poses.h"
 
@@ -335,7 +336,7 @@ namespace filter {
 
 Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                      const FilterOptions& options, bool runs) {
-  std::string why;  // options: checked by the caller (filter::CheckOptions)
+  std::string why;  // options: checked by the caller (ThrowIfInvalid)
   if (!mesh.IsValid(&why)) throw Error("mesh '" + mesh.name + "': " + why);
   const SceneInput& scene = prep.scoring;
   if (cls < 0 || cls >= int(prior.classes.size())) throw Error("class index out of range for the prior");
@@ -434,7 +435,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
 
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
-  filter::CheckOptions(options);
+  ThrowIfInvalid(options, OptionNaming::kField);
   Mesh lod;  // the mesh rendered at options.render.lod_max_faces (unused at 0: the full mesh)
   const filter::PreparedScene prep = filter::PrepareScene(scene, options);
   const Context ctx = BuildContext(prep, MeshAtLod(mesh, options.render.lod_max_faces, &lod), prior, cls, options, false);
@@ -644,8 +645,8 @@ class FloatEngine final : public filter::EngineRuns {
 
 namespace filter {
 
-std::unique_ptr<EngineRuns> MakeFloatEngine(const SceneInput&, const PreparedScene& prep, const Mesh& mesh,
-                                            const Prior& prior, int cls, const FilterOptions& options) {
+std::unique_ptr<EngineRuns> MakeFloatEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
+                                            const FilterOptions& options) {
   return std::make_unique<FloatEngine>(prep, mesh, prior, cls, options);
 }
 
