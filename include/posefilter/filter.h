@@ -74,8 +74,16 @@ struct EstimateResult {
 // not compare with the final ones). The final polish may raise the result's weight above it.
 using ProgressFn = std::function<void(int, double)>;
 
+// A pose hypothesis from a stage 1 that proposes poses (the PPF proposals of `--prior auto`,
+// posefilter/auto_prior.h): object → camera, and a score > 0 (relative: seeds are drawn in
+// proportion to it).
+struct PoseSeed {
+  Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();
+  double score = 1;
+};
+
 // The scene a filter runs on: depth (camera z, metres, 0 = missing) and the camera, and
-// optionally the instance mask of the object looked for.
+// optionally the instance mask and pose seeds of the object looked for.
 struct SceneInput {
   DepthImage depth;
   Camera camera;
@@ -84,11 +92,16 @@ struct SceneInput {
   // inliers and count in N_depth, and particles start from the mask's depth; pixels outside
   // it never count against a pose that something else hides (docs/ALGORITHM.md, "Mask priors").
   std::vector<std::uint8_t> mask = {};
+  // Empty, or pose hypotheses of the object: the float engines start FilterOptions::seed_start
+  // of the initial particles at them (drawn by score, each in the prior cell of the class's
+  // highest probability whose anchor holds its projected centre; a seed no such cell holds is
+  // not used). The hw engine does not read them.
+  std::vector<PoseSeed> seeds = {};
 };
 
 // Checks that depth and camera agree in size, the depth holds at least one valid pixel and
-// no NaN/inf/negative value, and a mask (if any) has the image's size and at least one
-// pixel; throws Error naming `what` otherwise.
+// no NaN/inf/negative value, a mask (if any) has the image's size and at least one pixel,
+// and every seed is finite with a score > 0; throws Error naming `what` otherwise.
 void ValidateScene(const SceneInput& scene, const std::string& what);
 
 // The scene on a coarser pixel grid (FilterOptions::anneal.subsample): pixel (i, j) of the

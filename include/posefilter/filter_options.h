@@ -200,6 +200,9 @@ struct FilterOptions {
   // 1 = every set num_particles; (0, 1]. The fine set has at least num_elite + 1 particles.
   double fine_particle_fraction = 2.0 / 3.0;
   int init_oversample = 1;           // ours: draw this many × N initial particles, keep the best N
+  // Ours: where the scene has pose seeds (SceneInput::seeds), this fraction of the initial
+  // particles start at a seed (drawn by score); the others start as without seeds. [0, 1].
+  double seed_start = 0.3;
   int tracker_bins = 32;             // threshold-tracker entries of the CDF samplers (§7.4)
   int restarts = 4;                  // ours: independent runs, the best weight wins (time × restarts)
   std::uint64_t seed = 1;            // every random stream derives from this

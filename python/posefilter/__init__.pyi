@@ -222,6 +222,7 @@ class Estimator:
         pool: float = ...,  # 0.25, (0, 1]
         fine_fraction: float = ...,  # 0.6666666666666666, (0, 1]
         init_oversample: int = ...,  # 1, [1, 64]
+        seed_start: float = ...,  # 0.3, [0, 1]
         tracker_bins: int = ...,  # 32, [1, 4096]
         alpha: float = ...,  # 0.2, [0, 1]
         beta: float = ...,  # 0.5, [0, 1]

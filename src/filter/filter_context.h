@@ -88,6 +88,10 @@ struct Context {
   prior::VolumeCache surface_volumes{};
   Eigen::Vector3d com_obj = Eigen::Vector3d::Zero();  // the mesh's centre of mass, object frame
   mutable std::vector<std::uint8_t> window_ready{};  // per cell: windows[c] is set
+  // The scene's pose seeds the filter starts particles at (FilterOptions::seed_start): pose
+  // (object → base) and prior cell; seed_cdf holds their cumulative scores. Empty: no seeds.
+  std::vector<std::pair<Pose6, int>> seeds{};
+  std::vector<double> seed_cdf{};
 };
 
 // Checks the mesh, class and prior (the options were checked by the caller, ThrowIfInvalid) and

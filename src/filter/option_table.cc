@@ -82,6 +82,9 @@ const std::vector<OptionInfo>& Table() {
           "after annealing, each set has this fraction of --particles (1 = all of them)"),
       Row("init-oversample", POSEFILTER_FIELD(init_oversample), "Particles", Closed(1, 64), kFloatEngines,
           "draw this many x N initial particles, weigh them all and keep the best N"),
+      Row("seed-start", POSEFILTER_FIELD(seed_start), "Particles", kFraction, kFloatEngines,
+          "fraction of the initial particles started at the scene's pose seeds (the --prior auto proposals) where "
+          "it has any"),
       Row("tracker-bins", POSEFILTER_FIELD(tracker_bins), "Particles", Closed(1, 4096), kFloatEngines,
           "threshold-tracker entries of the CDF samplers (thesis 7.4; the hw engine has 32)"),
       // ---- weight, eq. 7.4

@@ -126,7 +126,17 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   p.cell = cell;
   const Eigen::Vector3d c = vol.Centre();
   const double u_start = rng.Uniform();
-  if (!ctx.stable.empty() && u_start < ctx.opt.support.stable_start) {
+  // A seeded start: the first seed_start of u_start's range (only where there are seeds).
+  const double seeded = ctx.seeds.empty() ? 0.0 : ctx.opt.seed_start;
+  if (u_start < seeded) {
+    const double u_seed = rng.Uniform() * ctx.seed_cdf.back();
+    const std::size_t k = std::size_t(std::upper_bound(ctx.seed_cdf.begin(), ctx.seed_cdf.end(), u_seed) - ctx.seed_cdf.begin());
+    const auto& [pose, seed_cell] = ctx.seeds[std::min(k, ctx.seeds.size() - 1)];
+    p.pose = pose;
+    p.cell = seed_cell;
+    return p;
+  }
+  if (!ctx.stable.empty() && u_start - seeded < ctx.opt.support.stable_start * (1 - seeded)) {
     const double u_pose = rng.Uniform(), yaw = rng.Uniform(-M_PI, M_PI), back = rng.Uniform();
     std::size_t k = 0;
     for (double acc = ctx.stable[0].probability; k + 1 < ctx.stable.size() && u_pose >= acc;)
@@ -311,6 +321,9 @@ void ValidateScene(const SceneInput& scene, const std::string& what) {
     if (std::none_of(scene.mask.begin(), scene.mask.end(), [](std::uint8_t m) { return m != 0; }))
       throw Error(what + ": the mask is empty (no pixel of the object)");
   }
+  for (std::size_t k = 0; k < scene.seeds.size(); ++k)
+    if (!scene.seeds[k].T_cam_obj.matrix().allFinite() || !(scene.seeds[k].score > 0 && std::isfinite(scene.seeds[k].score)))
+      throw Error(what + ": pose seed " + std::to_string(k) + " is not finite or has no positive score");
 }
 
 SceneInput SubsampleScene(const SceneInput& scene, int factor) {
@@ -428,6 +441,26 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
   ctx.hypothesis.resize(cells);
   for (int c = 0; c < cells; ++c) ctx.hypothesis[c] = labeller.Label(prior.boxes[c]);
   ctx.hypothesis_count = labeller.count();
+  // Pose seeds: each in the cell of the class's highest probability (then the finest level)
+  // whose anchor holds the projected box centre and whose volume is valid.
+  if (runs && options.seed_start > 0) {
+    const Eigen::Isometry3d base_from_cam = scene.camera.base_to_camera.inverse();
+    for (const PoseSeed& seed : scene.seeds) {
+      const Eigen::Vector3d centre = seed.T_cam_obj * ctx.box_centre;
+      if (!(centre.z() > 0)) continue;
+      const Eigen::Vector2d px = scene.camera.Project(centre);
+      int best = -1;
+      for (int c = 0; c < cells; ++c) {
+        const Box a = prior.layout.AnchorBox(c);
+        if (std::fabs(px.x() - a.cx) > 0.5 * a.w || std::fabs(px.y() - a.cy) > 0.5 * a.h) continue;
+        if (best >= 0 && prior.Prob(c, cls) < prior.Prob(best, cls)) continue;
+        if (ctx.volumes.Valid(c)) best = c;
+      }
+      if (best < 0) continue;
+      ctx.seeds.push_back({TransformToPose(base_from_cam * seed.T_cam_obj), best});
+      ctx.seed_cdf.push_back((ctx.seed_cdf.empty() ? 0.0 : ctx.seed_cdf.back()) + seed.score);
+    }
+  }
   return ctx;
 }
 

@@ -14,6 +14,7 @@ PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options
   PreparedScene p;
   p.scoring.camera = scene.camera;
   p.scoring.depth = scene.depth;
+  p.scoring.seeds = scene.seeds;
   std::vector<float>& z = p.scoring.depth.data;
   if (options.support.plane) {
     p.plane = FindSupportPlane(scene.depth, scene.camera);
