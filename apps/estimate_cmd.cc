@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -52,7 +53,8 @@ int RunEstimate(int argc, char** argv) {
   app.add_option("--unit-scale", unit_scale, "mesh units to metres (0.001 for millimetre meshes)")->capture_default_str();
   app.add_option("--prior", prior_arg,
                  "stage-1 prior: detections JSON (*.json), raw pyramid file (15x20+30x40+60x80 cells x (classes+5) float32), "
-                 "'auto' (no detector: candidate regions found in the depth image) or 'none' (uniform)")
+                 "'auto' (no detector: candidate regions found in the depth image and PPF pose proposals in them) or "
+                 "'none' (uniform)")
       ->capture_default_str();
   app.add_option("--mask", mask_path,
                  "instance or label PNG (8/16-bit ids, 0 = background) of a segmentation front end: one estimate per "
@@ -118,6 +120,7 @@ int RunEstimate(int argc, char** argv) {
     };
     std::vector<Job> jobs;
     Prior prior;
+    std::map<const Mesh*, std::vector<PoseSeed>> seeds_of;  // --prior auto: each mesh's pose seeds
     if (!mask_path.empty()) {
       const LabelImage labels = LoadLabelPng(mask_path);
       if (labels.width != W || labels.height != H)
@@ -138,9 +141,12 @@ int RunEstimate(int argc, char** argv) {
         if (!any) throw Error(mask_path + ": no instance of '" + mesh.name + "' (a --mesh class) in the mask");
       }
     } else if (prior_arg == "auto") {
-      std::vector<std::pair<std::string, double>> objects;
-      for (const auto& m : meshes) objects.push_back({m.name, m.Diameter()});
-      prior = AutoPrior(scene.depth, scene.camera, objects, "--prior auto");
+      std::vector<const Mesh*> ms;
+      std::vector<std::string> names;
+      for (const auto& m : meshes) ms.push_back(&m), names.push_back(m.name);
+      AutoStage1 stage1 = AutoPriorForMeshes(scene.depth, scene.camera, ms, names, "--prior auto", DefaultPpfCacheDir());
+      prior = std::move(stage1.prior);
+      for (std::size_t k = 0; k < meshes.size(); ++k) seeds_of[&meshes[k]] = std::move(stage1.seeds[k]);
     } else if (prior_arg == "none") {
       std::vector<std::string> classes;
       for (const auto& m : meshes) classes.push_back(m.name);
@@ -170,6 +176,7 @@ int RunEstimate(int argc, char** argv) {
       if (cls < 0) throw Error("object '" + mesh.name + "' is not a class of the prior (see --classes)");
       if (!(job.prior.ClassMass(cls) > 0)) throw Error("the prior holds no probability for '" + mesh.name + "'");
       scene.mask = std::move(job.mask);
+      scene.seeds = seeds_of.count(&mesh) ? seeds_of[&mesh] : std::vector<PoseSeed>{};
       const EstimateResult r = EstimatePose(scene, mesh, job.prior, cls, opt, StderrProgress(mesh.name, opt.stop.max_iterations * opt.restarts, quiet));
       if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
       ObjectResult o;

@@ -140,7 +140,7 @@ int RunRunDataset(int argc, char** argv) {
                                 "prior from the ground-truth silhouette boxes jittered by this sigma (pixels)");
   auto* uni_opt = app.add_flag("--uniform-prior", uniform, "no stage-1 prior (uniform over cells)");
   auto* auto_opt = app.add_flag("--auto-prior", auto_prior,
-                                "no detector: candidate regions found in the depth image, for every target's object "
+                                "no detector: candidate regions found in the depth image and PPF pose proposals, for every target's object "
                                 "(posefilter/auto_prior.h)");
   det_opt->excludes(gt_opt)->excludes(uni_opt)->excludes(auto_opt);
   gt_opt->excludes(uni_opt)->excludes(auto_opt);
@@ -211,10 +211,12 @@ int RunRunDataset(int argc, char** argv) {
       return it->second;
     };
     // The meshes' own diameters (Mesh::Diameter, the size the filter works with), once per object.
-    std::map<int, double> mesh_diameters;
-    auto mesh_diameter_of = [&](int obj_id) {
-      auto it = mesh_diameters.find(obj_id);
-      if (it == mesh_diameters.end()) it = mesh_diameters.emplace(obj_id, mesh_of(obj_id).Diameter()).first;
+    // --auto-prior: each model's PPF model (its diameter included), built or loaded once.
+    std::map<int, PpfModel> ppf_models;
+    auto ppf_of = [&](int obj_id) -> const PpfModel& {
+      auto it = ppf_models.find(obj_id);
+      if (it == ppf_models.end())
+        it = ppf_models.emplace(obj_id, LoadOrBuildPpfModel(mesh_of(obj_id), {}, DefaultPpfCacheDir())).first;
       return it->second;
     };
 
@@ -225,20 +227,25 @@ int RunRunDataset(int argc, char** argv) {
       const auto t_image = Clock::now();
       const DatasetImage* im = ds.Image(key.first, key.second);
       const std::string where = "scene " + std::to_string(im->scene_id) + ", image " + std::to_string(im->im_id);
-      const SceneInput scene = LoadDatasetScene(*im);
+      SceneInput scene = LoadDatasetScene(*im);
       ValidateScene(scene, im->depth_path);
       const PyramidLayout layout = PyramidLayout::Thesis(scene.camera.width, scene.camera.height, int(classes.size()));
 
-      // The image's detections.
+      // The image's detections (and, --auto-prior, each class's pose seeds).
       std::vector<Detection> dets;
+      std::map<std::string, std::vector<PoseSeed>> seeds_of;
       if (use_dets) {
         if (const auto it = dets_by_image.find(key); it != dets_by_image.end())
           dets = ToPriorDetections(it->second, ds, detections_path);
       } else if (auto_prior) {
-        std::vector<std::pair<std::string, double>> wanted;  // the image's target objects
-        for (const DatasetTarget& t : targets.at(key))
-          wanted.push_back({ds.Model(t.obj_id)->name, mesh_diameter_of(t.obj_id)});
-        dets = AutoDetections(scene.depth, scene.camera, wanted);
+        std::vector<AutoObject> wanted;  // the image's target objects
+        for (const DatasetTarget& t : targets.at(key)) {
+          const PpfModel& m = ppf_of(t.obj_id);
+          wanted.push_back({ds.Model(t.obj_id)->name, m.diameter, &m});
+        }
+        AutoProposals proposals = ProposeAuto(scene.depth, scene.camera, wanted);
+        dets = std::move(proposals.detections);
+        for (std::size_t k = 0; k < wanted.size(); ++k) seeds_of[wanted[k].name] = std::move(proposals.seeds[k]);
       } else if (use_gt) {
         if (!im->has_gt) throw Error(where + ": --gt-boxes needs ground truth, the dataset has none for it");
         Rng rng(MixSeed(opt.seed, im->scene_id, im->im_id, 0, -1));
@@ -271,6 +278,7 @@ int RunRunDataset(int argc, char** argv) {
           }
           FilterOptions o = opt;
           o.seed = MixSeed(opt.seed, t.scene_id, t.im_id, t.obj_id, inst);
+          scene.seeds = seeds_of.count(model.name) ? seeds_of[model.name] : std::vector<PoseSeed>{};
           try {
             const EstimateResult r = EstimatePose(scene, mesh_of(t.obj_id), *prior, cls, o);
             BopResult row;

@@ -15,6 +15,12 @@
 //      for a region much smaller than s, see full_size), and tile_score times the box's fill
 //      for a tile (times tile_weight_when_one_fits where another of the objects fits the
 //      whole region: it is more likely that object than several touching ones).
+//   5. for each object with a PPF model (posefilter/ppf.h), point-pair-feature voting over
+//      each region's points gives pose proposals: each becomes a pose seed of the object
+//      (SceneInput::seeds, score = its votes relative to the object's best proposal) and a
+//      detection (the box of the model's points projected at the pose, score proposal_score
+//      times that relative score), so a small object on a larger one's face, which step 4
+//      sees only as a tile of the larger region, gets its own box and starting poses.
 // The detections go into PriorFromDetections like a detector's; the filter's niches keep the
 // hypotheses apart until the fine threshold ranks them. Deterministic; metres, pixels.
 #pragma once
@@ -25,6 +31,8 @@
 
 #include "posefilter/camera.h"
 #include "posefilter/depth_image.h"
+#include "posefilter/filter.h"
+#include "posefilter/ppf.h"
 #include "posefilter/prior.h"
 #include "posefilter/support_plane.h"
 
@@ -46,6 +54,9 @@ struct AutoPriorOptions {
   double min_size_weight = 0.25;
   // Tiles of a region that one of the objects fits whole score this fraction of the above.
   double tile_weight_when_one_fits = 0.15;
+  PpfOptions ppf;                    // step 5's voting
+  double proposal_score = 0.9;       // detection score of an object's best proposal, (0, 1]
+  int max_seeds = 24;                // pose seeds kept per object (most votes first), ≥ 1
   bool IsValid(std::string* why) const;
 };
 
@@ -69,10 +80,40 @@ std::vector<Detection> AutoDetections(const DepthImage& depth, const Camera& cam
                                       const std::vector<std::pair<std::string, double>>& objects,
                                       const AutoPriorOptions& opt = {});
 
-// The prior of `--prior auto` for the objects: AutoDetections made into a detections prior
-// (PriorFromDetections on the thesis pyramid), the objects' names (each once) as its classes. Throws Error
-// "<what>: no candidates: …" when no region stands above the support plane.
-Prior AutoPrior(const DepthImage& depth, const Camera& camera, const std::vector<std::pair<std::string, double>>& objects,
-                const std::string& what, const AutoPriorOptions& opt = {});
+// One object the stage 1 looks for.
+struct AutoObject {
+  std::string name;
+  double diameter = 0;            // metres, > 0
+  const PpfModel* ppf = nullptr;  // step 5's model (LoadOrBuildPpfModel); nullptr = steps 1–4 only
+};
+
+// Steps 1–5: the detections (step 4's, then one per pose proposal) and, per object (in the
+// objects' order), its pose seeds, most votes first (at most opt.max_seeds). Throws Error as
+// AutoDetections does.
+struct AutoProposals {
+  std::vector<Detection> detections;
+  std::vector<std::vector<PoseSeed>> seeds;
+};
+AutoProposals ProposeAuto(const DepthImage& depth, const Camera& camera, const std::vector<AutoObject>& objects,
+                          const AutoPriorOptions& opt = {});
+
+// The stage 1 of `--prior auto` for the objects: ProposeAuto's detections made into a
+// detections prior (PriorFromDetections on the thesis pyramid, the objects' names, each once,
+// as its classes) and the objects' pose seeds (put seeds[k] into the SceneInput of objects[k]).
+// Throws Error "<what>: no candidates: …" when no region stands above the support plane.
+struct AutoStage1 {
+  Prior prior;
+  std::vector<std::vector<PoseSeed>> seeds;
+};
+AutoStage1 AutoPrior(const DepthImage& depth, const Camera& camera, const std::vector<AutoObject>& objects,
+                     const std::string& what, const AutoPriorOptions& opt = {});
+
+// AutoPrior for meshes, named names[k]: each mesh's diameter (Mesh::Diameter) and PPF model
+// (LoadOrBuildPpfModel with opt.ppf and `cache_dir`, "" = no cache). `cache_status`
+// (optional) receives LoadOrBuildPpfModel's status per mesh.
+AutoStage1 AutoPriorForMeshes(const DepthImage& depth, const Camera& camera, const std::vector<const Mesh*>& meshes,
+                              const std::vector<std::string>& names, const std::string& what,
+                              const std::string& cache_dir, const AutoPriorOptions& opt = {},
+                              std::vector<std::string>* cache_status = nullptr);
 
 }  // namespace posefilter

@@ -76,6 +76,7 @@ class Estimator {
     // The prior: None (uniform), a Prior, a detections JSON path, or a list of detections.
     const int W = camera.width, H = camera.height;
     Prior prior;
+    std::vector<std::vector<PoseSeed>> seeds;  // prior 'auto': per object
     if (prior_arg.is_none() && !scene.mask.empty()) {
       mask.cls = objs[0];
       const auto classes = ClassesForObjects(objs, {});
@@ -87,9 +88,11 @@ class Estimator {
       prior = prior_arg.cast<Prior>();
     } else if (py::isinstance<py::str>(prior_arg) && prior_arg.cast<std::string>() == "auto") {
       // No detector: candidate regions of the depth image for every mesh (posefilter/auto_prior.h).
-      std::vector<std::pair<std::string, double>> objects;
-      for (std::size_t i = 0; i < objs.size(); ++i) objects.push_back({objs[i], meshes[i].Diameter()});
-      prior = AutoPrior(scene.depth, camera, objects, "prior 'auto'");
+      std::vector<const Mesh*> ms;
+      for (const Mesh& m : meshes) ms.push_back(&m);
+      AutoStage1 stage1 = AutoPriorForMeshes(scene.depth, camera, ms, objs, "prior 'auto'", DefaultPpfCacheDir());
+      prior = std::move(stage1.prior);
+      seeds = std::move(stage1.seeds);
     } else if (py::isinstance<py::str>(prior_arg) || py::hasattr(prior_arg, "__fspath__")) {
       const std::string path = py::str(py::module_::import("os").attr("fspath")(prior_arg));
       const auto dets = ReadDetectionsJson(path);
@@ -130,6 +133,7 @@ class Estimator {
           if (PyErr_CheckSignals() != 0) throw py::error_already_set();
           if (!callback.is_none()) callback(name, it, w);
         };
+        scene.seeds = i < seeds.size() ? seeds[i] : std::vector<PoseSeed>{};
         out.items.push_back(EstimatePose(scene, meshes[i], prior, cls[i], options_, fn));
         out.items.back().obj = name;
       }

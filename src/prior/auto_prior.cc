@@ -29,6 +29,9 @@ bool AutoPriorOptions::IsValid(std::string* why) const {
   if (!(min_size_weight > 0 && min_size_weight <= 1)) return fail("min_size_weight must be in (0, 1]");
   if (!(tile_weight_when_one_fits > 0 && tile_weight_when_one_fits <= 1))
     return fail("tile_weight_when_one_fits must be in (0, 1]");
+  if (!ppf.IsValid(&p)) return fail("ppf: " + p);
+  if (!(proposal_score > 0 && proposal_score <= 1)) return fail("proposal_score must be in (0, 1]");
+  if (max_seeds < 1) return fail("max_seeds must be >= 1");
   return true;
 }
 
@@ -103,14 +106,19 @@ std::vector<CandidateRegion> FindCandidateRegions(const DepthImage& depth, const
   return regions;
 }
 
-std::vector<Detection> AutoDetections(const DepthImage& depth, const Camera& camera,
-                                      const std::vector<std::pair<std::string, double>>& objects,
-                                      const AutoPriorOptions& opt) {
+namespace {
+
+void CheckDiameters(const std::vector<std::pair<std::string, double>>& objects) {
   for (const auto& [name, diameter] : objects)
     if (!(diameter > 0 && std::isfinite(diameter)))
       throw Error("auto prior: object '" + name + "' has no positive diameter");
-  std::vector<int> labels;
-  const std::vector<CandidateRegion> regions = FindCandidateRegions(depth, camera, opt, &labels);
+}
+
+// Step 4 over the regions of FindCandidateRegions (labels: its region indices + 1).
+std::vector<Detection> RegionDetections(const DepthImage& depth, const Camera& camera,
+                                        const std::vector<std::pair<std::string, double>>& objects,
+                                        const AutoPriorOptions& opt, const std::vector<CandidateRegion>& regions,
+                                        const std::vector<int>& labels) {
   const int W = depth.width;
   // The fraction of the box [x0, x1) × [y0, y1) (cut to the image) that region pixels fill.
   auto fill = [&](int region, int x0, int y0, int x1, int y1) {
@@ -158,14 +166,87 @@ std::vector<Detection> AutoDetections(const DepthImage& depth, const Camera& cam
   return out;
 }
 
-Prior AutoPrior(const DepthImage& depth, const Camera& camera, const std::vector<std::pair<std::string, double>>& objects,
-                const std::string& what, const AutoPriorOptions& opt) {
-  const std::vector<Detection> dets = AutoDetections(depth, camera, objects, opt);
-  if (dets.empty()) throw Error(what + ": no candidates: no region of the depth image stands above the support plane");
+}  // namespace
+
+std::vector<Detection> AutoDetections(const DepthImage& depth, const Camera& camera,
+                                      const std::vector<std::pair<std::string, double>>& objects,
+                                      const AutoPriorOptions& opt) {
+  CheckDiameters(objects);
+  std::vector<int> labels;
+  const std::vector<CandidateRegion> regions = FindCandidateRegions(depth, camera, opt, &labels);
+  return RegionDetections(depth, camera, objects, opt, regions, labels);
+}
+
+AutoProposals ProposeAuto(const DepthImage& depth, const Camera& camera, const std::vector<AutoObject>& objects,
+                          const AutoPriorOptions& opt) {
+  std::vector<std::pair<std::string, double>> sizes;
+  for (const AutoObject& o : objects) sizes.push_back({o.name, o.diameter});
+  CheckDiameters(sizes);
+  std::vector<int> labels;
+  const std::vector<CandidateRegion> regions = FindCandidateRegions(depth, camera, opt, &labels);
+  AutoProposals out;
+  out.detections = RegionDetections(depth, camera, sizes, opt, regions, labels);
+  out.seeds.resize(objects.size());
+  std::vector<std::uint8_t> mask(labels.size());
+  for (std::size_t j = 0; j < objects.size(); ++j) {
+    const PpfModel* model = objects[j].ppf;
+    if (!model) continue;
+    std::vector<PoseProposal> proposals;
+    for (std::size_t k = 0; k < regions.size(); ++k) {
+      for (std::size_t i = 0; i < labels.size(); ++i) mask[i] = labels[i] == int(k) + 1;
+      for (const PoseProposal& p : MatchPpf(*model, PpfScenePoints(depth, camera, mask, model->step), opt.ppf))
+        proposals.push_back(p);
+    }
+    std::stable_sort(proposals.begin(), proposals.end(),
+                     [](const PoseProposal& a, const PoseProposal& b) { return a.votes > b.votes; });
+    if (int(proposals.size()) > opt.max_seeds) proposals.resize(std::size_t(opt.max_seeds));
+    for (const PoseProposal& p : proposals) {
+      const double relative = p.votes / proposals.front().votes;
+      out.seeds[j].push_back({p.T_cam_obj, relative});
+      // The box of the model's points seen at the pose.
+      double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
+      for (const OrientedPoint& q : model->points) {
+        const Eigen::Vector3d c = p.T_cam_obj * q.p.cast<double>();
+        if (!(c.z() > 0)) continue;
+        const Eigen::Vector2d px = camera.Project(c);
+        x0 = std::min(x0, px.x()), y0 = std::min(y0, px.y()), x1 = std::max(x1, px.x()), y1 = std::max(y1, px.y());
+      }
+      if (x1 > x0 && y1 > y0)
+        out.detections.push_back({objects[j].name, opt.proposal_score * relative, x0, y0, x1 - x0, y1 - y0});
+    }
+  }
+  return out;
+}
+
+AutoStage1 AutoPrior(const DepthImage& depth, const Camera& camera, const std::vector<AutoObject>& objects,
+                     const std::string& what, const AutoPriorOptions& opt) {
+  AutoProposals p = ProposeAuto(depth, camera, objects, opt);
+  if (p.detections.empty())
+    throw Error(what + ": no candidates: no region of the depth image stands above the support plane");
   std::vector<std::string> names;
-  for (const auto& o : objects) names.push_back(o.first);
+  for (const AutoObject& o : objects) names.push_back(o.name);
   const std::vector<std::string> classes = ClassesForObjects(names, {});  // each name once
-  return PriorFromDetections(dets, PyramidLayout::Thesis(camera.width, camera.height, int(classes.size())), classes);
+  return {PriorFromDetections(p.detections, PyramidLayout::Thesis(camera.width, camera.height, int(classes.size())),
+                              classes),
+          std::move(p.seeds)};
+}
+
+AutoStage1 AutoPriorForMeshes(const DepthImage& depth, const Camera& camera, const std::vector<const Mesh*>& meshes,
+                              const std::vector<std::string>& names, const std::string& what,
+                              const std::string& cache_dir, const AutoPriorOptions& opt,
+                              std::vector<std::string>* cache_status) {
+  if (names.size() != meshes.size()) throw Error(what + ": one name per mesh needed");
+  std::vector<PpfModel> models;
+  models.reserve(meshes.size());
+  if (cache_status) cache_status->clear();
+  for (const Mesh* mesh : meshes) {
+    std::string status;
+    models.push_back(LoadOrBuildPpfModel(*mesh, opt.ppf, cache_dir, &status));
+    if (cache_status) cache_status->push_back(status);
+  }
+  std::vector<AutoObject> objects;
+  for (std::size_t k = 0; k < meshes.size(); ++k) objects.push_back({names[k], models[k].diameter, &models[k]});
+  return AutoPrior(depth, camera, objects, what, opt);
 }
 
 }  // namespace posefilter
