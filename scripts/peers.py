@@ -1,25 +1,36 @@
 #!/usr/bin/python3
-"""posefilter against a classical peer on the YCB table-top suite, in the same run.
+"""posefilter against classical peers on the YCB table-top suite, in the same run.
 
-The peer is the pipeline of Open3D's registration tutorial, as a robotics engineer would set
-it up for a detected object (Debian's python3-open3d; `scripts/setup.sh peers` installs it):
-  1. the scene's point cloud from the depth image, the dominant (table) plane removed
-     (RANSAC, 8 mm), cropped to the pixels of the detection box (or of the instance mask; with
-     --prior auto, no detector: the whole scene minus the plane, against posefilter's
-     `--prior auto`);
-  2. the model: points sampled on the mesh; both clouds voxel-downsampled (voxel = 1/20 of the
-     object's diameter, at least 4 mm), normals, FPFH features;
-  3. RANSAC over FPFH correspondences (edge-length and distance checkers, 100k iterations,
-     confidence 0.999), then point-to-plane ICP;
-  4. where a class has several boxes (a false box of the same class), every box is tried and
-     the registration with the highest fitness wins.
-Both methods get the same scenes and the same boxes (or masks): this script runs
-`posefilter suite --world ycbv --write-scenes`, then the peer on the scenes written, and
+Peers (`--peers`, default both; `scripts/setup.sh peers` installs their packages):
+  open3d      the pipeline of Open3D's registration tutorial, as a robotics engineer would set
+              it up for a detected object (Debian's python3-open3d):
+                1. the scene's point cloud from the depth image, the dominant (table) plane
+                   removed (RANSAC, 8 mm), cropped to the pixels of the detection box (or of the
+                   instance mask; with --prior auto, no detector: the whole scene minus the
+                   plane, against posefilter's `--prior auto`);
+                2. the model: points sampled on the mesh; both clouds voxel-downsampled (voxel =
+                   1/70 of the object's diameter, at least 2 mm), normals, FPFH features;
+                3. RANSAC over FPFH correspondences (edge-length and distance checkers, 1M
+                   iterations, confidence 0.999), then point-to-plane ICP;
+  opencv-ppf  OpenCV's point-pair-feature detector (Drost et al. 2010; Debian's python3-opencv,
+              cv2.ppf_match_3d), fed millimetres (in metres its pose clustering merges every
+              vote): the model is 500 points (--opencv-model-points) sampled on the mesh with
+              the mesh's normals (OpenCV's training time grows steeply: 1200 take a minute); the
+              scene is the same cloud as open3d's, voxel-downsampled to 1/20 of the diameter
+              with normals facing the camera; match (every 5th scene point a reference, distance
+              step 0.05), the 5 best poses refined by OpenCV's ICP, the lowest residual wins.
+              Training is model preparation and is not counted in the time per object.
+Where a class has several boxes (a false box of the same class), every box is tried and the
+registration with the highest fitness (open3d) or the lowest residual (opencv-ppf) wins.
+All methods get the same scenes and the same boxes (or masks): this script runs
+`posefilter suite --world ycbv --write-scenes`, then each peer on the scenes written, and
 prints per-class recall (ADD-S < 10 % of the diameter), AUC of ADD-S and time per object
 side by side.
 
-usage: scripts/peer_open3d.py [--count N] [--first-seed S] [--prior boxes|masks|auto]
-                              [--models DIR] [--out DIR] [--json FILE] [-- SUITE OPTIONS...]
+usage: scripts/peers.py [--count N] [--first-seed S] [--prior boxes|masks|auto]
+                        [--peers open3d,opencv-ppf] [--opencv-model-points N] [--models DIR]
+                        [--out DIR] [--json FILE]
+                        [-- SUITE OPTIONS...]
 Options after `--` go to `posefilter suite` (e.g. filter options).
 """
 import argparse
@@ -33,7 +44,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def fail(msg):
-    print("peer_open3d: error: " + msg, file=sys.stderr)
+    print("peers: error: " + msg, file=sys.stderr)
     sys.exit(1)
 
 
@@ -42,7 +53,7 @@ try:
     import open3d as o3d
     from scipy.spatial import cKDTree
 except ImportError as e:  # pragma: no cover - depends on the machine
-    fail("%s (install the peer's packages with: scripts/setup.sh peers)" % e)
+    fail("%s (install the peers' packages with: scripts/setup.sh peers)" % e)
 
 
 def load_json(path):
@@ -87,6 +98,15 @@ def sample_surface(mesh, n):
     return (1 - s)[:, None] * a[face] + (s * (1 - r2))[:, None] * b[face] + (s * r2)[:, None] * c[face]
 
 
+def load_mesh(models_dir, cls):
+    """The class's mesh (metres) and its bounding-box diagonal as the diameter."""
+    mesh = o3d.io.read_triangle_mesh(os.path.join(models_dir, cls + ".ply"))
+    if len(mesh.triangles) == 0:
+        fail("cannot read the mesh of " + cls)
+    pts = np.asarray(mesh.vertices)
+    return mesh, float(np.linalg.norm(pts.max(0) - pts.min(0)))
+
+
 class Peer:
     """Open3D FPFH + RANSAC + ICP, one model cache per class."""
 
@@ -96,11 +116,7 @@ class Peer:
 
     def model(self, cls):
         if cls not in self.cache:
-            mesh = o3d.io.read_triangle_mesh(os.path.join(self.models_dir, cls + ".ply"))
-            if len(mesh.triangles) == 0:
-                fail("cannot read the mesh of " + cls)
-            pts = np.asarray(mesh.vertices)
-            diameter = float(np.linalg.norm(pts.max(0) - pts.min(0)))
+            mesh, diameter = load_mesh(self.models_dir, cls)
             voxel = max(0.002, diameter / 70)
             pcd = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(sample_surface(mesh, 20000)))
             down, fpfh = self.features(pcd, voxel)
@@ -137,6 +153,55 @@ class Peer:
         return np.asarray(icp.transformation), icp.fitness
 
 
+class OpenCvPpfPeer:
+    """OpenCV's PPF detector + ICP, one trained detector per class (millimetres)."""
+
+    def __init__(self, models_dir, model_points=500):
+        try:
+            import cv2
+        except ImportError as e:  # pragma: no cover - depends on the machine
+            fail("%s (install the peers' packages with: scripts/setup.sh peers)" % e)
+        self.cv2 = cv2
+        self.models_dir = models_dir
+        self.model_points = model_points
+        self.cache = {}
+        self.train_s = {}
+
+    def model(self, cls):
+        if cls not in self.cache:
+            mesh, diameter = load_mesh(self.models_dir, cls)
+            mesh.compute_vertex_normals()
+            o3d.utility.random.seed(1)
+            pcd = mesh.sample_points_uniformly(self.model_points)
+            model = np.hstack([np.asarray(pcd.points) * 1000, np.asarray(pcd.normals)]).astype(np.float32)
+            detector = self.cv2.ppf_match_3d_PPF3DDetector(0.05, 0.05)
+            t0 = time.perf_counter()
+            detector.trainModel(model)
+            self.train_s[cls] = time.perf_counter() - t0
+            self.cache[cls] = (detector, model, diameter)
+        return self.cache[cls]
+
+    def register(self, scene_pts, cls):
+        detector, model, diameter = self.model(cls)
+        if len(scene_pts) < 30:
+            return None, 0.0
+        pcd = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(scene_pts)).voxel_down_sample(max(0.002, diameter / 20))
+        if len(pcd.points) < 10:
+            return None, 0.0
+        pcd.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=diameter / 10, max_nn=30))
+        pcd.orient_normals_towards_camera_location(np.zeros(3))
+        scene = np.hstack([np.asarray(pcd.points) * 1000, np.asarray(pcd.normals)]).astype(np.float32)
+        results = detector.match(scene, 1.0 / 5.0, 0.05)
+        if not results:
+            return None, 0.0
+        icp = self.cv2.ppf_match_3d_ICP(100)
+        _, results = icp.registerModelToScene(model, scene, results[:5])
+        best = min(results, key=lambda r: r.residual)
+        T = np.array(best.pose, dtype=np.float64)
+        T[:3, 3] /= 1000.0
+        return T, -float(best.residual)  # higher is better, as open3d's fitness
+
+
 def scene_points(depth, cam, pixels):
     """Camera-frame points of the given (v, u) pixel indices with valid depth."""
     v, u = pixels
@@ -146,9 +211,8 @@ def scene_points(depth, cam, pixels):
     return np.stack([(u - cam["cx"]) * z / cam["fx"], (v - cam["cy"]) * z / cam["fy"], z], axis=1)
 
 
-def run_peer(scene_dirs, models_dir, prior):
+def run_peer(peer, scene_dirs, prior):
     o3d.utility.random.seed(1)
-    peer = Peer(models_dir)
     rows = []
     for d in scene_dirs:
         cam = load_json(os.path.join(d, "camera.json"))
@@ -185,7 +249,7 @@ def run_peer(scene_dirs, models_dir, prior):
                     region = np.zeros(depth.shape, bool)
                     region[max(0, int(y)):min(H, int(np.ceil(y + h))), max(0, int(x)):min(W, int(np.ceil(x + w)))] = True
                     regions.append(region & off_plane)
-            best, best_fit = None, -1.0
+            best, best_fit = None, -float("inf")
             for region in regions:
                 T, fit = peer.register(scene_points(depth, cam, np.nonzero(region)), cls)
                 if T is not None and fit > best_fit:
@@ -198,13 +262,19 @@ def run_peer(scene_dirs, models_dir, prior):
     return rows
 
 
+PEERS = {"open3d": ("Open3D FPFH+RANSAC+ICP", Peer), "opencv-ppf": ("OpenCV PPF+ICP", OpenCvPpfPeer)}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--count", type=int, default=20, help="scenes (default 20)")
     ap.add_argument("--first-seed", type=int, default=1)
     ap.add_argument("--prior", choices=["boxes", "masks", "auto"], default="boxes")
+    ap.add_argument("--peers", default="open3d,opencv-ppf", help="comma-separated: open3d, opencv-ppf")
+    ap.add_argument("--opencv-model-points", type=int, default=500,
+                    help="opencv-ppf: model points (default 500; its training time grows steeply: 1200 take a minute)")
     ap.add_argument("--models", default=os.path.join(ROOT, "..", "shared", "data", "ycbv", "models"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "build", "peer_open3d"), help="scenes and results folder")
+    ap.add_argument("--out", default=os.path.join(ROOT, "build", "peers"), help="scenes and results folder")
     ap.add_argument("--posefilter", default=os.path.join(ROOT, "build", "release", "posefilter"))
     ap.add_argument("--json", help="also write the comparison as JSON")
     args, suite_extra = ap.parse_known_args()
@@ -212,6 +282,14 @@ def main():
         suite_extra = suite_extra[1:]
     if args.count < 1:
         fail("--count must be >= 1")
+    if args.opencv_model_points < 10:
+        fail("--opencv-model-points must be >= 10")
+    peers = [p for p in args.peers.split(",") if p]
+    for p in peers:
+        if p not in PEERS:
+            fail("--peers: unknown peer '%s' (known: %s)" % (p, ", ".join(PEERS)))
+    if not peers:
+        fail("--peers: name at least one peer")
     if not os.path.isdir(args.models):
         fail(args.models + ": no such folder (the YCB-Video meshes)")
     if not os.access(args.posefilter, os.X_OK):
@@ -227,65 +305,85 @@ def main():
         fail("posefilter suite failed")
     ours = load_json(ours_json)
     dirs = [os.path.join(scenes, "scene_%06d" % (args.first_seed + i)) for i in range(args.count)]
-    print("== peer: Open3D %s FPFH + RANSAC + ICP on the same %d scenes" % (o3d.__version__, len(dirs)), flush=True)
-    peer_rows = run_peer(dirs, args.models, args.prior)
+    peer_rows, train_s = {}, {}
+    for name in peers:
+        title, cls = PEERS[name]
+        print("== peer: %s on the same %d scenes" % (title, len(dirs)), flush=True)
+        peer = cls(args.models, args.opencv_model_points) if name == "opencv-ppf" else cls(args.models)
+        peer_rows[name] = run_peer(peer, dirs, args.prior)
+        train_s[name] = getattr(peer, "train_s", {})
 
     points, diameters = {}, {}
     for o in ours["objects"]:
         diameters[o["obj"]] = o["diameter_m"]
+    methods = ["posefilter"] + peers
     per = {}
-    for r in peer_rows:
-        cls = r["obj"]
-        if cls not in points:
-            points[cls] = np.loadtxt(os.path.join(args.models, "points", cls + ".xyz"))
-        err = float("inf") if r["T"] is None else adds_error(points[cls], r["T"], r["T_gt"])
-        per.setdefault(cls, {"peer": [], "peer_ms": [], "ours": [], "ours_ms": []})
-        per[cls]["peer"].append(err)
-        per[cls]["peer_ms"].append(r["time_ms"])
-    for o in ours["objects"]:
-        e = o["adds_m"] if o["adds_m"] is not None else float("inf")
-        per.setdefault(o["obj"], {"peer": [], "peer_ms": [], "ours": [], "ours_ms": []})
-        per[o["obj"]]["ours"].append(e)
-        per[o["obj"]]["ours_ms"].append(o["time_ms"])
+
+    def add(cls, method, err, ms):
+        per.setdefault(cls, {m: ([], []) for m in methods})
+        per[cls][method][0].append(err)
+        per[cls][method][1].append(ms)
+
+    for name in peers:
+        for r in peer_rows[name]:
+            cls = r["obj"]
+            if cls not in points:
+                points[cls] = np.loadtxt(os.path.join(args.models, "points", cls + ".xyz"))
+            err = float("inf") if r["T"] is None else adds_error(points[cls], r["T"], r["T_gt"])
+            add(cls, name, err, r["time_ms"])
+    for o in ours["objects"]:  # posefilter's time: its estimate and its share of the scene's stage 1
+        add(o["obj"], "posefilter", o["adds_m"] if o["adds_m"] is not None else float("inf"),
+            o["time_ms"] + o.get("stage1_ms", 0.0))
 
     def found(errs, cls):
         return sum(1 for e in errs if e < 0.1 * diameters[cls])
 
-    print("\n%-22s %4s | %-23s | %-23s" % ("", "", "posefilter", "Open3D FPFH+RANSAC+ICP"))
-    print("%-22s %4s | %6s %6s %9s | %6s %6s %9s" % ("class", "n", "recall", "AUC", "med[ms]",
-                                                    "recall", "AUC", "med[ms]"))
-    tot = {"n": 0, "ours": 0, "peer": 0}
-    all_o, all_p, all_om, all_pm = [], [], [], []
+    head = "%-22s %4s" % ("", "")
+    sub = "%-22s %4s" % ("class", "n")
+    for m in methods:
+        head += " | %-23s" % (m if m == "posefilter" else PEERS[m][0])[:23]
+        sub += " | %6s %6s %9s" % ("recall", "AUC", "med[ms]")
+    print("\n" + head + "\n" + sub)
+    totals = {m: {"found": 0, "errs": [], "ms": []} for m in methods}
+    n_all = 0
     summary = {}
     for cls in sorted(per):
-        p = per[cls]
-        n = len(p["ours"])
-        fo, fp = found(p["ours"], cls), found(p["peer"], cls)
-        tot["n"] += n
-        tot["ours"] += fo
-        tot["peer"] += fp
-        all_o += p["ours"]
-        all_p += p["peer"]
-        all_om += p["ours_ms"]
-        all_pm += p["peer_ms"]
-        print("%-22s %4d | %5.0f%% %6.1f %9.0f | %5.0f%% %6.1f %9.0f" % (
-            cls, n, 100.0 * fo / n, 100 * auc(p["ours"]), np.median(p["ours_ms"]),
-            100.0 * fp / max(1, len(p["peer"])), 100 * auc(p["peer"]), np.median(p["peer_ms"])))
-        summary[cls] = {"n": n, "posefilter_found": fo, "peer_found": fp}
-    n = tot["n"]
-    print("%-22s %4d | %5.1f%% %6.1f %9.0f | %5.1f%% %6.1f %9.0f" % (
-        "all", n, 100.0 * tot["ours"] / n, 100 * auc(all_o), np.median(all_om),
-        100.0 * tot["peer"] / n, 100 * auc(all_p), np.median(all_pm)))
-    print("median time per object: posefilter %.0f ms, peer %.0f ms (%.1fx)" % (
-        np.median(all_om), np.median(all_pm), np.median(all_pm) / max(1e-9, np.median(all_om))))
+        n = len(per[cls]["posefilter"][0])
+        n_all += n
+        line = "%-22s %4d" % (cls, n)
+        summary[cls] = {"n": n}
+        for m in methods:
+            errs, ms = per[cls][m]
+            f = found(errs, cls)
+            totals[m]["found"] += f
+            totals[m]["errs"] += errs
+            totals[m]["ms"] += ms
+            summary[cls][m + "_found"] = f
+            line += " | %5.0f%% %6.1f %9.0f" % (100.0 * f / max(1, len(errs)), 100 * auc(errs),
+                                                np.median(ms) if ms else 0)
+        print(line)
+    line = "%-22s %4d" % ("all", n_all)
+    for m in methods:
+        t = totals[m]
+        line += " | %5.1f%% %6.1f %9.0f" % (100.0 * t["found"] / n_all, 100 * auc(t["errs"]), np.median(t["ms"]))
+    print(line)
+    ours_ms = np.median(totals["posefilter"]["ms"])
+    for m in peers:
+        print("median time per object: posefilter %.0f ms, %s %.0f ms (%.1fx)" % (
+            ours_ms, PEERS[m][0], np.median(totals[m]["ms"]), np.median(totals[m]["ms"]) / max(1e-9, ours_ms)))
+        if train_s[m]:
+            print("  %s model preparation (not in the time per object): %.1f s per model on average" % (
+                PEERS[m][0], sum(train_s[m].values()) / len(train_s[m])))
     if args.json:
+        out = {"prior": args.prior, "count": args.count, "first_seed": args.first_seed, "targets": n_all,
+               "classes": summary}
+        for m in methods:
+            t = totals[m]
+            out[m] = {"found": t["found"], "auc_adds": auc(t["errs"]), "median_time_ms": float(np.median(t["ms"]))}
+            if m in train_s and train_s[m]:
+                out[m]["model_preparation_s"] = train_s[m]
         with open(args.json, "w") as f:
-            json.dump({"prior": args.prior, "count": args.count, "first_seed": args.first_seed,
-                       "targets": n, "posefilter": {"found": tot["ours"], "auc_adds": auc(all_o),
-                                                    "median_time_ms": float(np.median(all_om))},
-                       "open3d": {"found": tot["peer"], "auc_adds": auc(all_p),
-                                  "median_time_ms": float(np.median(all_pm))},
-                       "classes": summary}, f, indent=1)
+            json.dump(out, f, indent=1)
 
 
 if __name__ == "__main__":

@@ -4,8 +4,8 @@
 # something is missing. Needs root (or sudo) on a Debian 12 machine.
 #
 # usage: scripts/setup.sh [peers]
-#   peers: also the peer methods the benchmarks compare with (python3-open3d for
-#          scripts/peer_open3d.py); not needed to build or test.
+#   peers: also the peer methods the benchmarks compare with (python3-open3d and
+#          python3-opencv for scripts/peers.py); not needed to build or test.
 set -euo pipefail
 
 PACKAGES=(
@@ -18,7 +18,7 @@ PACKAGES=(
 
 case "${1:-}" in
   "") ;;
-  peers) PACKAGES+=(python3-open3d python3-scipy) ;;
+  peers) PACKAGES+=(python3-open3d python3-opencv python3-scipy) ;;
   *) echo "setup: unknown argument '$1' (usage: scripts/setup.sh [peers])" >&2; exit 2 ;;
 esac
 
