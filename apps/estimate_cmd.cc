@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -144,7 +145,18 @@ int RunEstimate(int argc, char** argv) {
       std::vector<const Mesh*> ms;
       std::vector<std::string> names;
       for (const auto& m : meshes) ms.push_back(&m), names.push_back(m.name);
-      AutoStage1 stage1 = AutoPriorForMeshes(scene.depth, scene.camera, ms, names, "--prior auto", DefaultPpfCacheDir());
+      const std::string cache_dir = DefaultPpfCacheDir();
+      std::vector<std::string> cache_status;
+      const auto t_stage1 = std::chrono::steady_clock::now();
+      AutoStage1 stage1 =
+          AutoPriorForMeshes(scene.depth, scene.camera, ms, names, "--prior auto", cache_dir, {}, &cache_status);
+      if (!quiet) {
+        for (std::size_t k = 0; k < names.size(); ++k)
+          std::fprintf(stderr, "posefilter estimate: PPF model of '%s': %s%s\n", names[k].c_str(), cache_status[k].c_str(),
+                       cache_dir.empty() ? " (no cache folder: set POSEFILTER_CACHE_DIR)" : (" (cache " + cache_dir + ")").c_str());
+        std::fprintf(stderr, "posefilter estimate: --prior auto: stage 1 in %.0f ms\n",
+                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_stage1).count());
+      }
       prior = std::move(stage1.prior);
       for (std::size_t k = 0; k < meshes.size(); ++k) seeds_of[&meshes[k]] = std::move(stage1.seeds[k]);
     } else if (prior_arg == "none") {

@@ -147,6 +147,9 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
     } else {
       box_prior = PriorFromDetections(scene.detections, layout, classes);
     }
+    // --prior auto: the stage 1's time shared by the scene's targets (in each row's stage1_ms).
+    const auto targets = std::count_if(scene.objects.begin(), scene.objects.end(), [](const TableObject& o) { return o.target; });
+    const double stage1_share = stage1_ms.size() == std::size_t(i) + 1 && targets > 0 ? stage1_ms.back() / double(targets) : 0.0;
     for (std::size_t j = 0; j < scene.objects.size(); ++j) {
       const TableObject& obj = scene.objects[j];
       if (!obj.target) continue;
@@ -208,7 +211,7 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
       rows.push_back({{"seed", seed}, {"obj", obj.cls}, {"instance", j + 1}, {"visible_fraction", obj.visible_fraction},
                       {"adds_m", std::isfinite(adds) ? nlohmann::json(adds) : nlohmann::json(nullptr)},
                       {"diameter_m", model.diameter}, {"found", ok}, {"weight", weight}, {"gt_weight", gt_weight}, {"iterations", iterations},
-                      {"time_ms", time_ms}, {"status", status}});
+                      {"time_ms", time_ms}, {"stage1_ms", stage1_share}, {"status", status}});
     }
   }
   if (total == 0) throw Error("the suite held no target (check --targets)");

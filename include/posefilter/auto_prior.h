@@ -110,7 +110,9 @@ AutoStage1 AutoPrior(const DepthImage& depth, const Camera& camera, const std::v
 
 // AutoPrior for meshes, named names[k]: each mesh's diameter (Mesh::Diameter) and PPF model
 // (LoadOrBuildPpfModel with opt.ppf and `cache_dir`, "" = no cache). `cache_status`
-// (optional) receives LoadOrBuildPpfModel's status per mesh.
+// (optional) receives LoadOrBuildPpfModel's status per mesh. A mesh whose size is implausible
+// for the scene's depth (wrong units, as EstimatePose checks) throws Error naming it before
+// any table is built.
 AutoStage1 AutoPriorForMeshes(const DepthImage& depth, const Camera& camera, const std::vector<const Mesh*>& meshes,
                               const std::vector<std::string>& names, const std::string& what,
                               const std::string& cache_dir, const AutoPriorOptions& opt = {},
