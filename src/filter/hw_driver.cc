@@ -28,6 +28,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/mesh_scale.h"
 #include "filter/driver.h"
 #include "filter/engine.h"
 #include "filter/host_setup.h"
@@ -325,7 +326,7 @@ class HwRunner {
     // Per-cell memories: heuristic volumes, windows, probabilities, hypotheses.
     // The diameter is the input mesh's (the float engines take their level-of-detail mesh's).
     const double diameter = mesh_in.Diameter();
-    filter::CheckMeshScale(mesh_in.name, diameter, support_);
+    CheckMeshScale(mesh_in.name, diameter, support_);
     const HeuristicOptions hopt = filter::VolumeOptions(o, diameter);
     const std::vector<Volume> volumes = ComputeHeuristics(support_, cam, prior_.boxes, hopt, o.threads);
     double max_p = 0;

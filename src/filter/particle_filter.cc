@@ -16,6 +16,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "core/mesh_scale.h"
 #include "core/threads.h"
 #include "filter/cdf_sampler.h"
 #include "filter/diffusion.h"
@@ -305,7 +306,7 @@ void ValidateScene(const SceneInput& scene, const std::string& what) {
   if (valid == 0) throw Error(what + ": depth image has no valid pixel (all zero)");
   // A depth scale off by 1000 (millimetres read as metres, or the reverse) puts the scene
   // kilometres or millimetres away; no depth camera sees that.
-  const double median = filter::MedianValidDepth(d);
+  const double median = MedianValidDepth(d);
   if (!(median >= kMinPlausibleDepthM && median <= kMaxPlausibleDepthM)) {
     std::ostringstream os;
     os << what << ": the median depth is " << median << " m, outside the [" << kMinPlausibleDepthM << ", "
@@ -362,7 +363,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   const double diameter = mesh.Diameter();
   ctx.diameter = diameter;
-  filter::CheckMeshScale(mesh.name, diameter, prep.support);
+  CheckMeshScale(mesh.name, diameter, prep.support);
   const HeuristicOptions hopt = VolumeOptions(options, diameter);
   ctx.volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();

@@ -30,13 +30,4 @@ struct PreparedScene {
 // Validates the scene (ValidateScene, naming `what`) and prepares it for `options`.
 PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options, const std::string& what = "scene");
 
-// The median of the depth image's valid (> 0) pixels, metres; 0 when there is none.
-double MedianValidDepth(const DepthImage& d);
-
-// Catches mesh unit mistakes (a millimetre mesh read as metres, or the reverse), for every
-// engine: throws Error naming the mesh and --unit-scale unless an object `diameter` metres
-// across is 0.001–10 times the median depth of `support` (PreparedScene::support). No check
-// when `support` has no valid pixel (nothing to compare with).
-void CheckMeshScale(const std::string& mesh_name, double diameter, const DepthImage& support);
-
 }  // namespace posefilter::filter

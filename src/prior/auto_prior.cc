@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "filter/scene_prep.h"
+#include "core/mesh_scale.h"
 #include "posefilter/error.h"
 
 namespace posefilter {
@@ -241,7 +241,7 @@ AutoStage1 AutoPriorForMeshes(const DepthImage& depth, const Camera& camera, con
   models.reserve(meshes.size());
   if (cache_status) cache_status->clear();
   for (std::size_t k = 0; k < meshes.size(); ++k)  // wrong units fail here, before any table is built
-    filter::CheckMeshScale(names[k], meshes[k]->Diameter(), depth);
+    CheckMeshScale(names[k], meshes[k]->Diameter(), depth);
   for (const Mesh* mesh : meshes) {
     std::string status;
     models.push_back(LoadOrBuildPpfModel(*mesh, opt.ppf, cache_dir, &status));
