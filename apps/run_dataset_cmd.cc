@@ -210,8 +210,8 @@ int RunRunDataset(int argc, char** argv) {
       if (it == meshes.end()) it = meshes.emplace(obj_id, LoadDatasetMesh(*ds.Model(obj_id))).first;
       return it->second;
     };
-    // The meshes' own diameters (Mesh::Diameter, the size the filter works with), once per object.
-    // --auto-prior: each model's PPF model (its diameter included), built or loaded once.
+    // --auto-prior: each model's PPF model (with the mesh's own diameter, Mesh::Diameter, the
+    // size the filter works with), built or loaded once.
     std::map<int, PpfModel> ppf_models;
     auto ppf_of = [&](int obj_id) -> const PpfModel& {
       auto it = ppf_models.find(obj_id);

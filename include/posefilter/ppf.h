@@ -111,6 +111,11 @@ std::string PpfCachePath(const Mesh& mesh, const PpfOptions& opt, const std::str
 // normals disagree (mean normal shorter than 0.6) or with fewer than 3 normals are dropped.
 std::vector<OrientedPoint> PpfScenePoints(const DepthImage& depth, const Camera& camera,
                                           const std::vector<std::uint8_t>& pixel_mask, double step);
+// The same with the image's normals already computed (ComputeSceneNormals, posefilter/render.h:
+// 3 floats per pixel), for several masks of one image.
+std::vector<OrientedPoint> PpfScenePoints(const DepthImage& depth, const Camera& camera,
+                                          const std::vector<float>& normals,
+                                          const std::vector<std::uint8_t>& pixel_mask, double step);
 
 // A pose proposal: object → camera, and its cluster's summed votes.
 struct PoseProposal {

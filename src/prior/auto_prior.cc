@@ -8,6 +8,7 @@
 
 #include "core/mesh_scale.h"
 #include "posefilter/error.h"
+#include "posefilter/render.h"
 
 namespace posefilter {
 
@@ -188,16 +189,22 @@ AutoProposals ProposeAuto(const DepthImage& depth, const Camera& camera, const s
   AutoProposals out;
   out.detections = RegionDetections(depth, camera, sizes, opt, regions, labels);
   out.seeds.resize(objects.size());
+  // Each object's proposals, region by region: the image's normals once, each region's mask once.
+  std::vector<std::vector<PoseProposal>> proposals_of(objects.size());
+  const bool any_model = std::any_of(objects.begin(), objects.end(), [](const AutoObject& o) { return o.ppf; });
+  const std::vector<float> normals = any_model ? ComputeSceneNormals(depth, camera, opt.ppf.threads) : std::vector<float>{};
   std::vector<std::uint8_t> mask(labels.size());
+  for (std::size_t k = 0; any_model && k < regions.size(); ++k) {
+    for (std::size_t i = 0; i < labels.size(); ++i) mask[i] = labels[i] == int(k) + 1;
+    for (std::size_t j = 0; j < objects.size(); ++j)
+      if (const PpfModel* model = objects[j].ppf)
+        for (const PoseProposal& p : MatchPpf(*model, PpfScenePoints(depth, camera, normals, mask, model->step), opt.ppf))
+          proposals_of[j].push_back(p);
+  }
   for (std::size_t j = 0; j < objects.size(); ++j) {
     const PpfModel* model = objects[j].ppf;
-    if (!model) continue;
-    std::vector<PoseProposal> proposals;
-    for (std::size_t k = 0; k < regions.size(); ++k) {
-      for (std::size_t i = 0; i < labels.size(); ++i) mask[i] = labels[i] == int(k) + 1;
-      for (const PoseProposal& p : MatchPpf(*model, PpfScenePoints(depth, camera, mask, model->step), opt.ppf))
-        proposals.push_back(p);
-    }
+    std::vector<PoseProposal>& proposals = proposals_of[j];
+    if (!model || proposals.empty()) continue;
     std::stable_sort(proposals.begin(), proposals.end(),
                      [](const PoseProposal& a, const PoseProposal& b) { return a.votes > b.votes; });
     if (int(proposals.size()) > opt.max_seeds) proposals.resize(std::size_t(opt.max_seeds));

@@ -50,6 +50,18 @@ std::vector<std::size_t> SortedByVoxel(const std::vector<VoxelKey>& keys) {
   return order;
 }
 
+// The bounding rectangle [u0, u1) × [v0, v1) of a W × H mask's set pixels (empty: u0 ≥ u1).
+struct Rect {
+  int u0, v0, u1, v1;
+};
+Rect MaskBounds(const std::vector<std::uint8_t>& mask, int W, int H) {
+  Rect r{W, H, 0, 0};
+  for (int v = 0; v < H; ++v)
+    for (int u = 0; u < W; ++u)
+      if (mask[std::size_t(v) * W + u]) r = {std::min(r.u0, u), std::min(r.v0, v), std::max(r.u1, u + 1), std::max(r.v1, v + 1)};
+  return r;
+}
+
 }  // namespace
 
 bool PpfOptions::IsValid(std::string* why) const {
@@ -79,19 +91,6 @@ int PpfModel::Key(const OrientedPoint& a, const OrientedPoint& b) const {
   const float bin = float(angle_bins / kPi);
   auto q = [&](float angle) { return std::min(angle_bins - 1, int(angle * bin)); };
   return ((dq * angle_bins + q(Angle(a.n, d))) * angle_bins + q(Angle(b.n, d))) * angle_bins + q(Angle(a.n, b.n));
-}
-
-std::uint64_t MeshContentHash(const Mesh& mesh) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto bytes = [&](const void* p, std::size_t n) {
-    const unsigned char* c = static_cast<const unsigned char*>(p);
-    for (std::size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 1099511628211ull;
-  };
-  const std::uint64_t counts[2] = {mesh.vertices.size(), mesh.faces.size()};
-  bytes(counts, sizeof(counts));
-  for (const Eigen::Vector3f& v : mesh.vertices) bytes(v.data(), 3 * sizeof(float));
-  for (const auto& f : mesh.faces) bytes(f.data(), 3 * sizeof(std::uint32_t));
-  return h;
 }
 
 PpfModel BuildPpfModel(const Mesh& mesh, const PpfOptions& opt) {
@@ -216,17 +215,23 @@ std::vector<OrientedPoint> PpfScenePoints(const DepthImage& depth, const Camera&
                                           const std::vector<std::uint8_t>& pixel_mask, double step) {
   const int W = depth.width, H = depth.height;
   if (pixel_mask.size() != std::size_t(W) * H) throw Error("ppf: the pixel mask's size differs from the depth image's");
-  if (!(step > 0)) throw Error("ppf: the voxel step must be > 0");
-  int u0 = W, v0 = H, u1 = 0, v1 = 0;
-  for (int v = 0; v < H; ++v)
-    for (int u = 0; u < W; ++u)
-      if (pixel_mask[std::size_t(v) * W + u]) u0 = std::min(u0, u), v0 = std::min(v0, v), u1 = std::max(u1, u + 1), v1 = std::max(v1, v + 1);
-  if (u0 >= u1) return {};
+  // Normals only where the mask is (its bounding rectangle).
+  const Rect r = MaskBounds(pixel_mask, W, H);
   std::vector<float> normals(std::size_t(W) * H * 3, 0.f);
-  render::NormalsInRect(depth, camera, u0, v0, u1, v1, normals.data());
+  if (r.u0 < r.u1) render::NormalsInRect(depth, camera, r.u0, r.v0, r.u1, r.v1, normals.data());
+  return PpfScenePoints(depth, camera, normals, pixel_mask, step);
+}
+
+std::vector<OrientedPoint> PpfScenePoints(const DepthImage& depth, const Camera& camera,
+                                          const std::vector<float>& normals,
+                                          const std::vector<std::uint8_t>& pixel_mask, double step) {
+  const int W = depth.width, H = depth.height;
+  if (pixel_mask.size() != std::size_t(W) * H) throw Error("ppf: the pixel mask's size differs from the depth image's");
+  if (normals.size() != 3 * pixel_mask.size()) throw Error("ppf: the normals' size differs from the depth image's");
+  if (!(step > 0)) throw Error("ppf: the voxel step must be > 0");
   std::vector<OrientedPoint> pts;
-  for (int v = v0; v < v1; ++v)
-    for (int u = u0; u < u1; ++u) {
+  for (int v = 0; v < H; ++v)
+    for (int u = 0; u < W; ++u) {
       const std::size_t i = std::size_t(v) * W + u;
       const float* nn = &normals[3 * i];
       if (!pixel_mask[i] || (nn[0] == 0 && nn[1] == 0 && nn[2] == 0)) continue;
@@ -263,12 +268,11 @@ std::vector<PoseProposal> MatchPpf(const PpfModel& model, const std::vector<Orie
   struct Vote {
     Eigen::Isometry3d T;
     std::uint32_t votes;
-    std::size_t ref;
   };
   const float to_bin = float(A / (2 * kPi));
   std::vector<std::size_t> refs;
   for (std::size_t r = 0; r < scene.size(); r += stride) refs.push_back(r);
-  std::vector<Vote> per_ref(refs.size(), Vote{Eigen::Isometry3d::Identity(), 0, 0});
+  std::vector<Vote> per_ref(refs.size(), Vote{Eigen::Isometry3d::Identity(), 0});
   // References in parallel, each worker with its own accumulator; per_ref keeps their order.
 #pragma omp parallel num_threads(WorkerThreads(opt.threads))
   {
@@ -297,7 +301,7 @@ std::vector<PoseProposal> MatchPpf(const PpfModel& model, const std::vector<Orie
       const std::size_t at = std::size_t(peak - acc.begin());
       const double alpha = -kPi + (double(at % A) + 0.5) * 2 * kPi / A;
       const Eigen::Isometry3d Tm = ToReferenceFrame(model.points[at / A]).cast<double>();
-      per_ref[j] = {Ts.cast<double>().inverse() * Eigen::AngleAxisd(-alpha, Eigen::Vector3d::UnitX()) * Tm, *peak, r};
+      per_ref[j] = {Ts.cast<double>().inverse() * Eigen::AngleAxisd(-alpha, Eigen::Vector3d::UnitX()) * Tm, *peak};
     }
   }
   std::vector<Vote> poses;

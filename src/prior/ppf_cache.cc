@@ -1,4 +1,5 @@
-// prior/ppf_cache.cc — the on-disk cache of PPF models (posefilter/ppf.h).
+// prior/ppf_cache.cc — the on-disk cache of PPF models and the meshes' content hash
+// (posefilter/ppf.h).
 //
 // File layout (little-endian, as the host writes it; a file from another byte order fails its
 // checks and is rebuilt):
@@ -28,9 +29,11 @@ namespace {
 
 constexpr char kMagic[8] = {'P', 'F', 'P', 'P', 'F', 0, 0, 2};
 
-std::uint64_t Fnv(const char* p, std::size_t n) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<unsigned char>(p[i])) * 1099511628211ull;
+// 64-bit FNV-1a of n bytes, continuing from h.
+constexpr std::uint64_t kFnvStart = 1469598103934665603ull;
+std::uint64_t Fnv(const void* p, std::size_t n, std::uint64_t h = kFnvStart) {
+  const unsigned char* c = static_cast<const unsigned char*>(p);
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 1099511628211ull;
   return h;
 }
 
@@ -39,12 +42,29 @@ void Put(std::string* out, const T& v) {
   out->append(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 
-std::string Serialize(const PpfModel& m, const PpfOptions& opt) {
-  std::string s(kMagic, sizeof(kMagic));
-  Put(&s, m.mesh_hash);
+// The options a model's table depends on, as they are stored in the header (and hashed into
+// the file name): distance_step f64, angle_bins i32, max_bucket i32.
+std::string ModelOptionBytes(const PpfOptions& opt) {
+  std::string s;
   Put(&s, opt.distance_step);
   Put(&s, std::int32_t(opt.angle_bins));
   Put(&s, std::int32_t(opt.max_bucket));
+  return s;
+}
+
+// The cache file of the mesh with content hash `mesh_hash`.
+std::string CachePath(std::uint64_t mesh_hash, const PpfOptions& opt, const std::string& cache_dir) {
+  const std::string options = ModelOptionBytes(opt);
+  char name[64];
+  std::snprintf(name, sizeof(name), "ppf-%016llx-%08llx.bin", (unsigned long long)mesh_hash,
+                (unsigned long long)(Fnv(options.data(), options.size()) & 0xffffffffull));
+  return (std::filesystem::path(cache_dir) / name).string();
+}
+
+std::string Serialize(const PpfModel& m, const PpfOptions& opt) {
+  std::string s(kMagic, sizeof(kMagic));
+  Put(&s, m.mesh_hash);
+  s += ModelOptionBytes(opt);
   Put(&s, m.diameter);
   Put(&s, m.step);
   Put(&s, std::int32_t(m.distance_bins));
@@ -74,6 +94,13 @@ class Reader {
     pos_ += sizeof(T);
     return true;
   }
+  // The next out->size() bytes into *out.
+  bool GetBytes(std::string* out) {
+    if (s_.size() - pos_ < out->size()) return false;
+    out->assign(s_, pos_, out->size());
+    pos_ += out->size();
+    return true;
+  }
   std::size_t left() const { return s_.size() - pos_; }
 
  private:
@@ -95,17 +122,17 @@ bool Deserialize(const std::string& bytes, std::uint64_t mesh_hash, const PpfOpt
   if (Fnv(bytes.data(), bytes.size() - 8) != stored_sum) return fail("checksum mismatch (damaged or cut short)");
   Reader r(bytes);
   char magic[8];
-  double distance_step = 0;
-  std::int32_t angle_bins = 0, max_bucket = 0, distance_bins = 0;
+  const std::string options = ModelOptionBytes(opt);
+  std::string stored_options(options.size(), '\0');
+  std::int32_t distance_bins = 0;
   std::uint64_t points = 0, entries = 0;
   r.Get(&magic);
-  if (!r.Get(&m->mesh_hash) || !r.Get(&distance_step) || !r.Get(&angle_bins) || !r.Get(&max_bucket) || !r.Get(&m->diameter) ||
-      !r.Get(&m->step) || !r.Get(&distance_bins) || !r.Get(&points) || !r.Get(&entries))
+  if (!r.Get(&m->mesh_hash) || !r.GetBytes(&stored_options) || !r.Get(&m->diameter) || !r.Get(&m->step) ||
+      !r.Get(&distance_bins) || !r.Get(&points) || !r.Get(&entries))
     return fail("header cut short");
   if (m->mesh_hash != mesh_hash) return fail("made from another mesh");
-  if (distance_step != opt.distance_step || angle_bins != opt.angle_bins || max_bucket != opt.max_bucket)
-    return fail("made with other options");
-  m->angle_bins = angle_bins;
+  if (stored_options != options) return fail("made with other options");
+  m->angle_bins = opt.angle_bins;
   m->distance_bins = distance_bins;
   if (!(m->diameter > 0) || !(m->step > 0) || distance_bins < 1 || distance_bins > 1000) return fail("bad header values");
   const std::size_t keys = std::size_t(m->KeyCount()) + 1;
@@ -137,15 +164,16 @@ std::string DefaultPpfCacheDir() {
   return "";
 }
 
+std::uint64_t MeshContentHash(const Mesh& mesh) {
+  const std::uint64_t counts[2] = {mesh.vertices.size(), mesh.faces.size()};
+  std::uint64_t h = Fnv(counts, sizeof(counts));
+  for (const Eigen::Vector3f& v : mesh.vertices) h = Fnv(v.data(), 3 * sizeof(float), h);
+  for (const auto& f : mesh.faces) h = Fnv(f.data(), 3 * sizeof(std::uint32_t), h);
+  return h;
+}
+
 std::string PpfCachePath(const Mesh& mesh, const PpfOptions& opt, const std::string& cache_dir) {
-  std::string options;
-  Put(&options, opt.distance_step);
-  Put(&options, std::int32_t(opt.angle_bins));
-  Put(&options, std::int32_t(opt.max_bucket));
-  char name[64];
-  std::snprintf(name, sizeof(name), "ppf-%016llx-%08llx.bin", (unsigned long long)MeshContentHash(mesh),
-                (unsigned long long)(Fnv(options.data(), options.size()) & 0xffffffffull));
-  return (std::filesystem::path(cache_dir) / name).string();
+  return CachePath(MeshContentHash(mesh), opt, cache_dir);
 }
 
 PpfModel LoadOrBuildPpfModel(const Mesh& mesh, const PpfOptions& opt, const std::string& cache_dir,
@@ -157,7 +185,8 @@ PpfModel LoadOrBuildPpfModel(const Mesh& mesh, const PpfOptions& opt, const std:
     say("built");
     return BuildPpfModel(mesh, opt);
   }
-  const std::string path = PpfCachePath(mesh, opt, cache_dir);
+  const std::uint64_t mesh_hash = MeshContentHash(mesh);
+  const std::string path = CachePath(mesh_hash, opt, cache_dir);
   std::string rebuilt;
   std::error_code ec;
   if (std::filesystem::exists(path, ec)) {
@@ -166,7 +195,7 @@ PpfModel LoadOrBuildPpfModel(const Mesh& mesh, const PpfOptions& opt, const std:
     PpfModel m;
     std::string why;
     if (in.good() || in.eof()) {
-      if (Deserialize(bytes, MeshContentHash(mesh), opt, &m, &why)) {
+      if (Deserialize(bytes, mesh_hash, opt, &m, &why)) {
         say("loaded");
         return m;
       }

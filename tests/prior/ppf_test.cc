@@ -100,6 +100,25 @@ TEST(PpfTest, VotingRecoversAKnownPoseOfABoxAndOfAnAsymmetricMesh) {
   }
 }
 
+// Scene points from the image's normals computed once (ComputeSceneNormals) are those the
+// mask alone gives (normals of its bounding rectangle); normals of another size are an error.
+TEST(PpfTest, ScenePointsFromPrecomputedNormalsAreTheSame) {
+  const Mesh mesh = Asymmetric();
+  const DepthImage depth = Render(mesh, PoseAt(0.01, 0.02, 0.6, 0.5, 0.3, -0.4));
+  const std::vector<std::uint8_t> mask = ValidPixels(depth);
+  const std::vector<OrientedPoint> a = PpfScenePoints(depth, TestCamera(), mask, 0.008);
+  const std::vector<OrientedPoint> b =
+      PpfScenePoints(depth, TestCamera(), ComputeSceneNormals(depth, TestCamera()), mask, 0.008);
+  ASSERT_GT(a.size(), 20u);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].p, b[k].p);
+    EXPECT_EQ(a[k].n, b[k].n);
+  }
+  testing_util::ExpectError([&] { PpfScenePoints(depth, TestCamera(), std::vector<float>(10), mask, 0.008); },
+                            {"normals", "size"});
+}
+
 // The voting does not depend on the number of workers.
 TEST(PpfTest, ProposalsDoNotDependOnThreads) {
   const Mesh mesh = MakeLShape(0.12, 0.03, 0.05);
