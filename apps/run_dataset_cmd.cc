@@ -6,7 +6,8 @@
 // the filter runs once per target instance. A target with inst_count = 1 uses the prior of all
 // the image's detections; with inst_count = k > 1, instance i uses a prior of the class's i-th
 // best detection alone (no estimate when there are fewer than k). Rows of an image are appended
-// and flushed when the image is done, all with the image's wall time; an image already in the
+// and flushed when the image is done, all with the image's wall time (or -1, BOP's "not
+// measured", with --no-time: then two runs write identical rows); an image already in the
 // CSV is skipped, so a run can be interrupted and resumed. Random streams derive from --seed,
 // the scene, the image and the target, so a resumed run gives the rows an uninterrupted one
 // would.
@@ -128,7 +129,7 @@ int RunRunDataset(int argc, char** argv) {
   std::string dataset_dir, split = "test", detections_path, out_path, targets_path;
   double jitter_px = 0;
   double gt_box_score = 0.9;
-  bool uniform = false, auto_prior = false, quiet = false;
+  bool uniform = false, auto_prior = false, quiet = false, no_time = false;
   int limit = -1;
   FilterOptions opt;
   app.add_option("--dataset", dataset_dir, "dataset folder (BOP: models/ + <split>/; or YCB-Video: scenes/ + models/)")
@@ -152,6 +153,9 @@ int RunRunDataset(int argc, char** argv) {
                  "present, else every gt object)");
   app.add_option("--limit", limit, "only the first N images with targets (already done ones included)");
   app.add_flag("--quiet", quiet, "no progress bar on stderr");
+  app.add_flag("--no-time", no_time,
+               "write time -1 (BOP: not measured) instead of each image's wall time, so that runs of the same "
+               "options write identical rows");
   AddFilterOptions(app, &opt);
   app.callback([&] {
     if (det_opt->count() + gt_opt->count() + uni_opt->count() + auto_opt->count() == 0)
@@ -296,7 +300,7 @@ int RunRunDataset(int argc, char** argv) {
         }
       }
       const double image_s = std::chrono::duration<double>(Clock::now() - t_image).count();
-      for (auto& r : rows) r.time_s = image_s;
+      for (auto& r : rows) r.time_s = no_time ? -1.0 : image_s;
       AppendBopResultsCsv(rows, out_path);
       rows_written += static_cast<int>(rows.size());
       ++n_done;
