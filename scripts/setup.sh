@@ -13,7 +13,7 @@ PACKAGES=(
   libeigen3-dev libassimp-dev libpng-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-dev python3-numpy python3-pytest pybind11-dev python3-matplotlib
-  python3-pip python3-venv python3-setuptools python3-wheel
+  python3-pip python3-venv python3-setuptools python3-wheel python3-distributed
   libsystemc-dev libmeshoptimizer-dev libqhull-dev clang-tools clang libclang-rt-dev libomp-dev
 )
 
