@@ -14,6 +14,7 @@ int RunEval(int argc, char** argv);      // apps/eval_cmd.cc
 int RunSuite(int argc, char** argv);     // apps/suite_cmd.cc
 int RunGtDetections(int argc, char** argv);  // apps/gt_detections_cmd.cc
 int RunRunDataset(int argc, char** argv);    // apps/run_dataset_cmd.cc
+int RunTrack(int argc, char** argv);     // apps/track_cmd.cc
 int RunBench(int argc, char** argv);     // apps/bench_cmd.cc
 int RunHwReport(int argc, char** argv);  // apps/hw_report_cmd.cc
 int RunOptions(int argc, char** argv);   // apps/options_cmd.cc

@@ -28,6 +28,8 @@ constexpr Command kCommands[] = {
      "make a stage-1 detections JSON from ground-truth poses (jittered silhouette boxes)"},
     {"run-dataset", posefilter::cli::RunRunDataset,
      "estimate every target of a BOP / YCB-Video dataset into a BOP results CSV (resumable)"},
+    {"track", posefilter::cli::RunTrack,
+     "track objects through a sequence of depth frames (a dataset scene or a folder of PNGs), per-frame ADD-S"},
     {"bench", posefilter::cli::RunBench,
      "speed of the scoring engines on a fixed synthetic workload (ms per iteration, throughput)"},
     {"hw-report", posefilter::cli::RunHwReport,

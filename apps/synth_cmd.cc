@@ -1,6 +1,8 @@
 // apps/synth_cmd.cc — `posefilter synth`: writes synthetic scenes with ground truth and a
 // stage-1 prior (synth.h), one folder per scene: DIR/scene_000, DIR/scene_001, …
 // Scene i uses seed S + i. Prints one line per scene: folder, target, distance, occlusion.
+// With --sequence N: one scene whose target moves over N frames (SynthMotion), written as a
+// YCB-Video-style dataset folder (WriteSynthSequence) that `track` and `run-dataset` read.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -50,6 +52,16 @@ int RunSynth(int argc, char** argv) {
   app.add_option("--false-positives", opt.false_positives, "extra false detections per scene")
       ->capture_default_str();
   app.add_option("--depth-scale", opt.depth_scale, "metres per depth PNG unit")->capture_default_str();
+  SynthMotion motion;
+  int sequence = 0;
+  app.add_option("--sequence", sequence,
+                 "write one scene whose target moves over this many frames, as a dataset folder OUT/scenes/synth_0000_<frame>/ "
+                 "+ OUT/models/ (for track and run-dataset)");
+  app.add_option("--speed", motion.speed_m, "--sequence: the target's slide per frame along the table (m)")->capture_default_str();
+  app.add_option("--turn", motion.turn_rad, "--sequence: its turn per frame about the table's normal (rad)")->capture_default_str();
+  app.add_option("--jump-frame", motion.jump_frame, "--sequence: from this frame (from 0) on, the target is also displaced by --jump (-1 = never)")
+      ->capture_default_str();
+  app.add_option("--jump", motion.jump_m, "--sequence: the jump's length along the slide (m)")->capture_default_str();
 
   return RunApp(app, argc, argv, [&] {
     if (count < 1 || count > 100000) throw Error("--count must be in [1, 100000]");
@@ -62,6 +74,19 @@ int RunSynth(int argc, char** argv) {
     }
     std::string why;
     if (!opt.IsValid(&why)) throw Error("invalid option " + NameSynthOption(why));
+    if (app.count("--sequence")) {
+      if (app.count("--count")) throw Error("--sequence writes one moving scene; --count does not apply");
+      motion.frames = sequence;
+      if (!motion.IsValid(&why)) throw Error("invalid --sequence motion: " + why);
+      const std::vector<SynthScene> frames = MakeSynthSequence(opt, motion, seed);
+      WriteSynthSequence(frames, out_dir);
+      std::printf("%s  target %s  %zu frames  distance %.3f m  slide %.3f m/frame  turn %.3f rad/frame%s\n", out_dir.c_str(),
+                  frames.front().target.name.c_str(), frames.size(), frames.front().distance_m, motion.speed_m, motion.turn_rad,
+                  motion.jump_frame >= 0 ? ("  jump " + std::to_string(motion.jump_m) + " m at frame " + std::to_string(motion.jump_frame)).c_str() : "");
+      return;
+    }
+    if (app.count("--speed") + app.count("--turn") + app.count("--jump-frame") + app.count("--jump"))
+      throw Error("--speed, --turn, --jump-frame and --jump describe a --sequence; give --sequence N");
     for (int i = 0; i < count; ++i) {
       char name[32];
       std::snprintf(name, sizeof name, "scene_%03d", i);

@@ -96,10 +96,37 @@ struct SynthScene {
 // option) or if the target cannot be placed in view.
 SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed);
 
+// The target's motion in a synthetic sequence (MakeSynthSequence): a pushed object. It slides
+// along a random direction of the table plane and turns about the table's normal through its
+// footprint centre, by the same amount every frame; from jump_frame on it is also displaced
+// by jump_m along the slide (a jump a tracker cannot follow). Table, clutter and camera stay.
+struct SynthMotion {
+  int frames = 10;          // [1, 1000]
+  double speed_m = 0.01;    // slide per frame, metres, [0, 0.5]
+  double turn_rad = 0.05;   // turn per frame, radians, [−π, π]
+  int jump_frame = -1;      // −1 = no jump, else in [0, frames)
+  double jump_m = 0;        // [0, 1] metres
+  bool IsValid(std::string* why) const;
+};
+
+// The frames of a sequence: frame 0 is MakeSynthScene(opt, seed); in frame t the target has
+// moved as `motion` says (gt, gt_box, detections, labels and occlusion_achieved follow it),
+// and the sensor noise, holes and detection jitter are drawn anew. Clutter keeps clear of the
+// target's whole path; a target that leaves the image is rendered as it is (gt still holds it).
+// Throws Error for invalid options or motion (naming the field), or occlusion > 0 (a sequence
+// has no occluder panel).
+std::vector<SynthScene> MakeSynthSequence(const SynthOptions& opt, const SynthMotion& motion, std::uint64_t seed);
+
 // Creates `dir` (and parents) and writes: depth.png (16-bit, depth_scale), camera.json (with
 // depth_scale), gt.json, <target>.ply, detections.json, prior.pyr (raw pyramid, float32),
 // classes.txt (one class per line), label.png (8-bit gray, raw label values) and rgb.png (a
 // shaded depth preview for humans). Throws Error naming the path on I/O failure.
 void WriteSynthScene(const SynthScene& scene, const std::string& dir);
+
+// Writes a sequence as a YCB-Video-style dataset folder (posefilter/bop.h, ReadYcbvFolder) that
+// `track`, `run-dataset` and `estimate` read: dir/models/<target>.ply and, per frame t (from
+// 0), dir/scenes/<name>_0000_<t+1, 6 digits>/ as WriteSynthScene writes a scene. `name` must be
+// a plain file-name stem. Throws Error naming the path on I/O failure.
+void WriteSynthSequence(const std::vector<SynthScene>& frames, const std::string& dir, const std::string& name = "synth");
 
 }  // namespace posefilter

@@ -14,6 +14,31 @@ py::dict StatsDict(const FilterStats& s) {
                   "faces_front"_a = s.faces_front, "fragments"_a = s.fragments, "weighings"_a = s.weighings);
 }
 
+Prior PriorFromPython(py::handle prior_arg, const std::vector<std::string>& objs, const std::vector<const Mesh*>& meshes,
+                      const SceneInput& scene, std::vector<std::vector<PoseSeed>>* seeds) {
+  const int W = scene.camera.width, H = scene.camera.height;
+  if (py::isinstance<Prior>(prior_arg)) return prior_arg.cast<Prior>();
+  if (py::isinstance<py::str>(prior_arg) && prior_arg.cast<std::string>() == "auto") {
+    // No detector: candidate regions of the depth image for every mesh (posefilter/auto_prior.h).
+    AutoStage1 stage1 = AutoPriorForMeshes(scene.depth, scene.camera, meshes, objs, "prior 'auto'", DefaultPpfCacheDir());
+    *seeds = std::move(stage1.seeds);
+    return std::move(stage1.prior);
+  }
+  std::vector<Detection> dets;
+  std::string source = "prior";
+  if (py::isinstance<py::str>(prior_arg) || py::hasattr(prior_arg, "__fspath__")) {
+    source = py::str(py::module_::import("os").attr("fspath")(prior_arg));
+    dets = ReadDetectionsJson(source);
+  } else if (py::isinstance<py::sequence>(prior_arg)) {
+    dets = DetectionsFrom(prior_arg);
+  } else {
+    throw py::type_error("prior: expected None, 'auto', a Prior, a detections JSON path or a list of detections");
+  }
+  WarnAll(CheckDetectionsForObjects(dets, objs, W, H, source));
+  const auto classes = ClassesForObjects(objs, dets);
+  return PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+}
+
 class Estimator {
  public:
   explicit Estimator(const FilterOptions& o) : options_(CheckedFilterOptions(o)) {}
@@ -84,28 +109,10 @@ class Estimator {
     } else if (prior_arg.is_none()) {
       const auto classes = ClassesForObjects(objs, {});
       prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
-    } else if (py::isinstance<Prior>(prior_arg)) {
-      prior = prior_arg.cast<Prior>();
-    } else if (py::isinstance<py::str>(prior_arg) && prior_arg.cast<std::string>() == "auto") {
-      // No detector: candidate regions of the depth image for every mesh (posefilter/auto_prior.h).
+    } else {
       std::vector<const Mesh*> ms;
       for (const Mesh& m : meshes) ms.push_back(&m);
-      AutoStage1 stage1 = AutoPriorForMeshes(scene.depth, camera, ms, objs, "prior 'auto'", DefaultPpfCacheDir());
-      prior = std::move(stage1.prior);
-      seeds = std::move(stage1.seeds);
-    } else if (py::isinstance<py::str>(prior_arg) || py::hasattr(prior_arg, "__fspath__")) {
-      const std::string path = py::str(py::module_::import("os").attr("fspath")(prior_arg));
-      const auto dets = ReadDetectionsJson(path);
-      WarnAll(CheckDetectionsForObjects(dets, objs, W, H, path));
-      const auto classes = ClassesForObjects(objs, dets);
-      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
-    } else if (py::isinstance<py::sequence>(prior_arg)) {
-      const auto dets = DetectionsFrom(prior_arg);
-      WarnAll(CheckDetectionsForObjects(dets, objs, W, H, "prior"));
-      const auto classes = ClassesForObjects(objs, dets);
-      prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
-    } else {
-      throw py::type_error("prior: expected None, 'auto', a Prior, a detections JSON path or a list of detections");
+      prior = PriorFromPython(prior_arg, objs, ms, scene, &seeds);
     }
     if (prior.layout.image_width != W || prior.layout.image_height != H)
       Fail("prior: made for a " + std::to_string(prior.layout.image_width) + "x" +

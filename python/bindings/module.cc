@@ -15,4 +15,5 @@ PYBIND11_MODULE(_posefilter, m) {
   BindPriors(m);
   BindEstimation(m);
   BindSynth(m);
+  BindTracking(m);
 }

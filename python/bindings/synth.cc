@@ -3,20 +3,43 @@
 
 namespace posefilter::python {
 
-SynthScene MakeScene(std::uint64_t seed, const py::kwargs& kw) {
+// SynthOptions from keywords (skipping `skip`); the target mesh, if any, is kept in *target_mesh.
+SynthOptions SynthOptionsFrom(const py::kwargs& kw, const std::string& what, std::set<std::string> skip, Mesh* target_mesh) {
   SynthOptions opt;
-  ApplyKeywords(&opt, kw, SynthKeywords(), "make_synth_scene", {"target_mesh"});
-  Mesh target_mesh;
+  skip.insert("target_mesh");
+  ApplyKeywords(&opt, kw, SynthKeywords(), what, skip);
   const py::object tm = kw.contains("target_mesh") ? py::object(kw["target_mesh"]) : py::object(py::none());
   if (!tm.is_none()) {
-    if (!py::isinstance<Mesh>(tm)) throw py::type_error("make_synth_scene: target_mesh must be a Mesh");
-    target_mesh = tm.cast<Mesh>();
-    opt.target_mesh = &target_mesh;
+    if (!py::isinstance<Mesh>(tm)) throw py::type_error(what + ": target_mesh must be a Mesh");
+    *target_mesh = tm.cast<Mesh>();
+    opt.target_mesh = target_mesh;
   }
   std::string why;
-  if (!opt.IsValid(&why)) Fail("make_synth_scene: invalid option: " + why);
+  if (!opt.IsValid(&why)) Fail(what + ": invalid option: " + why);
+  return opt;
+}
+
+SynthScene MakeScene(std::uint64_t seed, const py::kwargs& kw) {
+  Mesh target_mesh;
+  const SynthOptions opt = SynthOptionsFrom(kw, "make_synth_scene", {}, &target_mesh);
   py::gil_scoped_release release;
   return MakeSynthScene(opt, seed);
+}
+
+std::vector<SynthScene> MakeSequence(int frames, std::uint64_t seed, double speed, double turn, int jump_frame, double jump,
+                                     const py::kwargs& kw) {
+  Mesh target_mesh;
+  const SynthOptions opt = SynthOptionsFrom(kw, "make_synth_sequence", {}, &target_mesh);
+  SynthMotion motion;
+  motion.frames = frames;
+  motion.speed_m = speed;
+  motion.turn_rad = turn;
+  motion.jump_frame = jump_frame;
+  motion.jump_m = jump;
+  std::string why;
+  if (!motion.IsValid(&why)) Fail("make_synth_sequence: invalid motion: " + why);
+  py::gil_scoped_release release;
+  return MakeSynthSequence(opt, motion, seed);
 }
 
 
@@ -68,6 +91,16 @@ void BindSynth(py::module_& m) {
         "Synthetic table-top scene (deterministic per seed). Keywords = SynthOptions fields: camera, depth_scale, "
         "target, target_mesh, min_distance_m, max_distance_m, occlusion, clutter, noise_sigma_m, hole_fraction, "
         "missing_edges, box_jitter_px, miss_probability, false_positives.");
+  m.def("make_synth_sequence", &MakeSequence, "frames"_a = 10, "seed"_a = 0, py::kw_only(), "speed"_a = 0.01,
+        "turn"_a = 0.05, "jump_frame"_a = -1, "jump"_a = 0.0,
+        "A synthetic sequence (list of SynthScene, frame 0 = make_synth_scene(seed)): the target slides `speed` m "
+        "per frame along the table and turns `turn` rad per frame about its normal; from jump_frame on it is also "
+        "displaced by `jump` m. Other keywords as make_synth_scene (occlusion must be 0).");
+  m.def("write_synth_sequence", [](const std::vector<SynthScene>& frames, const std::string& dir, const std::string& name) {
+    WriteSynthSequence(frames, dir, name);
+  }, "frames"_a, "dir"_a, "name"_a = "synth",
+        "Writes the frames as a YCB-Video-style dataset folder (dir/models/, dir/scenes/<name>_0000_<frame>/) for "
+        "`posefilter track` and `run-dataset`.");
   m.def("synth_option_names", [] {
     std::vector<std::string> n;
     for (const auto& k : SynthKeywords()) n.push_back(k.name);

@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -281,12 +282,20 @@ bool SynthOptions::IsValid(std::string* why) const {
   return true;
 }
 
-SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
+namespace {
+
+// The scene of MakeSynthScene, or each frame of MakeSynthSequence (motion != nullptr): the world
+// (table, target at frame 0, occluder, clutter) is built once; then per frame the target is
+// moved (TargetAt) and everything rendered, with the sensor model and the prior drawn from
+// streams that run on from frame to frame. Frame 0 is MakeSynthScene(opt, seed).
+std::vector<SynthScene> BuildScenes(const SynthOptions& opt, std::uint64_t seed, const SynthMotion* motion) {
   std::string why;
   if (!opt.IsValid(&why)) throw Error("synth options: " + why);
+  if (motion && !motion->IsValid(&why)) throw Error("synth motion: " + why);
+  if (motion && opt.occlusion > 0) throw Error("synth motion: a sequence has no occluder panel (occlusion must be 0)");
   Rng root(seed);
   Rng rng_geom = root.Split(), rng_occ = root.Split(), rng_clutter = root.Split(),
-      rng_sensor = root.Split(), rng_prior = root.Split();
+      rng_sensor = root.Split(), rng_prior = root.Split(), rng_motion = root.Split();
   const Camera& cam = opt.camera;
   const int W = cam.width, H = cam.height;
 
@@ -319,12 +328,35 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
   s.distance_m = d;
   s.table_angle_rad = alpha;
   s.gt.push_back({s.target.name, target.T});
+  // The motion (sequences): the target slides along a random direction of the table plane and
+  // turns about the table's normal through its footprint centre; feet[t] is frame t's footprint
+  // centre (clutter keeps clear of all of them).
+  const int n_frames = motion ? motion->frames : 1;
+  Eigen::Vector3d slide_dir = table.ex;
+  if (motion) {
+    const double a = rng_motion.Uniform(0, 2 * M_PI);
+    slide_dir = std::cos(a) * table.ex + std::sin(a) * table.ey;
+  }
+  auto slide_at = [&](int t) {
+    if (!motion) return 0.0;
+    return motion->speed_m * t + (motion->jump_frame >= 0 && t >= motion->jump_frame ? motion->jump_m : 0.0);
+  };
+  auto target_at = [&](int t) {
+    if (t == 0) return target.T;
+    Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+    M.linear() = Eigen::AngleAxisd(motion->turn_rad * t, table.u).toRotationMatrix();
+    M.translation() = target.foot + slide_dir * slide_at(t) - M.linear() * target.foot;
+    return Eigen::Isometry3d(M * target.T);
+  };
+  std::vector<Eigen::Vector3d> feet;
+  for (int t = 1; t < n_frames; ++t) feet.push_back(target.foot + slide_dir * slide_at(t));
 
   // The target alone: its full silhouette.
   DepthImage alone_depth(W, H, 0.f);
   std::vector<int> alone_labels(std::size_t(W) * H, kLabelBackground);
   RenderDepth(s.target, target.T, cam, &alone_depth, &alone_labels, kLabelTarget);
   const std::size_t n_alone = synth::CountLabel(alone_labels, kLabelTarget);
+  std::size_t n_alone_t = n_alone;  // the target's pixels rendered alone in the frame being made
   if (n_alone < std::size_t(kMinTargetPixels))
     throw Error("synth: the target covers only " + std::to_string(n_alone) +
                 " pixels (camera or target size unsuitable)");
@@ -421,6 +453,7 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
       if (foot.z() < 0.3) continue;
       bool overlap = false;
       for (const auto& p : placed) overlap = overlap || (p.foot - foot).norm() < p.radius + rc + 0.01;
+      for (const auto& f : feet) overlap = overlap || (f - foot).norm() < target.radius + rc + 0.01;
       if (overlap) continue;
       const Eigen::Isometry3d T = StandOnTable(m, table, yaw, foot);
       // Would it hide the target? Only a render tells, but a disjoint image bbox is enough.
@@ -453,24 +486,62 @@ SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
     }
   }
 
-  // 5. Render everything, measure occlusion, apply the sensor model.
-  s.depth = DepthImage(W, H, 0.f);
-  s.labels.assign(std::size_t(W) * H, kLabelBackground);
-  RenderDepth(MakeTableMesh(table, target.foot), Eigen::Isometry3d::Identity(), cam, &s.depth,
-              &s.labels, kLabelBackground);
-  RenderDepth(s.target, target.T, cam, &s.depth, &s.labels, kLabelTarget);
-  for (const auto& p : placed) RenderDepth(p.mesh, p.T, cam, &s.depth, &s.labels, p.label);
-  s.occlusion_achieved = 1.0 - double(synth::CountLabel(s.labels, kLabelTarget)) / double(n_alone);
+  // 5. Render everything, measure occlusion, apply the sensor model (per frame).
+  const Mesh table_mesh = MakeTableMesh(table, target.foot);
+  std::vector<SynthScene> frames;
+  for (int t = 0; t < n_frames; ++t) {
+    SynthScene f = s;
+    const Eigen::Isometry3d T = target_at(t);
+    if (t > 0) {
+      f.gt[0].T_cam_obj = T;
+      DepthImage dd(W, H, 0.f);
+      std::vector<int> ll(std::size_t(W) * H, kLabelBackground);
+      RenderDepth(f.target, T, cam, &dd, &ll, kLabelTarget);
+      n_alone_t = synth::CountLabel(ll, kLabelTarget);
+      f.gt_box = ProjectedBox(f.target, T, cam);
+    }
+    f.depth = DepthImage(W, H, 0.f);
+    f.labels.assign(std::size_t(W) * H, kLabelBackground);
+    RenderDepth(table_mesh, Eigen::Isometry3d::Identity(), cam, &f.depth, &f.labels, kLabelBackground);
+    RenderDepth(f.target, T, cam, &f.depth, &f.labels, kLabelTarget);
+    for (const auto& p : placed) RenderDepth(p.mesh, p.T, cam, &f.depth, &f.labels, p.label);
+    f.occlusion_achieved =
+        n_alone_t > 0 ? 1.0 - double(synth::CountLabel(f.labels, kLabelTarget)) / double(n_alone_t) : 1.0;
 
-  if (opt.missing_edges) DropEdges(&s.depth);
-  AddNoiseAndQuantise(&s.depth, opt.noise_sigma_m, opt.depth_scale, rng_sensor);
-  synth::DropHoles(&s.depth, opt.hole_fraction, rng_sensor);
+    if (opt.missing_edges) DropEdges(&f.depth);
+    AddNoiseAndQuantise(&f.depth, opt.noise_sigma_m, opt.depth_scale, rng_sensor);
+    synth::DropHoles(&f.depth, opt.hole_fraction, rng_sensor);
 
-  // 6. Stage-1 prior.
-  s.detections = MakeDetections(opt, s.gt_box, s.target.name, s.classes, rng_prior, &s.target_detected);
-  s.layout = PyramidLayout::Thesis(W, H, int(s.classes.size()));
-  s.raw_pyramid = DetectionsToRawPyramid(s.detections, s.layout, s.classes);
-  return s;
+    // 6. Stage-1 prior.
+    f.detections = MakeDetections(opt, f.gt_box, f.target.name, f.classes, rng_prior, &f.target_detected);
+    f.layout = PyramidLayout::Thesis(W, H, int(f.classes.size()));
+    f.raw_pyramid = DetectionsToRawPyramid(f.detections, f.layout, f.classes);
+    frames.push_back(std::move(f));
+  }
+  return frames;
+}
+
+}  // namespace
+
+bool SynthMotion::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (frames < 1 || frames > 1000) return fail("frames must be in [1, 1000]");
+  if (!InRange(speed_m, 0.0, 0.5)) return fail("speed_m must be in [0, 0.5] m per frame");
+  if (!InRange(turn_rad, -M_PI, M_PI)) return fail("turn_rad must be in [-pi, pi] rad per frame");
+  if (jump_frame < -1 || jump_frame >= frames) return fail("jump_frame must be -1 (none) or a frame in [0, frames)");
+  if (!InRange(jump_m, 0.0, 1.0)) return fail("jump_m must be in [0, 1] m");
+  return true;
+}
+
+SynthScene MakeSynthScene(const SynthOptions& opt, std::uint64_t seed) {
+  return std::move(BuildScenes(opt, seed, nullptr).front());
+}
+
+std::vector<SynthScene> MakeSynthSequence(const SynthOptions& opt, const SynthMotion& motion, std::uint64_t seed) {
+  return BuildScenes(opt, seed, &motion);
 }
 
 void WriteSynthScene(const SynthScene& s, const std::string& dir) {
@@ -508,6 +579,23 @@ void WriteSynthScene(const SynthScene& s, const std::string& dir) {
     j["classes"] = s.classes;
     const std::string path = (d / "synth.json").string();
     WriteFileAtomically(path, [&](std::ostream& os) { os << j.dump(1) << "\n"; });
+  }
+}
+
+void WriteSynthSequence(const std::vector<SynthScene>& frames, const std::string& dir, const std::string& name) {
+  namespace fs = std::filesystem;
+  if (frames.empty()) throw Error(dir + ": no frames to write");
+  if (name.empty() || name.find_first_of("/\\ ") != std::string::npos)
+    throw Error("synth sequence name '" + name + "' must be a plain file-name stem");
+  const fs::path models = fs::path(dir) / "models";
+  std::error_code ec;
+  fs::create_directories(models, ec);
+  if (ec || !fs::is_directory(models)) throw Error(models.string() + ": cannot create directory");
+  SaveMeshPly(frames.front().target, (models / (frames.front().target.name + ".ply")).string());
+  for (std::size_t t = 0; t < frames.size(); ++t) {
+    char folder[64];
+    std::snprintf(folder, sizeof folder, "_0000_%06zu", t + 1);
+    WriteSynthScene(frames[t], (fs::path(dir) / "scenes" / (name + folder)).string());
   }
 }
 

@@ -1,0 +1,321 @@
+// apps/track_cmd.cc — `posefilter track`: track objects through a sequence of depth frames
+// (posefilter/tracker.h) and print, per frame and object, the status, weight, time and (where
+// the sequence has ground truth) ADD-S.
+//
+// Sequences: the images of one scene of a dataset (--dataset: a BOP split or a YCB-Video-style
+// folder, as `synth --sequence` writes; images in im_id order, objects = the scene's ground
+// truth objects unless --objects), or a folder of depth PNGs in name order with one camera
+// JSON and the meshes (--frames, --camera, --mesh). Objects start, and restart after a loss,
+// from the frame's stage 1 (--prior) or at the first frame's ground truth (--init-gt).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "filter_cli.h"
+#include "posefilter/auto_prior.h"
+#include "posefilter/bop.h"
+#include "posefilter/error.h"
+#include "posefilter/file_io.h"
+#include "posefilter/metrics.h"
+#include "posefilter/ppf.h"
+#include "posefilter/scene_io.h"
+#include "posefilter/tracker.h"
+
+namespace posefilter::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One frame of the sequence: where its depth is, how to load it, and its ground truth.
+struct Frame {
+  std::string name;         // for messages and the CSV ("scene 0 image 3", or the PNG's stem)
+  int scene_id = 0, im_id = 0;
+  const DatasetImage* image = nullptr;  // dataset frames
+  std::string depth_path;               // --frames
+  std::map<std::string, Eigen::Isometry3d> gt;  // object name → pose (object → camera)
+};
+
+std::string Num(double v, int digits) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", digits, v);
+  return b;
+}
+
+}  // namespace
+
+int RunTrack(int argc, char** argv) {
+  CLI::App app{"Track objects through a sequence of depth frames: each object's pose in one frame seeds the next",
+               "track"};
+  std::string dataset_dir, split = "test", frames_dir, camera_path, prior_arg, csv_path, out_dir, objects_arg;
+  std::vector<std::string> mesh_args;
+  int scene = -1;
+  double unit_scale = 1.0, depth_scale = 0;
+  bool init_gt = false, quiet = false, no_velocity = false;
+  TrackOptions topt;
+  FilterOptions& opt = topt.filter;
+  auto* ds_opt = app.add_option("--dataset", dataset_dir,
+                                "dataset folder (BOP: models/ + <split>/; YCB-Video style: scenes/ + models/, as synth "
+                                "--sequence writes): the images of one scene in im_id order");
+  app.add_option("--split", split, "BOP split folder (ignored for a YCB-Video-style folder)")->capture_default_str();
+  app.add_option("--scene", scene, "the dataset's scene_id to track (default: the first)");
+  app.add_option("--objects", objects_arg, "comma-separated object names to track (default: the scene's ground-truth objects)");
+  auto* fr_opt = app.add_option("--frames", frames_dir, "folder of 16-bit depth PNGs, tracked in file-name order (with --camera, --mesh)");
+  ds_opt->excludes(fr_opt);
+  app.add_option("--camera", camera_path, "camera JSON of --frames (fx, fy, cx, cy, width, height, depth_scale)");
+  app.add_option("--depth-scale", depth_scale, "metres per PNG unit of --frames (default: the camera JSON's)");
+  app.add_option("--mesh", mesh_args, "object mesh of --frames, NAME=PATH or PATH (repeatable)");
+  app.add_option("--unit-scale", unit_scale, "--mesh units to metres (0.001 for millimetre meshes)")->capture_default_str();
+  app.add_option("--prior", prior_arg,
+                 "stage 1 that starts objects and restarts lost ones: 'auto' (no detector: regions and PPF proposals), "
+                 "'none' (uniform), or a BOP detections JSON (with --dataset); without it, objects start from --init-gt "
+                 "and a lost object stays lost");
+  app.add_flag("--init-gt", init_gt, "start each object at the first frame's ground-truth pose (the stage 1 then only restarts lost ones)");
+  app.add_option("--lost-weight", topt.lost_weight, "an object whose best weight falls below this is lost, [0, 1]")->capture_default_str();
+  app.add_option("--refresh-weight", topt.refresh_weight,
+                 "a tracked object below this weight is also estimated from the frame's stage 1; the heavier pose wins "
+                 "(0 = only lost objects)")
+      ->capture_default_str();
+  app.add_option("--search-t", topt.search_t_m, "sigma of the initial particles' translation about the predicted pose (m)")->capture_default_str();
+  app.add_option("--search-r", topt.search_r_rad, "sigma of their rotation (rad)")->capture_default_str();
+  app.add_option("--window-margin", topt.window_margin, "search window: the poses' boxes grown by this fraction per side, (0, 2]")
+      ->capture_default_str();
+  app.add_flag("--no-velocity", no_velocity, "predict the last pose (default: the last pose moved by the last frame-to-frame motion)");
+  app.add_option("--csv", csv_path, "write one row per frame and object here");
+  app.add_option("--out-dir", out_dir, "write one results JSON per frame here (<frame>.json)");
+  app.add_flag("--quiet", quiet, "print only the summary");
+  AddFilterOptions(app, &opt);
+  app.callback([&] {
+    if (ds_opt->count() + fr_opt->count() == 0) throw CLI::RequiredError("a sequence: --dataset DIR or --frames DIR");
+  });
+
+  return RunApp(app, argc, argv, [&] {
+    CheckFilterOptions(opt);
+    topt.constant_velocity = !no_velocity;
+    std::string why;
+    if (!topt.IsValid(&why)) throw Error("invalid track option: " + why);
+    const bool use_dataset = !dataset_dir.empty();
+    if (prior_arg.empty() && !init_gt) throw Error("nothing starts the objects: give --prior (auto, none or detections) or --init-gt");
+    const bool named_prior = prior_arg.empty() || prior_arg == "none" || prior_arg == "auto";
+    if (!named_prior && !use_dataset) throw Error("--prior " + prior_arg + ": a detections file needs --dataset (use auto or none with --frames)");
+    if (!named_prior && fs::path(prior_arg).extension() != ".json")
+      throw Error("--prior must be auto, none or a BOP detections JSON (*.json), got '" + prior_arg + "'");
+    if (use_dataset && (!camera_path.empty() || !mesh_args.empty()))
+      throw Error("--camera and --mesh belong to --frames; a --dataset has its own cameras and models");
+    if (!use_dataset && (camera_path.empty() || mesh_args.empty())) throw Error("--frames needs --camera and --mesh");
+    if (init_gt && !use_dataset) throw Error("--init-gt needs a --dataset with ground truth");
+    if (!(unit_scale > 0) || !std::isfinite(unit_scale)) throw Error("--unit-scale must be finite and > 0");
+    std::vector<NamedPath> inputs = {{camera_path, "--camera"}};
+    if (!named_prior) inputs.push_back({prior_arg, "--prior"});
+    CheckOutputPaths({{csv_path, "--csv"}}, inputs);
+    if (!out_dir.empty()) {
+      std::error_code ec;
+      fs::create_directories(out_dir, ec);
+      if (ec || !fs::is_directory(out_dir)) throw Error(out_dir + ": cannot create directory (--out-dir)");
+    }
+
+    // The frames, the meshes and the ground truth.
+    std::vector<Frame> frames;
+    std::vector<Mesh> meshes;
+    std::map<std::string, std::vector<Eigen::Vector3f>> points;  // ADD-S points per object
+    std::map<std::string, double> diameters;
+    Dataset ds;
+    CameraFile cam_file;
+    std::map<std::pair<int, int>, std::vector<Detection>> dets_by_image;
+    if (use_dataset) {
+      ds = OpenDataset(dataset_dir, split);
+      if (scene < 0) scene = ds.images.front().scene_id;
+      for (const DatasetImage& im : ds.images) {
+        if (im.scene_id != scene) continue;
+        Frame f;
+        f.scene_id = im.scene_id;
+        f.im_id = im.im_id;
+        f.image = &im;
+        f.name = "scene " + std::to_string(im.scene_id) + " im " + std::to_string(im.im_id);
+        for (const GtInstance& g : im.gt) f.gt[ds.Model(g.obj_id)->name] = g.T_cam_obj;
+        frames.push_back(std::move(f));
+      }
+      if (frames.empty()) throw Error(dataset_dir + ": no images of scene " + std::to_string(scene) + " (--scene)");
+      std::vector<std::string> names;
+      if (!objects_arg.empty()) {
+        std::stringstream ss(objects_arg);
+        for (std::string n; std::getline(ss, n, ',');)
+          if (!n.empty()) names.push_back(n);
+      } else {
+        for (const GtInstance& g : frames.front().image->gt) names.push_back(ds.Model(g.obj_id)->name);
+      }
+      if (names.empty()) throw Error(dataset_dir + ": the first frame has no ground-truth objects; name them with --objects");
+      for (const std::string& n : names) {
+        const DatasetModel* m = ds.ModelByName(n);
+        if (!m) throw Error("--objects: '" + n + "' is not a model of " + dataset_dir);
+        if (std::any_of(meshes.begin(), meshes.end(), [&](const Mesh& x) { return x.name == n; })) continue;
+        meshes.push_back(LoadDatasetMesh(*m));
+        points[n] = LoadDatasetPoints(*m);
+        diameters[n] = m->diameter_m;
+      }
+      if (!named_prior) {
+        std::map<std::pair<int, int>, std::vector<BopDetection>> raw;
+        for (const BopDetection& d : ReadBopDetections(prior_arg)) raw[{d.scene_id, d.im_id}].push_back(d);
+        for (auto& [key, list] : raw) dets_by_image[key] = ToPriorDetections(list, ds, prior_arg);
+      }
+    } else {
+      if (!fs::is_directory(frames_dir)) throw Error(frames_dir + ": not a folder (--frames)");
+      std::vector<std::string> pngs;
+      for (const auto& e : fs::directory_iterator(frames_dir))
+        if (e.is_regular_file() && e.path().extension() == ".png") pngs.push_back(e.path().string());
+      std::sort(pngs.begin(), pngs.end());
+      if (pngs.empty()) throw Error(frames_dir + ": holds no .png depth image (--frames)");
+      for (std::size_t i = 0; i < pngs.size(); ++i) {
+        Frame f;
+        f.depth_path = pngs[i];
+        f.name = fs::path(pngs[i]).stem().string();
+        f.im_id = int(i);
+        frames.push_back(std::move(f));
+      }
+      cam_file = ReadCameraJson(camera_path);
+      if (depth_scale == 0) depth_scale = cam_file.depth_scale;
+      if (!(depth_scale > 0) || !std::isfinite(depth_scale)) throw Error("--depth-scale must be finite and > 0");
+      for (const auto& [name, path] : ParseNamedPaths(mesh_args, "--mesh")) {
+        meshes.push_back(LoadMesh(path, unit_scale));
+        meshes.back().name = name;
+      }
+    }
+    if (init_gt)
+      for (const Mesh& m : meshes)
+        if (!frames.front().gt.count(m.name))
+          throw Error("--init-gt: the first frame has no ground truth of '" + m.name + "'");
+
+    Tracker tracker(meshes, topt);
+    if (init_gt)
+      for (const Mesh& m : meshes) tracker.Reset(m.name, frames.front().gt.at(m.name));
+    std::vector<std::string> names;
+    for (const Mesh& m : meshes) names.push_back(m.name);
+    const std::string cache_dir = DefaultPpfCacheDir();
+
+    std::FILE* csv = nullptr;
+    if (!csv_path.empty()) {
+      csv = std::fopen(csv_path.c_str(), "w");
+      if (!csv) throw Error(csv_path + ": cannot write (--csv)");
+      std::fprintf(csv, "frame,scene_id,im_id,obj,status,weight,time_ms,frame_ms,R,t,adds_mm,found\n");
+    }
+    struct Totals {
+      int frames = 0, found = 0, with_gt = 0, lost = 0;
+      std::vector<double> ms;
+    };
+    std::map<std::string, Totals> totals;
+    if (!quiet)
+      std::printf("%-5s %-20s %-22s %-12s %7s %8s %9s %-5s %8s\n", "frame", "image", "object", "status", "weight", "ms",
+                  "ADD-S mm", "found", "frame ms");
+    double stage1_ms = 0;
+    std::vector<double> frame_times;  // wall time of each Track call, ms
+    int stage1_calls = 0;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      const Frame& f = frames[i];
+      const SceneInput scene_in = f.image ? LoadDatasetScene(*f.image) : SceneInput{LoadDepthPng(f.depth_path, depth_scale), cam_file.camera};
+      Stage1Fn stage1 = [&](const SceneInput& fr) {
+        const auto t0 = std::chrono::steady_clock::now();
+        TrackStage1 s;
+        if (prior_arg == "auto") {
+          std::vector<const Mesh*> ms;
+          for (const Mesh& m : tracker.meshes()) ms.push_back(&m);
+          AutoStage1 a = AutoPriorForMeshes(fr.depth, fr.camera, ms, names, f.name + ": --prior auto", cache_dir);
+          s.prior = std::move(a.prior);
+          for (std::size_t k = 0; k < names.size(); ++k) s.seeds[names[k]] = std::move(a.seeds[k]);
+        } else if (prior_arg == "none") {
+          s.prior = UniformPrior(PyramidLayout::Thesis(fr.camera.width, fr.camera.height, int(names.size())), names);
+        } else {
+          const auto it = dets_by_image.find({f.scene_id, f.im_id});
+          std::vector<Detection> dets = it == dets_by_image.end() ? std::vector<Detection>{} : it->second;
+          const std::vector<std::string> classes = ClassesForObjects(names, dets);
+          s.prior = PriorFromDetections(dets, PyramidLayout::Thesis(fr.camera.width, fr.camera.height, int(classes.size())), classes);
+        }
+        stage1_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        ++stage1_calls;
+        return s;
+      };
+      const auto t_frame = std::chrono::steady_clock::now();
+      const std::vector<TrackResult> results = tracker.Track(scene_in, prior_arg.empty() ? Stage1Fn() : stage1);
+      const double frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_frame).count();
+      frame_times.push_back(frame_ms);
+      std::vector<ObjectResult> json_rows;
+      for (const TrackResult& r : results) {
+        Totals& t = totals[r.obj];
+        ++t.frames;
+        t.lost += r.status == TrackStatus::kLost || r.status == TrackStatus::kNotStarted;
+        t.ms.push_back(r.time_ms);
+        std::string adds = "", found = "";
+        const auto g = f.gt.find(r.obj);
+        const bool has_pose = r.status != TrackStatus::kNotStarted;
+        if (g != f.gt.end() && points.count(r.obj)) {
+          ++t.with_gt;
+          if (has_pose) {
+            const PoseErrors e = ComputePoseErrors(points[r.obj], diameters[r.obj], r.T_cam_obj, g->second);
+            adds = Num(e.adds * 1e3, 1);
+            found = e.adds_ok && r.status != TrackStatus::kLost ? "yes" : "no";
+            t.found += found == "yes";
+          } else {
+            found = "no";
+          }
+        }
+        if (!quiet)
+          std::printf("%-5zu %-20s %-22s %-12s %7.3f %8.1f %9s %-5s %8.1f\n", i, f.name.c_str(), r.obj.c_str(),
+                      TrackStatusName(r.status), r.weight, r.time_ms, adds.empty() ? "-" : adds.c_str(),
+                      found.empty() ? "-" : found.c_str(), frame_ms);
+        if (csv) {
+          const Eigen::Matrix3d R = r.T_cam_obj.linear();
+          const Eigen::Vector3d tr = r.T_cam_obj.translation();
+          std::string rs, ts;
+          for (int k = 0; k < 9; ++k) rs += (k ? " " : "") + Num(R(k / 3, k % 3), 9);
+          for (int k = 0; k < 3; ++k) ts += (k ? " " : "") + Num(tr[k], 6);
+          std::fprintf(csv, "%zu,%d,%d,%s,%s,%.6f,%.3f,%.3f,%s,%s,%s,%s\n", i, f.scene_id, f.im_id, r.obj.c_str(),
+                       TrackStatusName(r.status), r.weight, r.time_ms, frame_ms, rs.c_str(), ts.c_str(), adds.c_str(),
+                       found.c_str());
+        }
+        if (has_pose) {
+          ObjectResult o;
+          o.obj = r.obj;
+          o.pose_base = TransformToPose(scene_in.camera.base_to_camera.inverse() * r.T_cam_obj);
+          o.T_cam_obj = r.T_cam_obj;
+          o.weight = r.weight;
+          o.iterations = r.iterations;
+          o.time_ms = r.time_ms;
+          json_rows.push_back(o);
+        }
+      }
+      if (!out_dir.empty()) {
+        char name[32];
+        std::snprintf(name, sizeof name, "%06zu.json", i);
+        WriteResultsJson(json_rows, (fs::path(out_dir) / name).string());
+      }
+    }
+    if (csv && std::fclose(csv) != 0) throw Error(csv_path + ": write failed (--csv)");
+
+    std::printf("\n%-22s %7s %7s %7s %12s %12s\n", "object", "frames", "found", "lost", "median ms", "mean ms");
+    for (const Mesh& m : meshes) {
+      Totals& t = totals[m.name];
+      std::vector<double> ms = t.ms;
+      std::sort(ms.begin(), ms.end());
+      double mean = 0;
+      for (double v : ms) mean += v / double(ms.size());
+      const std::string found = t.with_gt ? std::to_string(t.found) + "/" + std::to_string(t.with_gt) : "-";
+      std::printf("%-22s %7d %7s %7d %12.1f %12.1f\n", m.name.c_str(), t.frames, found.c_str(), t.lost, ms[ms.size() / 2], mean);
+    }
+    std::vector<double> ft = frame_times;
+    std::sort(ft.begin(), ft.end());
+    std::printf("per frame (every object, support plane and stage 1 included): median %.1f ms, max %.1f ms\n", ft[ft.size() / 2],
+                ft.back());
+    if (stage1_calls)
+      std::printf("stage 1 (--prior %s): %d frame(s), %.0f ms in all\n", named_prior ? prior_arg.c_str() : "detections",
+                  stage1_calls, stage1_ms);
+  });
+}
+
+}  // namespace posefilter::cli

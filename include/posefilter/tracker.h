@@ -1,0 +1,154 @@
+// posefilter/tracker.h — tracking objects through a sequence of depth frames.
+//
+// Per frame and object (docs/ALGORITHM.md, "Tracking"):
+//   1. predict: the last pose, moved by the last frame-to-frame motion (constant velocity) when
+//      the object was tracked in the two frames before;
+//   2. search: a short particle filter run (TrackOptions::filter: few particles, few iterations,
+//      no annealing, small moves) whose initial particles are the predicted and the last pose
+//      jittered by (search_t_m, search_r_rad), weighed in a window around both poses'
+//      projections (a one-detection prior of the object);
+//   3. judge: a best weight below lost_weight means the object is lost; it is then
+//      re-initialised by a full estimate (TrackOptions::init) from the frame's stage 1, if
+//      the caller gives one, and stays lost otherwise (the next frames search about its last
+//      tracked pose again). A weight below refresh_weight also asks the stage 1, and its pose
+//      wins where it weighs more.
+// An object with no pose yet (never started: no Reset and no stage 1 so far) starts from the
+// stage 1 the same way.
+//
+// Units: metres, radians; poses map object → camera (x_cam = T·x_obj). Deterministic: every
+// random stream derives from TrackOptions::filter.seed, the frame index and the object.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "posefilter/filter.h"
+#include "posefilter/filter_options.h"
+#include "posefilter/mesh.h"
+#include "posefilter/prior.h"
+
+namespace posefilter {
+
+// The filter settings of a tracking step (TrackOptions::filter's default): 64 particles, 4
+// elite, 1 run of at most 5 iterations, no annealing, every initial particle at a seed, the
+// translate/rotate/align/ICP moves only (no flips, quarter turns or cell jumps), σ0 = 1 cm /
+// 0.1 rad, weight α 0.3 + β 0.7 (γ = 0: the tracker's prior is its own prediction, not a
+// detector's evidence), a polish of 3 ICP steps without turns, LOD 1024 faces.
+FilterOptions TrackingFilterOptions();
+
+struct TrackOptions {
+  // The short filter run of each tracked object and frame (TrackingFilterOptions()).
+  // filter.seed seeds every stream of the tracker.
+  FilterOptions filter = TrackingFilterOptions();
+  // The full estimate that starts or re-initialises an object from a stage 1 (FilterOptions
+  // defaults). Its seed is replaced per frame and object (derived from filter.seed).
+  FilterOptions init = {};
+  // A tracking step whose best weight (eq. 7.4 with filter's α, β, γ) is below this reports
+  // the object lost; so does a (re-)initialisation below it. In [0, 1].
+  double lost_weight = 0.45;
+  // A tracked object whose best weight is below this (but not below lost_weight) is uncertain:
+  // the frame's stage 1 (if given) also estimates it, and its pose replaces the tracked one
+  // when it weighs more. It frees a track that started from a wrong stage-1 pose. In [0, 1];
+  // 0 = off (the stage 1 runs only for lost or new objects).
+  double refresh_weight = 0.6;
+  // σ of the initial particles about the predicted and the last pose: translation (metres,
+  // ≥ 0, per axis) and rotation (radians, ≥ 0, about a random axis).
+  double search_t_m = 0.01;
+  double search_r_rad = 0.05;
+  // Predict by the last frame-to-frame motion (false: the last pose).
+  bool constant_velocity = true;
+  // The search window: both poses' projected boxes, united and grown by this fraction of
+  // their size on each side, (0, 2].
+  double window_margin = 0.25;
+
+  // Checks the ranges above and both filter option sets (names the violated field:
+  // "lost_weight must be in [0, 1] (got 2)", "filter.num_particles ...").
+  bool IsValid(std::string* why) const;
+};
+
+enum class TrackStatus {
+  kTracked,        // found about its predicted pose
+  kInitialised,    // (re-)initialised from this frame's stage 1 (first frame, or after a loss)
+  kLost,           // below lost_weight, and no stage 1 brought it back
+  kNotStarted,     // no pose yet and no stage 1 given
+};
+// "tracked", "initialised", "lost", "not-started".
+const char* TrackStatusName(TrackStatus status);
+
+// One object in one frame.
+struct TrackResult {
+  std::string obj;
+  TrackStatus status = TrackStatus::kNotStarted;
+  // The frame's pose (object → camera): the tracked or initialised pose; for a lost object the
+  // best pose of the failed search; identity when not started.
+  Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();
+  double weight = 0;      // the best weight of the step that gave T_cam_obj
+  int iterations = 0;     // filter iterations spent on the object in this frame
+  double time_ms = 0;     // wall time spent on the object in this frame (stage 1 not included)
+};
+
+// A stage 1 for one frame: a prior whose classes name the tracked objects (those it does not
+// name cannot start from it), and pose seeds per object name (optional; as SceneInput::seeds).
+struct TrackStage1 {
+  Prior prior;
+  std::map<std::string, std::vector<PoseSeed>> seeds;
+};
+// Makes the stage 1 of a frame; the tracker calls it at most once per frame, and only when an
+// object needs (re-)initialising, so an expensive stage 1 (--prior auto) costs nothing while
+// every object is tracked.
+using Stage1Fn = std::function<TrackStage1(const SceneInput& frame)>;
+
+class Tracker {
+ public:
+  // Tracks `meshes` (metres, each named: the names are the object names; distinct). Throws
+  // Error on invalid options (naming them), an empty list, an empty mesh or a repeated name.
+  explicit Tracker(std::vector<Mesh> meshes, TrackOptions options = {});
+
+  // Starts (or restarts) `obj` at a known pose (object → camera) for the next frame. Throws
+  // Error for an unknown object or a non-finite pose.
+  void Reset(const std::string& obj, const Eigen::Isometry3d& T_cam_obj);
+
+  // Processes the next frame (depth and camera; mask and seeds are ignored): one result per
+  // mesh, in the meshes' order. `stage1` (may be empty) is called at most once, when an
+  // object has no pose yet or is lost. Throws Error when the frame is invalid (ValidateScene)
+  // or differs in size from the first frame.
+  std::vector<TrackResult> Track(const SceneInput& frame, const Stage1Fn& stage1 = nullptr);
+
+  int frames() const { return frame_; }  // frames processed so far
+  const std::vector<Mesh>& meshes() const { return meshes_; }
+  const TrackOptions& options() const { return options_; }
+
+ private:
+  struct State {
+    bool has_pose = false;       // `last` holds a tracked or initialised pose
+    bool lost = false;           // the last frame lost it
+    bool has_velocity = false;   // `velocity` holds the last frame-to-frame motion
+    Eigen::Isometry3d last = Eigen::Isometry3d::Identity();      // object → camera
+    Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();  // camera frame, last[t] · last[t−1]⁻¹
+  };
+  // A search window: the frame's scoring depth cropped around it, its one-detection prior, and
+  // the cell whose window is the search window's.
+  struct Window {
+    SceneInput scene;
+    Prior prior;
+    int centre_cell = 0;
+  };
+  bool MakeWindow(const Camera& cam, const Box& a, const Box& b, std::size_t k, Window* out) const;
+  FilterOptions StepOptions(std::uint64_t seed) const;
+  TrackResult Search(const Camera& cam, std::size_t k);
+  TrackResult Initialise(const SceneInput& frame, std::size_t k, const TrackStage1& stage1);
+  void Accept(std::size_t k, const TrackResult& r);
+
+  std::vector<Mesh> meshes_;      // as given
+  std::vector<Mesh> lod_;         // at TrackOptions::filter.render.lod_max_faces
+  TrackOptions options_;
+  std::vector<State> states_;
+  DepthImage scoring_;            // this frame's depth without its support plane's pixels
+  int frame_ = 0;
+  int width_ = 0, height_ = 0;
+};
+
+}  // namespace posefilter

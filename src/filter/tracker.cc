@@ -1,0 +1,376 @@
+// src/filter/tracker.cc — Tracker (posefilter/tracker.h): per frame, a short filter run about each
+// object's predicted pose, the loss test, and (re-)initialisation from a stage 1.
+#include "posefilter/tracker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "posefilter/error.h"
+#include "posefilter/mesh_simplify.h"
+#include "posefilter/option_table.h"
+#include "posefilter/rng.h"
+#include "posefilter/support_plane.h"
+
+namespace posefilter {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// A stream seed from the tracker's seed, the frame and the object (SplitMix64 finaliser).
+std::uint64_t StepSeed(std::uint64_t seed, int frame, std::size_t object, std::uint64_t purpose) {
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ull * (std::uint64_t(frame) * 1024 + object * 4 + purpose + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+// The pixel box of the mesh's bounding-box corners at T (object → camera); w = h = 0 when a
+// corner lies behind the near plane.
+Box CornerBox(const Mesh& mesh, const Eigen::Isometry3d& T, const Camera& cam, double near_m) {
+  const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
+  double u0 = 1e30, u1 = -1e30, v0 = 1e30, v1 = -1e30;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p = T * Eigen::Vector3d(c & 1 ? hi.x() : lo.x(), c & 2 ? hi.y() : lo.y(), c & 4 ? hi.z() : lo.z());
+    if (p.z() < near_m) return Box{};
+    const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
+    u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+  }
+  return Box{0.5 * (u0 + u1), 0.5 * (v0 + v1), u1 - u0, v1 - v0};
+}
+
+// The search window of a tracking step: the union of boxes a and b (the predicted and the last
+// pose's), grown by `margin` of its size per side and clipped to the image, as a detection of
+// score 1 (class left to the caller). Returns false when it misses the image.
+bool WindowBox(const Box& a, const Box& b, double margin, const Camera& cam, Detection* out) {
+  if (a.w <= 0 || b.w <= 0) return false;
+  double u0 = std::min(a.cx - 0.5 * a.w, b.cx - 0.5 * b.w), u1 = std::max(a.cx + 0.5 * a.w, b.cx + 0.5 * b.w);
+  double v0 = std::min(a.cy - 0.5 * a.h, b.cy - 0.5 * b.h), v1 = std::max(a.cy + 0.5 * a.h, b.cy + 0.5 * b.h);
+  const double gu = margin * (u1 - u0), gv = margin * (v1 - v0);
+  u0 = std::max(u0 - gu, 0.0), u1 = std::min(u1 + gu, double(cam.width - 1));
+  v0 = std::max(v0 - gv, 0.0), v1 = std::min(v1 + gv, double(cam.height - 1));
+  if (u1 - u0 < 2 || v1 - v0 < 2) return false;
+  out->score = 1.0;
+  out->x = u0, out->y = v0, out->w = u1 - u0, out->h = v1 - v0;
+  return true;
+}
+
+// The cell of the first level whose stride holds pixel (u, v).
+int CellAt(const PyramidLayout& L, double u, double v) {
+  const int col = std::clamp(int(u / L.StrideX(0)), 0, L.levels[0].cols - 1);
+  const int row = std::clamp(int(v / L.StrideY(0)), 0, L.levels[0].rows - 1);
+  return L.CellIndex(0, row, col);
+}
+
+// T with its translation jittered by N(0, σ_t²) per axis and its rotation turned about the
+// object's origin by a rotation vector of N(0, σ_r²) per axis (camera frame).
+Eigen::Isometry3d Jitter(const Eigen::Isometry3d& T, double sigma_t, double sigma_r, Rng& rng) {
+  Eigen::Isometry3d J = T;
+  const Eigen::Vector3d w(rng.Normal() * sigma_r, rng.Normal() * sigma_r, rng.Normal() * sigma_r);
+  const Eigen::Vector3d dt(rng.Normal() * sigma_t, rng.Normal() * sigma_t, rng.Normal() * sigma_t);
+  if (w.norm() > 0) J.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * T.linear();
+  J.translation() += dt;
+  return J;
+}
+
+bool Finite(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
+
+// The part [u0, u0 + w) × [v0, v0 + h) of a frame as a scene of its own: the depth cut out and
+// the principal point moved by (−u0, −v0), so camera-frame points project onto the same pixels.
+SceneInput CropScene(const DepthImage& depth, const Camera& cam, int u0, int v0, int w, int h) {
+  SceneInput s;
+  s.depth = DepthImage(w, h);
+  for (int v = 0; v < h; ++v)
+    std::copy_n(depth.data.begin() + std::ptrdiff_t(v0 + v) * depth.width + u0, w, s.depth.data.begin() + std::ptrdiff_t(v) * w);
+  s.camera = cam;
+  s.camera.width = w;
+  s.camera.height = h;
+  s.camera.cx -= u0;
+  s.camera.cy -= v0;
+  return s;
+}
+
+// The one-level, 3 × 3-cell pyramid of a tracking crop: every cell decodes to the search window
+// (the one detection), and a seed goes to the cell that holds its projected centre.
+PyramidLayout CropLayout(int w, int h) {
+  PyramidLayout L;
+  L.image_width = w;
+  L.image_height = h;
+  L.num_classes = 1;
+  L.levels = {PyramidLevel{3, 3, 2.0 * w / 3, 2.0 * h / 3}};
+  return L;
+}
+
+}  // namespace
+
+FilterOptions TrackingFilterOptions() {
+  FilterOptions o;
+  o.num_particles = 64;
+  o.num_elite = 4;
+  o.restarts = 1;
+  o.fine_particle_fraction = 1.0;
+  o.seed_start = 1.0;
+  o.support.stable_start = 0;
+  o.anneal.start_m = 0;
+  o.render.lod_max_faces = 1024;
+  o.score.alpha = 0.3;
+  o.score.beta = 0.7;
+  o.score.gamma = 0;
+  o.diffusion.sigma_t0_m = 0.01;
+  o.diffusion.sigma_r0_rad = 0.1;
+  auto& m = o.diffusion.move_probabilities;
+  m.fill(0);
+  m[int(Move::kTranslateX)] = m[int(Move::kTranslateY)] = m[int(Move::kTranslateZ)] = 0.1;
+  m[int(Move::kTranslateAll)] = 0.1;
+  m[int(Move::kRotateRoll)] = m[int(Move::kRotatePitch)] = m[int(Move::kRotateYaw)] = 0.08;
+  m[int(Move::kRotateAll)] = 0.1;
+  m[int(Move::kAlignDepth)] = 0.1;
+  m[int(Move::kIcpStep)] = 0.1;
+  m[int(Move::kOnPlane)] = 0.06;
+  o.stop.max_iterations = 5;
+  o.stop.stall_iterations = 2;
+  o.polish.steps = 3;
+  o.polish.turns = false;
+  o.polish.pivots = false;
+  o.polish.stable = false;
+  o.polish.climbers = 0;
+  return o;
+}
+
+bool TrackOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+  auto num = [](double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
+  if (!in(lost_weight, 0, 1)) return fail("lost_weight must be in [0, 1] (got " + num(lost_weight) + ")");
+  if (!in(search_t_m, 0, 1)) return fail("search_t_m must be in [0, 1] (got " + num(search_t_m) + ")");
+  if (!in(search_r_rad, 0, M_PI)) return fail("search_r_rad must be in [0, pi] (got " + num(search_r_rad) + ")");
+  if (!in(refresh_weight, 0, 1)) return fail("refresh_weight must be in [0, 1] (got " + num(refresh_weight) + ")");
+  if (!(in(window_margin, 0, 2) && window_margin > 0))
+    return fail("window_margin must be in (0, 2] (got " + num(window_margin) + ")");
+  std::string w;
+  if (!ValidateFilterOptions(filter, OptionNaming::kField, &w)) return fail("filter." + w);
+  if (!ValidateFilterOptions(init, OptionNaming::kField, &w)) return fail("init." + w);
+  if (filter.engine == "hw") return fail("filter.engine must be a float engine (cpu or reference): the hw engine does not read pose seeds");
+  return true;
+}
+
+const char* TrackStatusName(TrackStatus status) {
+  switch (status) {
+    case TrackStatus::kTracked: return "tracked";
+    case TrackStatus::kInitialised: return "initialised";
+    case TrackStatus::kLost: return "lost";
+    case TrackStatus::kNotStarted: break;
+  }
+  return "not-started";
+}
+
+Tracker::Tracker(std::vector<Mesh> meshes, TrackOptions options) : meshes_(std::move(meshes)), options_(std::move(options)) {
+  std::string why;
+  if (!options_.IsValid(&why)) throw Error("invalid track option: " + why);
+  if (meshes_.empty()) throw Error("tracker: no mesh to track");
+  std::set<std::string> names;
+  for (const Mesh& m : meshes_) {
+    if (std::string w; !m.IsValid(&w)) throw Error("tracker: mesh '" + m.name + "': " + w);
+    if (!names.insert(m.name).second) throw Error("tracker: mesh name '" + m.name + "' given twice");
+    Mesh storage;
+    const Mesh& lod = MeshAtLod(m, options_.filter.render.lod_max_faces, &storage);
+    lod_.push_back(&lod == &m ? m : std::move(storage));
+    lod_.back().name = m.name;
+  }
+  states_.resize(meshes_.size());
+}
+
+void Tracker::Reset(const std::string& obj, const Eigen::Isometry3d& T_cam_obj) {
+  for (std::size_t k = 0; k < meshes_.size(); ++k) {
+    if (meshes_[k].name != obj) continue;
+    if (!Finite(T_cam_obj)) throw Error("tracker: Reset of '" + obj + "': the pose is not finite");
+    states_[k] = State{};
+    states_[k].has_pose = true;
+    states_[k].last = T_cam_obj;
+    return;
+  }
+  throw Error("tracker: Reset of unknown object '" + obj + "'");
+}
+
+bool Tracker::MakeWindow(const Camera& cam, const Box& a, const Box& b, std::size_t k, Window* out) const {
+  Detection d;
+  if (!WindowBox(a, b, options_.window_margin, cam, &d)) return false;
+  // The crop: the window grown by kCropMargin of its size + 8 pixels per side (room for particle
+  // windows grown to their pose's box and for the scene normals' neighbourhoods), clipped to
+  // the image.
+  constexpr double kCropMargin = 0.1;
+  const double gu = kCropMargin * d.w + 8, gv = kCropMargin * d.h + 8;
+  const int u0 = std::max(0, int(std::floor(d.x - gu))), v0 = std::max(0, int(std::floor(d.y - gv)));
+  const int u1 = std::min(cam.width, int(std::ceil(d.x + d.w + gu)) + 1);
+  const int v1 = std::min(cam.height, int(std::ceil(d.y + d.h + gv)) + 1);
+  if (u1 - u0 < 8 || v1 - v0 < 8) return false;
+  out->scene = CropScene(scoring_, cam, u0, v0, u1 - u0, v1 - v0);
+  d.cls = meshes_[k].name;
+  d.x -= u0;
+  d.y -= v0;
+  DetectionPriorOptions po;
+  po.max_box_px = std::max(u1 - u0, v1 - v0);
+  out->prior = PriorFromDetections({d}, CropLayout(u1 - u0, v1 - v0), {d.cls}, po);
+  out->centre_cell = CellAt(out->prior.layout, d.x + 0.5 * d.w, d.y + 0.5 * d.h);
+  return true;
+}
+
+FilterOptions Tracker::StepOptions(std::uint64_t seed) const {
+  FilterOptions o = options_.filter;
+  o.seed = seed;
+  o.support.plane = false;  // the frame's plane pixels are already out of scoring_
+  return o;
+}
+
+TrackResult Tracker::Search(const Camera& cam, std::size_t k) {
+  const auto t0 = Clock::now();
+  const State& s = states_[k];
+  const Mesh& mesh = lod_[k];
+  const FilterOptions& fo = options_.filter;
+  TrackResult r;
+  r.obj = mesh.name;
+  r.status = TrackStatus::kLost;
+  r.T_cam_obj = s.last;
+  const Eigen::Isometry3d predicted = options_.constant_velocity && s.has_velocity ? s.velocity * s.last : s.last;
+  Window win;
+  if (!MakeWindow(cam, CornerBox(mesh, predicted, cam, fo.render.near_m), CornerBox(mesh, s.last, cam, fo.render.near_m), k,
+                  &win)) {
+    r.time_ms = MsSince(t0);
+    return r;  // out of view: lost
+  }
+  Rng rng(StepSeed(fo.seed, frame_, k, 0));
+  const int n = fo.num_particles;
+  win.scene.seeds.reserve(std::size_t(n));
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Isometry3d& base = i % 2 == 0 ? predicted : s.last;
+    win.scene.seeds.push_back({i < 2 ? base : Jitter(base, options_.search_t_m, options_.search_r_rad, rng), 1.0});
+  }
+  try {
+    const EstimateResult e = EstimatePose(win.scene, mesh, win.prior, 0, StepOptions(StepSeed(fo.seed, frame_, k, 1)));
+    r.T_cam_obj = e.T_cam_obj;
+    r.weight = e.weight;
+    r.iterations = e.iterations;
+    r.status = e.weight >= options_.lost_weight ? TrackStatus::kTracked : TrackStatus::kLost;
+  } catch (const Error&) {
+    // No window cell with valid depth (the object's region is empty in this frame): lost.
+  }
+  r.time_ms = MsSince(t0);
+  return r;
+}
+
+TrackResult Tracker::Initialise(const SceneInput& frame, std::size_t k, const TrackStage1& stage1) {
+  const auto t0 = Clock::now();
+  const Mesh& mesh = meshes_[k];
+  TrackResult r;
+  r.obj = mesh.name;
+  r.status = states_[k].has_pose ? TrackStatus::kLost : TrackStatus::kNotStarted;
+  r.T_cam_obj = states_[k].last;
+  const auto& classes = stage1.prior.classes;
+  const auto it = std::find(classes.begin(), classes.end(), mesh.name);
+  if (it == classes.end()) return r;
+  SceneInput scene{frame.depth, frame.camera};
+  if (const auto s = stage1.seeds.find(mesh.name); s != stage1.seeds.end()) scene.seeds = s->second;
+  FilterOptions o = options_.init;
+  o.seed = StepSeed(options_.filter.seed, frame_, k, 2);
+  try {
+    const EstimateResult e = EstimatePose(scene, mesh, stage1.prior, int(it - classes.begin()), o);
+    r.T_cam_obj = e.T_cam_obj;
+    r.iterations = e.iterations;
+    // Judged by the tracking weight (the tracker's α, β, γ, in the window a search would use),
+    // so that one threshold serves both.
+    const Box b = CornerBox(lod_[k], e.T_cam_obj, frame.camera, options_.filter.render.near_m);
+    Window win;
+    if (MakeWindow(frame.camera, b, b, k, &win)) {
+      const Pose6 pose = TransformToPose(win.scene.camera.base_to_camera.inverse() * e.T_cam_obj);
+      r.weight = WeighPoses(win.scene, lod_[k], win.prior, 0, StepOptions(o.seed), {{pose, win.centre_cell}})[0];
+      r.status = r.weight >= options_.lost_weight ? TrackStatus::kInitialised : TrackStatus::kLost;
+    }
+  } catch (const Error&) {
+    // The stage 1 holds no usable cell for the object in this frame.
+  }
+  r.time_ms = MsSince(t0);
+  return r;
+}
+
+void Tracker::Accept(std::size_t k, const TrackResult& r) {
+  State& s = states_[k];
+  if (r.status == TrackStatus::kTracked) {
+    if (s.has_pose && !s.lost) {
+      s.velocity = r.T_cam_obj * s.last.inverse();
+      s.has_velocity = true;
+    }
+    s.last = r.T_cam_obj;
+    s.lost = false;
+  } else if (r.status == TrackStatus::kInitialised) {
+    s.last = r.T_cam_obj;
+    s.has_pose = true;
+    s.lost = false;
+    s.has_velocity = false;
+  } else if (r.status == TrackStatus::kLost) {
+    s.lost = true;
+    s.has_velocity = false;
+  }
+}
+
+std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn& stage1) {
+  const std::string what = "frame " + std::to_string(frame_);
+  ValidateScene(frame, what);
+  if (frame_ == 0) {
+    width_ = frame.camera.width;
+    height_ = frame.camera.height;
+  } else if (frame.camera.width != width_ || frame.camera.height != height_) {
+    throw Error(what + ": " + std::to_string(frame.camera.width) + "x" + std::to_string(frame.camera.height) +
+                " pixels, but the sequence started at " + std::to_string(width_) + "x" + std::to_string(height_));
+  }
+  // The scored depth of every search: the frame without its support plane's pixels.
+  scoring_ = frame.depth;
+  if (options_.filter.support.plane) {
+    const std::vector<std::uint8_t> on = SupportPlanePixels(frame.depth, frame.camera, FindSupportPlane(frame.depth, frame.camera));
+    for (std::size_t i = 0; i < on.size(); ++i)
+      if (on[i]) scoring_.data[i] = 0;
+  }
+  std::vector<TrackResult> out(meshes_.size());
+  std::vector<std::size_t> need;
+  for (std::size_t k = 0; k < meshes_.size(); ++k) {
+    if (!states_[k].has_pose) {
+      out[k].obj = meshes_[k].name;
+      need.push_back(k);
+      continue;
+    }
+    out[k] = Search(frame.camera, k);
+    if (out[k].status == TrackStatus::kLost || out[k].weight < options_.refresh_weight) need.push_back(k);
+  }
+  if (!need.empty() && stage1) {
+    const TrackStage1 s1 = stage1(frame);
+    for (std::size_t k : need) {
+      const TrackResult init = Initialise(frame, k, s1);
+      const double spent = out[k].time_ms;
+      // A lost (or new) object takes the stage 1's pose when that is found, or at least better;
+      // a tracked one only when the stage 1's is found and weighs more.
+      const bool tracked = out[k].status == TrackStatus::kTracked;
+      const bool better = init.weight > out[k].weight;
+      if (tracked ? init.status == TrackStatus::kInitialised && better
+                  : init.status == TrackStatus::kInitialised || !states_[k].has_pose || better) {
+        const int iterations = out[k].iterations;
+        out[k] = init;
+        out[k].iterations += iterations;
+      }
+      out[k].time_ms = spent + init.time_ms;
+    }
+  }
+  for (std::size_t k = 0; k < meshes_.size(); ++k) Accept(k, out[k]);
+  ++frame_;
+  return out;
+}
+
+}  // namespace posefilter
