@@ -30,6 +30,7 @@
 #include "posefilter/auto_prior.h"
 #include "posefilter/mask_prior.h"
 #include "posefilter/metrics.h"
+#include "posefilter/scene_pass.h"
 #include "posefilter/synth.h"
 #include "posefilter/table_world.h"
 
@@ -72,6 +73,7 @@ struct TableSuiteArgs {
   std::string models_dir;
   std::string prior_kind;           // "boxes", "masks", "auto" (no detector) or "none" (uniform)
   std::vector<std::string> classes; // classes estimated (empty: all)
+  bool scene_pass = false;          // run the joint scene pass over each scene's estimates
   std::string write_dir;
   std::string json_path;
   int count = 0;
@@ -94,6 +96,7 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
   }
   struct ClassStats {
     int n = 0, found = 0;
+    int found_alone = 0;  // before the scene pass
     std::vector<double> adds, times;
   };
   std::map<std::string, ClassStats> per_class;
@@ -101,7 +104,7 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
   std::vector<double> all_adds, all_times;
   std::map<int, PpfModel> ppf_models;  // --prior auto: per model index, built (or loaded) once
   std::vector<double> stage1_ms;       // --prior auto: the stage 1's time per scene
-  int found = 0, total = 0;
+  int found = 0, total = 0, found_alone = 0;
   // Recall by visible fraction: [0.5, 1], [0.3, 0.5), [0, 0.3).
   const double kVisibBounds[3] = {0.5, 0.3, 0.0};
   int visib_n[3] = {0, 0, 0}, visib_found[3] = {0, 0, 0};
@@ -150,45 +153,95 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
     // --prior auto: the stage 1's time shared by the scene's targets (in each row's stage1_ms).
     const auto targets = std::count_if(scene.objects.begin(), scene.objects.end(), [](const TableObject& o) { return o.target; });
     const double stage1_share = stage1_ms.size() == std::size_t(i) + 1 && targets > 0 ? stage1_ms.back() / double(targets) : 0.0;
+    // Each target estimated on its own, then (--scene-pass) the scene pass over all of them,
+    // then the rows.
+    struct Job {
+      std::size_t j = 0;  // index in scene.objects
+      SceneInput input;
+      Prior prior;
+      std::string status;
+      FilterOptions o;
+      EstimateResult r;
+      EstimateResult alone;  // before the scene pass
+      bool estimated = false;
+      double pass_ms = 0;
+      std::string pass_note;  // "re-estimated" / "replaced" by the scene pass
+    };
+    std::vector<Job> jobs;
     for (std::size_t j = 0; j < scene.objects.size(); ++j) {
       const TableObject& obj = scene.objects[j];
       if (!obj.target) continue;
       if (!a.classes.empty() && std::find(a.classes.begin(), a.classes.end(), obj.cls) == a.classes.end()) continue;
       const TableModel& model = world.models()[std::size_t(obj.model)];
-      SceneInput input{scene.depth, scene.camera, {}};
-      if (auto it = seeds_of.find(obj.cls); it != seeds_of.end()) input.seeds = it->second;
-      Prior prior = box_prior;
-      std::string status = scene_status;
+      Job job;
+      job.j = j;
+      job.input = SceneInput{scene.depth, scene.camera, {}};
+      if (auto it = seeds_of.find(obj.cls); it != seeds_of.end()) job.input.seeds = it->second;
+      job.prior = box_prior;
+      job.status = scene_status;
       if (a.prior_kind == "masks") {
         LabelImage l{W, H, {}};
         l.ids.resize(scene.masks.size());
         for (std::size_t q = 0; q < l.ids.size(); ++q) l.ids[q] = scene.masks[q] == j + 1 ? 1 : 0;
         if (std::count(l.ids.begin(), l.ids.end(), 1) == 0) {
-          status = "no mask";
+          job.status = "no mask";
         } else {
           const InstanceMask m = MasksFromLabels(l, {{1, obj.cls}}, "mask").front();
-          input.mask = m.pixels;
-          prior = PriorFromDetections({MaskDetection(m)}, layout, classes);
+          job.input.mask = m.pixels;
+          job.prior = PriorFromDetections({MaskDetection(m)}, layout, classes);
         }
       }
+      job.o = opt;
+      job.o.seed = opt.seed + std::uint64_t(i);
+      if (job.status == "ok") {
+        try {
+          job.r = EstimatePose(job.input, model.mesh, job.prior, job.prior.ClassIndex(obj.cls), job.o);
+          job.alone = job.r;
+          job.estimated = true;
+        } catch (const Error& e) {
+          job.status = e.what();  // counted as not found
+        }
+      }
+      jobs.push_back(std::move(job));
+    }
+    if (a.scene_pass) {
+      std::vector<SceneObject> objs;
+      std::vector<Job*> of;
+      for (Job& job : jobs)
+        if (job.estimated) {
+          const TableObject& obj = scene.objects[job.j];
+          objs.push_back({&world.models()[std::size_t(obj.model)].mesh, box_prior.ClassIndex(obj.cls), job.r});
+          of.push_back(&job);
+        }
       FilterOptions o = opt;
       o.seed = opt.seed + std::uint64_t(i);
+      const std::vector<ScenePassResult> passed = RunScenePass(SceneInput{scene.depth, scene.camera, {}}, box_prior, objs, o);
+      for (std::size_t k = 0; k < passed.size(); ++k) {
+        of[k]->r = passed[k].estimate;
+        of[k]->pass_ms = passed[k].time_ms;
+        of[k]->pass_note = passed[k].replaced ? "pass: replaced" : passed[k].reestimated ? "pass: re-estimated, kept" : "";
+      }
+    }
+    for (const Job& job : jobs) {
+      const TableObject& obj = scene.objects[job.j];
+      const std::size_t j = job.j;
+      const TableModel& model = world.models()[std::size_t(obj.model)];
       double adds = std::numeric_limits<double>::infinity(), weight = 0, gt_weight = 0, time_ms = 0;
       int iterations = 0;
       bool ok = false;
-      if (status == "ok") {
-        try {
-          const EstimateResult r = EstimatePose(input, model.mesh, prior, prior.ClassIndex(obj.cls), o);
-          const PoseErrors e = ComputePoseErrors(points[std::size_t(obj.model)], model.diameter, r.T_cam_obj, obj.T_cam_obj);
-          adds = e.adds;
-          ok = e.adds_ok;
-          weight = r.weight;
-          iterations = r.iterations;
-          time_ms = r.time_ms;
-          gt_weight = GroundTruthWeight(input, model.mesh, prior, prior.ClassIndex(obj.cls), o, obj.T_cam_obj, r.cell);
-        } catch (const Error& e) {
-          status = e.what();  // counted as not found
-        }
+      std::string status = job.status;
+      bool ok_alone = false;
+      if (job.estimated) {
+        const EstimateResult& r = job.r;
+        const PoseErrors e = ComputePoseErrors(points[std::size_t(obj.model)], model.diameter, r.T_cam_obj, obj.T_cam_obj);
+        ok_alone = ComputePoseErrors(points[std::size_t(obj.model)], model.diameter, job.alone.T_cam_obj, obj.T_cam_obj).adds_ok;
+        adds = e.adds;
+        ok = e.adds_ok;
+        weight = r.weight;
+        iterations = r.iterations;
+        time_ms = r.time_ms + job.pass_ms;
+        gt_weight =
+            GroundTruthWeight(job.input, model.mesh, job.prior, job.prior.ClassIndex(obj.cls), job.o, obj.T_cam_obj, r.cell);
       }
       ++total;
       found += ok;
@@ -201,17 +254,21 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
       ClassStats& cs = per_class[obj.cls];
       ++cs.n;
       cs.found += ok;
+      cs.found_alone += ok_alone;
+      found_alone += ok_alone;
       cs.adds.push_back(adds);
       all_adds.push_back(adds);
       if (time_ms > 0) cs.times.push_back(time_ms), all_times.push_back(time_ms);
+      const std::string note = status == "ok" ? job.pass_note : status;
       std::printf("%6llu %-22s %5.2f %9.1f %6.1f %6s %7.3f %7.3f %5d %8.0f%s%s\n", (unsigned long long)seed, obj.cls.c_str(),
                   obj.visible_fraction, 1000 * adds, 100 * adds / model.diameter, ok ? "yes" : "NO", weight, gt_weight, iterations,
-                  time_ms, status == "ok" ? "" : "  ", status == "ok" ? "" : status.c_str());
+                  time_ms, note.empty() ? "" : "  ", note.c_str());
       std::fflush(stdout);
       rows.push_back({{"seed", seed}, {"obj", obj.cls}, {"instance", j + 1}, {"visible_fraction", obj.visible_fraction},
                       {"adds_m", std::isfinite(adds) ? nlohmann::json(adds) : nlohmann::json(nullptr)},
                       {"diameter_m", model.diameter}, {"found", ok}, {"weight", weight}, {"gt_weight", gt_weight}, {"iterations", iterations},
-                      {"time_ms", time_ms}, {"stage1_ms", stage1_share}, {"status", status}});
+                      {"time_ms", time_ms}, {"stage1_ms", stage1_share}, {"scene_pass_ms", job.pass_ms},
+                      {"scene_pass", job.pass_note}, {"found_before_pass", ok_alone}, {"status", status}});
     }
   }
   if (total == 0) throw Error("the suite held no target (check --targets)");
@@ -222,7 +279,7 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
     std::printf("%-22s %5d %6d %6.0f%% %10.1f %12.0f\n", cls.c_str(), cs.n, cs.found, 100.0 * cs.found / cs.n, 100 * auc,
                 Median(cs.times));
     class_rows[cls] = {{"n", cs.n}, {"found", cs.found}, {"recall", double(cs.found) / cs.n}, {"auc_adds", auc},
-                       {"median_time_ms", Median(cs.times)}};
+                       {"median_time_ms", Median(cs.times)}, {"found_before_pass", cs.found_alone}};
   }
   const double recall = double(found) / total, auc = YcbvAuc(all_adds, 0.1);
   double mean_ms = 0;
@@ -238,12 +295,18 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
     by_visib.push_back({{"min_visible_fraction", kVisibBounds[b]}, {"n", visib_n[b]}, {"found", visib_found[b]}});
   }
   std::printf("\n");
+  if (a.scene_pass) {
+    std::printf("scene pass: %d/%d found after it, %d/%d before; by class (before -> after):", found, total, found_alone, total);
+    for (const auto& [cls, cs] : per_class)
+      if (cs.found != cs.found_alone) std::printf("  %s %d -> %d", cls.c_str(), cs.found_alone, cs.found);
+    std::printf("\n");
+  }
   if (!stage1_ms.empty())
     std::printf("stage 1 (--prior %s): median %.0f ms per scene, %.0f ms per object on average\n", a.prior_kind.c_str(),
                 Median(stage1_ms), std::accumulate(stage1_ms.begin(), stage1_ms.end(), 0.0) / total);
   if (!a.json_path.empty())
-    WriteJson(a.json_path, {{"world", "ycbv"}, {"by_visible_fraction", by_visib}, {"prior", a.prior_kind}, {"objects", rows}, {"classes", class_rows},
-                            {"recall_adds", recall}, {"auc_adds", auc}, {"median_time_ms", Median(all_times)},
+    WriteJson(a.json_path, {{"world", "ycbv"}, {"by_visible_fraction", by_visib}, {"prior", a.prior_kind}, {"scene_pass", a.scene_pass}, {"objects", rows}, {"classes", class_rows},
+                            {"recall_adds", recall}, {"recall_adds_before_pass", double(found_alone) / total}, {"auc_adds", auc}, {"median_time_ms", Median(all_times)},
                             {"mean_time_ms", mean_ms}, {"stage1_median_ms_per_scene", Median(stage1_ms)}});
 }
 
@@ -288,6 +351,9 @@ int RunSuite(int argc, char** argv) {
   app.add_option("--box-scale-min", table.box_scale_min, "ycbv: detection boxes scaled by a factor from this ...")
       ->capture_default_str();
   app.add_option("--box-scale-max", table.box_scale_max, "ycbv: ... to this")->capture_default_str();
+  app.add_flag("--scene-pass", ta.scene_pass,
+               "ycbv: after the per-object estimates, the joint scene pass (posefilter/scene_pass.h) re-weighs each "
+               "object against the pixels better estimates leave it and re-estimates those whose pixels another claims");
   app.add_option("--write-scenes", ta.write_dir, "ycbv: also write every scene to DIR/scene_<seed>/ (for peers)");
   app.add_option("--json", json_path, "also write the table as JSON");
   AddFilterOptions(app, &opt);
@@ -296,6 +362,9 @@ int RunSuite(int argc, char** argv) {
     CheckFilterOptions(opt);
     if (count < 1) throw Error("--count must be >= 1");
     CheckOutputPaths({{json_path, "--json"}}, {{ta.models_dir, "--models"}, {ta.write_dir, "--write-scenes"}});
+    if (ta.scene_pass && world != "ycbv") throw Error("--scene-pass needs --world ycbv (scenes of several objects)");
+    if (ta.scene_pass && ta.prior_kind == "masks")
+      throw Error("--scene-pass needs one prior shared by the scene's objects; --prior masks gives each its own");
     if (world == "ycbv") {
       table.box_jitter_px = synth.box_jitter_px;
       table.false_positives = synth.false_positives;

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/threads.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
@@ -229,6 +230,7 @@ FilterOptions Tracker::StepOptions(std::uint64_t seed) const {
   FilterOptions o = options_.filter;
   o.seed = seed;
   o.support.plane = false;  // the frame's plane pixels are already out of scoring_
+  o.threads = 1;            // Track runs the objects' searches in parallel
   return o;
 }
 
@@ -340,16 +342,28 @@ std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn&
       if (on[i]) scoring_.data[i] = 0;
   }
   std::vector<TrackResult> out(meshes_.size());
-  std::vector<std::size_t> need;
-  for (std::size_t k = 0; k < meshes_.size(); ++k) {
-    if (!states_[k].has_pose) {
-      out[k].obj = meshes_[k].name;
-      need.push_back(k);
-      continue;
+  // The searches run in parallel over the objects, each on one thread (a search is a few
+  // hundred small weighings: threads inside it would mostly wait on each other). Each has its
+  // own random stream, so the result does not depend on the thread count.
+  const int n = int(meshes_.size());
+  const int workers = std::min(WorkerThreads(options_.filter.threads), n);
+  std::vector<std::string> errors(meshes_.size());
+#pragma omp parallel for num_threads(workers) schedule(dynamic)
+  for (int k = 0; k < n; ++k) {
+    out[std::size_t(k)].obj = meshes_[std::size_t(k)].name;
+    if (!states_[std::size_t(k)].has_pose) continue;
+    try {
+      out[std::size_t(k)] = Search(frame.camera, std::size_t(k));
+    } catch (const std::exception& e) {
+      errors[std::size_t(k)] = e.what();
     }
-    out[k] = Search(frame.camera, k);
-    if (out[k].status == TrackStatus::kLost || out[k].weight < options_.refresh_weight) need.push_back(k);
   }
+  for (const std::string& e : errors)
+    if (!e.empty()) throw Error(what + ": " + e);
+  std::vector<std::size_t> need;
+  for (std::size_t k = 0; k < meshes_.size(); ++k)
+    if (!states_[k].has_pose || out[k].status == TrackStatus::kLost || out[k].weight < options_.refresh_weight)
+      need.push_back(k);
   if (!need.empty() && stage1) {
     const TrackStage1 s1 = stage1(frame);
     for (std::size_t k : need) {

@@ -1,0 +1,86 @@
+// src/filter/scene_pass.cc — RunScenePass (posefilter/scene_pass.h): the per-object estimates
+// settled best first against a z-buffer of the objects settled before them.
+#include "posefilter/scene_pass.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "posefilter/error.h"
+#include "posefilter/option_table.h"
+#include "posefilter/render.h"
+
+namespace posefilter {
+
+bool ScenePassOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(std::isfinite(band_m) && band_m > 0)) return fail("band_m must be finite and > 0");
+  if (!(std::isfinite(conflict_drop) && conflict_drop > 0 && conflict_drop <= 1)) return fail("conflict_drop must be in (0, 1]");
+  return true;
+}
+
+std::vector<ScenePassResult> RunScenePass(const SceneInput& scene, const Prior& prior, const std::vector<SceneObject>& objects,
+                                          const FilterOptions& options, const ScenePassOptions& pass) {
+  using Clock = std::chrono::steady_clock;
+  std::string why;
+  if (!pass.IsValid(&why)) throw Error("invalid scene pass option: " + why);
+  ThrowIfInvalid(options, OptionNaming::kField);
+  ValidateScene(scene, "scene pass");
+  if (!scene.mask.empty() || !scene.seeds.empty()) throw Error("scene pass: the scene must hold no mask and no seeds");
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    if (!objects[i].mesh) throw Error("scene pass: object " + std::to_string(i) + " has no mesh");
+    if (objects[i].cls < 0 || objects[i].cls >= int(prior.classes.size()))
+      throw Error("scene pass: object " + std::to_string(i) + "'s class index is out of range");
+  }
+  const Camera& cam = scene.camera;
+  const DepthImage& z = scene.depth;
+  std::vector<std::size_t> order(objects.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return objects[a].estimate.weight > objects[b].estimate.weight; });
+
+  // The objects settled so far, rendered with one z-buffer, and the pixels they explain (mask 0).
+  DepthImage settled(cam.width, cam.height, 0.f);
+  SceneInput masked{z, cam, std::vector<std::uint8_t>(z.data.size(), 1)};
+  std::vector<ScenePassResult> out(objects.size());
+  for (std::size_t idx : order) {
+    const auto t0 = Clock::now();
+    const SceneObject& obj = objects[idx];
+    ScenePassResult& r = out[idx];
+    r.estimate = obj.estimate;
+    const std::vector<std::pair<Pose6, int>> hyp = {{obj.estimate.pose_base, obj.estimate.cell}};
+    r.weight_alone = obj.estimate.weight;
+    const bool any_free = std::find(masked.mask.begin(), masked.mask.end(), 1) != masked.mask.end();
+    r.weight_masked = any_free ? WeighPoses(masked, *obj.mesh, prior, obj.cls, options, hyp)[0] : 0.0;
+    if (any_free && r.weight_alone - r.weight_masked > pass.conflict_drop) {
+      // Better estimates explain this one's pixels: look again where they leave room.
+      FilterOptions o = options;
+      o.seed = options.seed ^ (0x9E3779B97F4A7C15ull * (idx + 1));
+      r.reestimated = true;
+      try {
+        const EstimateResult e = EstimatePose(masked, *obj.mesh, prior, obj.cls, o);
+        if (e.weight > r.weight_masked) {
+          r.estimate = e;
+          r.weight_masked = e.weight;
+          r.replaced = true;
+        }
+      } catch (const Error&) {
+        // No cell of the class holds free depth: the per-object pose stays.
+      }
+      r.estimate.obj = obj.estimate.obj;
+    }
+    // Settle it: its surface takes the pixels it explains from the objects after it.
+    RenderDepth(*obj.mesh, r.estimate.T_cam_obj, cam, &settled);
+    for (std::size_t p = 0; p < settled.data.size(); ++p)
+      if (settled.data[p] > 0 && z.data[p] > 0 && std::fabs(settled.data[p] - z.data[p]) < pass.band_m) masked.mask[p] = 0;
+    r.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  }
+  return out;
+}
+
+}  // namespace posefilter
