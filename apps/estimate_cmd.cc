@@ -17,6 +17,7 @@
 #include "posefilter/file_io.h"
 #include "posefilter/mask_prior.h"
 #include "posefilter/auto_prior.h"
+#include "posefilter/scene_pass.h"
 #include "posefilter/overlay.h"
 #include "posefilter/prior.h"
 #include "posefilter/scene_io.h"
@@ -45,7 +46,7 @@ int RunEstimate(int argc, char** argv) {
   std::string mask_path, mask_classes_path;
   std::vector<std::string> mesh_args;
   double depth_scale = 0, unit_scale = 1.0;
-  bool quiet = false;
+  bool quiet = false, scene_pass = false;
   FilterOptions opt;
   app.add_option("--depth", depth_path, "depth PNG (16-bit; metres = value x depth scale)")->required();
   app.add_option("--camera", camera_path, "camera JSON (fx, fy, cx, cy, width, height, depth_scale)")->required();
@@ -68,6 +69,9 @@ int RunEstimate(int argc, char** argv) {
   app.add_option("--overlay", overlay_path, "write an overlay PNG of the estimated poses here");
   app.add_option("--rgb", rgb_path, "RGB PNG to draw the overlay on (default: shaded depth)");
   app.add_flag("--quiet", quiet, "no progress on stderr");
+  app.add_flag("--scene-pass", scene_pass,
+               "after the per-object estimates, the joint scene pass: each object re-weighed against the pixels better "
+               "estimates leave it, and re-estimated where another estimate claims its pixels (several --mesh; not with --mask)");
   AddFilterOptions(app, &opt);
 
   return RunApp(app, argc, argv, [&] {
@@ -82,6 +86,8 @@ int RunEstimate(int argc, char** argv) {
     if (!classes_path.empty() && (named_prior || json_prior || !mask_path.empty()))
       throw Error("--classes names the classes of a raw pyramid --prior; it does not apply to " +
                   std::string(!mask_path.empty() ? "--mask" : json_prior ? "a detections JSON" : "--prior " + prior_arg));
+    if (scene_pass && !mask_path.empty())
+      throw Error("--scene-pass needs one prior shared by the objects; --mask gives each instance its own");
     if (!rgb_path.empty() && overlay_path.empty()) throw Error("--rgb is the background of --overlay; give --overlay too");
     // Every output is checked before the work: writable, and none of the inputs.
     std::vector<NamedPath> inputs = {{depth_path, "--depth"}, {camera_path, "--camera"},
@@ -181,6 +187,7 @@ int RunEstimate(int argc, char** argv) {
     if (jobs.empty())
       for (const Mesh& mesh : meshes) jobs.push_back({&mesh, {}, prior});
     std::vector<const Mesh*> job_meshes;
+    std::vector<SceneObject> estimates;  // --scene-pass
     for (Job& job : jobs) {
       const Mesh& mesh = *job.mesh;
       job_meshes.push_back(&mesh);
@@ -190,6 +197,7 @@ int RunEstimate(int argc, char** argv) {
       scene.mask = std::move(job.mask);
       scene.seeds = seeds_of.count(&mesh) ? seeds_of[&mesh] : std::vector<PoseSeed>{};
       const EstimateResult r = EstimatePose(scene, mesh, job.prior, cls, opt, StderrProgress(mesh.name, opt.stop.max_iterations * opt.restarts, quiet));
+      estimates.push_back({&mesh, cls, r});
       if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
       ObjectResult o;
       o.obj = mesh.name;
@@ -205,6 +213,24 @@ int RunEstimate(int argc, char** argv) {
       std::printf("%-20s %9.4f %9.4f %9.4f %8.3f %8.3f %8.3f %7.3f %5d %8.0f\n", o.obj.c_str(), o.pose_base.x,
                   o.pose_base.y, o.pose_base.z, o.pose_base.roll, o.pose_base.pitch, o.pose_base.yaw, o.weight,
                   o.iterations, o.time_ms);
+    }
+    if (scene_pass) {
+      scene.mask.clear();
+      scene.seeds.clear();
+      const std::vector<ScenePassResult> passed = RunScenePass(scene, prior, estimates, opt);
+      std::printf("scene pass (best first; weight alone -> without the pixels better estimates explain):\n");
+      for (std::size_t i = 0; i < passed.size(); ++i) {
+        const ScenePassResult& p = passed[i];
+        std::printf("  %-20s %.3f -> %.3f  %s (%.0f ms)\n", results[i].obj.c_str(), p.weight_alone, p.weight_masked,
+                    p.replaced ? "re-estimated: new pose" : p.reestimated ? "re-estimated: pose kept" : "kept", p.time_ms);
+        if (p.replaced) {
+          results[i].pose_base = p.estimate.pose_base;
+          results[i].T_cam_obj = p.estimate.T_cam_obj;
+          results[i].weight = p.estimate.weight;
+          results[i].iterations += p.estimate.iterations;
+        }
+        results[i].time_ms += p.time_ms;
+      }
     }
     if (!out_path.empty()) WriteResultsJson(results, out_path);
     if (!overlay_path.empty()) {

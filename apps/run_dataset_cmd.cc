@@ -10,7 +10,8 @@
 // measured", with --no-time: then two runs write identical rows); an image already in the
 // CSV is skipped, so a run can be interrupted and resumed. Random streams derive from --seed,
 // the scene, the image and the target, so a resumed run gives the rows an uninterrupted one
-// would.
+// would. With --scene-pass, the estimates made with an image's prior then go through the joint
+// scene pass before the rows are written.
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,6 +30,7 @@
 #include "commands.h"
 #include "filter_cli.h"
 #include "posefilter/bop.h"
+#include "posefilter/scene_pass.h"
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/file_io.h"
@@ -129,7 +131,7 @@ int RunRunDataset(int argc, char** argv) {
   std::string dataset_dir, split = "test", detections_path, out_path, targets_path;
   double jitter_px = 0;
   double gt_box_score = 0.9;
-  bool uniform = false, auto_prior = false, quiet = false, no_time = false;
+  bool uniform = false, auto_prior = false, quiet = false, no_time = false, scene_pass = false;
   int limit = -1;
   FilterOptions opt;
   app.add_option("--dataset", dataset_dir, "dataset folder (BOP: models/ + <split>/; or YCB-Video: scenes/ + models/)")
@@ -153,6 +155,9 @@ int RunRunDataset(int argc, char** argv) {
                  "present, else every gt object)");
   app.add_option("--limit", limit, "only the first N images with targets (already done ones included)");
   app.add_flag("--quiet", quiet, "no progress bar on stderr");
+  app.add_flag("--scene-pass", scene_pass,
+               "after an image's per-object estimates, the joint scene pass over those made with the image's prior "
+               "(posefilter/scene_pass.h): an object whose pixels a better estimate explains is re-estimated without them");
   app.add_flag("--no-time", no_time,
                "write time -1 (BOP: not measured) instead of each image's wall time, so that runs of the same "
                "options write identical rows");
@@ -263,6 +268,8 @@ int RunRunDataset(int argc, char** argv) {
           uniform ? UniformPrior(layout, classes) : PriorFromDetections(dets, layout, classes);
 
       std::vector<BopResult> rows;
+      std::vector<SceneObject> shared;  // --scene-pass: the estimates made with the image's prior
+      std::vector<std::size_t> shared_row;
       for (const DatasetTarget& t : targets.at(key)) {
         const DatasetModel& model = *ds.Model(t.obj_id);
         const int cls = image_prior.ClassIndex(model.name);
@@ -291,12 +298,23 @@ int RunRunDataset(int argc, char** argv) {
             row.obj_id = t.obj_id;
             row.score = r.weight;
             row.T_cam_obj = r.T_cam_obj;
+            if (prior == &image_prior) shared.push_back({&mesh_of(t.obj_id), cls, r}), shared_row.push_back(rows.size());
             rows.push_back(row);
           } catch (const Error& e) {
             ++n_failed;
             std::fprintf(stderr, "%srun-dataset: warning: %s, obj_id %d: no estimate: %s\n", tty && !quiet ? "\n" : "",
                          where.c_str(), t.obj_id, e.what());
           }
+        }
+      }
+      if (scene_pass && shared.size() > 1) {
+        scene.seeds.clear();
+        FilterOptions o = opt;
+        o.seed = MixSeed(opt.seed, im->scene_id, im->im_id, 0, -2);
+        const std::vector<ScenePassResult> passed = RunScenePass(scene, image_prior, shared, o);
+        for (std::size_t k = 0; k < passed.size(); ++k) {
+          rows[shared_row[k]].T_cam_obj = passed[k].estimate.T_cam_obj;
+          rows[shared_row[k]].score = passed[k].replaced ? passed[k].estimate.weight : rows[shared_row[k]].score;
         }
       }
       const double image_s = std::chrono::duration<double>(Clock::now() - t_image).count();
