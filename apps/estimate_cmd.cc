@@ -46,7 +46,7 @@ int RunEstimate(int argc, char** argv) {
   std::string mask_path, mask_classes_path;
   std::vector<std::string> mesh_args;
   double depth_scale = 0, unit_scale = 1.0;
-  bool quiet = false, scene_pass = false;
+  bool quiet = false, scene_pass = true;
   FilterOptions opt;
   app.add_option("--depth", depth_path, "depth PNG (16-bit; metres = value x depth scale)")->required();
   app.add_option("--camera", camera_path, "camera JSON (fx, fy, cx, cy, width, height, depth_scale)")->required();
@@ -69,9 +69,10 @@ int RunEstimate(int argc, char** argv) {
   app.add_option("--overlay", overlay_path, "write an overlay PNG of the estimated poses here");
   app.add_option("--rgb", rgb_path, "RGB PNG to draw the overlay on (default: shaded depth)");
   app.add_flag("--quiet", quiet, "no progress on stderr");
-  app.add_flag("--scene-pass", scene_pass,
-               "after the per-object estimates, the joint scene pass: each object re-weighed against the pixels better "
-               "estimates leave it, and re-estimated where another estimate claims its pixels (several --mesh; not with --mask)");
+  app.add_flag("--scene-pass,!--no-scene-pass", scene_pass,
+               "with several --mesh (not --mask): after the per-object estimates, the joint scene pass re-weighs each "
+               "object against the pixels better estimates leave it and re-estimates one whose pixels another claims")
+      ->capture_default_str();
   AddFilterOptions(app, &opt);
 
   return RunApp(app, argc, argv, [&] {
@@ -86,8 +87,8 @@ int RunEstimate(int argc, char** argv) {
     if (!classes_path.empty() && (named_prior || json_prior || !mask_path.empty()))
       throw Error("--classes names the classes of a raw pyramid --prior; it does not apply to " +
                   std::string(!mask_path.empty() ? "--mask" : json_prior ? "a detections JSON" : "--prior " + prior_arg));
-    if (scene_pass && !mask_path.empty())
-      throw Error("--scene-pass needs one prior shared by the objects; --mask gives each instance its own");
+    // The scene pass needs one prior shared by the objects (a --mask gives each instance its own).
+    if (!mask_path.empty()) scene_pass = false;
     if (!rgb_path.empty() && overlay_path.empty()) throw Error("--rgb is the background of --overlay; give --overlay too");
     // Every output is checked before the work: writable, and none of the inputs.
     std::vector<NamedPath> inputs = {{depth_path, "--depth"}, {camera_path, "--camera"},
@@ -214,7 +215,7 @@ int RunEstimate(int argc, char** argv) {
                   o.pose_base.y, o.pose_base.z, o.pose_base.roll, o.pose_base.pitch, o.pose_base.yaw, o.weight,
                   o.iterations, o.time_ms);
     }
-    if (scene_pass) {
+    if (scene_pass && estimates.size() > 1) {
       scene.mask.clear();
       scene.seeds.clear();
       const std::vector<ScenePassResult> passed = RunScenePass(scene, prior, estimates, opt);

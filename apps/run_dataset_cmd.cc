@@ -10,8 +10,8 @@
 // measured", with --no-time: then two runs write identical rows); an image already in the
 // CSV is skipped, so a run can be interrupted and resumed. Random streams derive from --seed,
 // the scene, the image and the target, so a resumed run gives the rows an uninterrupted one
-// would. With --scene-pass, the estimates made with an image's prior then go through the joint
-// scene pass before the rows are written.
+// would. The estimates made with an image's prior then go through the joint scene pass
+// (--no-scene-pass: not) before the rows are written.
 #include <unistd.h>
 
 #include <algorithm>
@@ -131,7 +131,7 @@ int RunRunDataset(int argc, char** argv) {
   std::string dataset_dir, split = "test", detections_path, out_path, targets_path;
   double jitter_px = 0;
   double gt_box_score = 0.9;
-  bool uniform = false, auto_prior = false, quiet = false, no_time = false, scene_pass = false;
+  bool uniform = false, auto_prior = false, quiet = false, no_time = false, scene_pass = true;
   int limit = -1;
   FilterOptions opt;
   app.add_option("--dataset", dataset_dir, "dataset folder (BOP: models/ + <split>/; or YCB-Video: scenes/ + models/)")
@@ -155,9 +155,10 @@ int RunRunDataset(int argc, char** argv) {
                  "present, else every gt object)");
   app.add_option("--limit", limit, "only the first N images with targets (already done ones included)");
   app.add_flag("--quiet", quiet, "no progress bar on stderr");
-  app.add_flag("--scene-pass", scene_pass,
+  app.add_flag("--scene-pass,!--no-scene-pass", scene_pass,
                "after an image's per-object estimates, the joint scene pass over those made with the image's prior "
-               "(posefilter/scene_pass.h): an object whose pixels a better estimate explains is re-estimated without them");
+               "(posefilter/scene_pass.h): an object whose pixels a better estimate explains is re-estimated without them")
+      ->capture_default_str();
   app.add_flag("--no-time", no_time,
                "write time -1 (BOP: not measured) instead of each image's wall time, so that runs of the same "
                "options write identical rows");

@@ -73,7 +73,7 @@ struct TableSuiteArgs {
   std::string models_dir;
   std::string prior_kind;           // "boxes", "masks", "auto" (no detector) or "none" (uniform)
   std::vector<std::string> classes; // classes estimated (empty: all)
-  bool scene_pass = false;          // run the joint scene pass over each scene's estimates
+  bool scene_pass = true;           // run the joint scene pass over each scene's estimates
   std::string write_dir;
   std::string json_path;
   int count = 0;
@@ -351,9 +351,11 @@ int RunSuite(int argc, char** argv) {
   app.add_option("--box-scale-min", table.box_scale_min, "ycbv: detection boxes scaled by a factor from this ...")
       ->capture_default_str();
   app.add_option("--box-scale-max", table.box_scale_max, "ycbv: ... to this")->capture_default_str();
-  app.add_flag("--scene-pass", ta.scene_pass,
-               "ycbv: after the per-object estimates, the joint scene pass (posefilter/scene_pass.h) re-weighs each "
-               "object against the pixels better estimates leave it and re-estimates those whose pixels another claims");
+  app.add_flag("--scene-pass,!--no-scene-pass", ta.scene_pass,
+               "ycbv (not --prior masks): after the per-object estimates, the joint scene pass (posefilter/scene_pass.h) "
+               "re-weighs each object against the pixels better estimates leave it and re-estimates one whose pixels "
+               "another claims")
+      ->capture_default_str();
   app.add_option("--write-scenes", ta.write_dir, "ycbv: also write every scene to DIR/scene_<seed>/ (for peers)");
   app.add_option("--json", json_path, "also write the table as JSON");
   AddFilterOptions(app, &opt);
@@ -362,9 +364,10 @@ int RunSuite(int argc, char** argv) {
     CheckFilterOptions(opt);
     if (count < 1) throw Error("--count must be >= 1");
     CheckOutputPaths({{json_path, "--json"}}, {{ta.models_dir, "--models"}, {ta.write_dir, "--write-scenes"}});
-    if (ta.scene_pass && world != "ycbv") throw Error("--scene-pass needs --world ycbv (scenes of several objects)");
-    if (ta.scene_pass && ta.prior_kind == "masks")
-      throw Error("--scene-pass needs one prior shared by the scene's objects; --prior masks gives each its own");
+    // The scene pass needs scenes of several objects sharing one prior (--prior masks gives each its own).
+    if (app.count("--scene-pass") && ta.scene_pass && (world != "ycbv" || ta.prior_kind == "masks"))
+      throw Error("--scene-pass needs --world ycbv and a prior the scene's objects share (not --prior masks)");
+    if (ta.prior_kind == "masks") ta.scene_pass = false;
     if (world == "ycbv") {
       table.box_jitter_px = synth.box_jitter_px;
       table.false_positives = synth.false_positives;

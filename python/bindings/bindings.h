@@ -45,6 +45,7 @@
 #include "posefilter/prior.h"
 #include "posefilter/projection.h"
 #include "posefilter/render.h"
+#include "posefilter/scene_pass.h"
 #include "posefilter/rng.h"
 #include "posefilter/scene_io.h"
 #include "posefilter/synth.h"

@@ -47,7 +47,7 @@ class Estimator {
   // See the docstring in PYBIND11_MODULE.
   py::object Estimate(py::handle depth, const Camera& camera, py::handle mesh_arg, py::handle prior_arg,
                       py::handle obj_arg, std::optional<double> depth_scale, py::handle progress,
-                      py::handle mask_arg) const {
+                      py::handle mask_arg, bool scene_pass) const {
     CheckedCamera(camera, "camera");
     SceneInput scene{DepthFrom(depth, depth_scale, &camera, "depth"), camera};
     ValidateScene(scene, "depth");
@@ -143,6 +143,22 @@ class Estimator {
         scene.seeds = i < seeds.size() ? seeds[i] : std::vector<PoseSeed>{};
         out.items.push_back(EstimatePose(scene, meshes[i], prior, cls[i], options_, fn));
         out.items.back().obj = name;
+      }
+      // Several objects sharing the prior: the joint scene pass (posefilter/scene_pass.h).
+      if (scene_pass && meshes.size() > 1 && scene.mask.empty()) {
+        std::vector<SceneObject> objects;
+        for (std::size_t i = 0; i < meshes.size(); ++i) objects.push_back({&meshes[i], cls[i], out.items[i]});
+        scene.seeds.clear();
+        const std::vector<ScenePassResult> passed = RunScenePass(scene, prior, objects, options_);
+        for (std::size_t i = 0; i < passed.size(); ++i) {
+          if (passed[i].replaced) {
+            const int iterations = out.items[i].iterations;
+            out.items[i] = passed[i].estimate;
+            out.items[i].iterations += iterations;
+          }
+          out.items[i].time_ms += passed[i].time_ms;
+          out.items[i].obj = objs[i];
+        }
       }
     }
     if (!batch) return py::cast(std::move(out.items[0]));
@@ -242,13 +258,16 @@ void BindEstimation(py::module_& m) {
       })
       .def("estimate", &Estimator::Estimate, "depth"_a, "camera"_a, "mesh"_a, "prior"_a = py::none(), py::kw_only(),
            "obj"_a = py::none(), "depth_scale"_a = py::none(), "progress"_a = py::none(), "mask"_a = py::none(),
+           "scene_pass"_a = true,
            "Pose(s) of mesh (a Mesh → Result; a list of Mesh → BatchResult) in depth (H x W float metres, or "
            "uint16 with depth_scale). prior: None (uniform, or the mask's box), 'auto' (no detector: candidate "
            "regions of the depth), a Prior, a detections JSON path, "
            "or a list of Detection/dicts. obj: prior class name(s), default the meshes' names. mask: the "
            "object's instance mask (H x W, non-zero = the object; one Mesh), scored against. progress(obj, "
            "iteration, best_weight) is called after each iteration (best_weight: the best at the final inlier "
-           "threshold, never falling; NaN while the first run anneals). Runs without the GIL.")
+           "threshold, never falling; NaN while the first run anneals). scene_pass (a list of Mesh, no mask): after "
+           "the per-object estimates, the joint scene pass re-estimates an object whose pixels a better estimate "
+           "explains. Runs without the GIL.")
       .def("__repr__", [](const Estimator& e) {
         const auto& o = e.options();
         return "Estimator(particles=" + std::to_string(o.num_particles) + ", iterations=" +
