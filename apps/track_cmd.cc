@@ -88,6 +88,9 @@ int RunTrack(int argc, char** argv) {
   app.add_option("--search-r", topt.search_r_rad, "sigma of their rotation (rad)")->capture_default_str();
   app.add_option("--window-margin", topt.window_margin, "search window: the poses' boxes grown by this fraction per side, (0, 2]")
       ->capture_default_str();
+  app.add_flag("--scene-pass,!--no-scene-pass", topt.scene_pass,
+               "objects estimated from one frame's stage 1 go through the joint scene pass together")
+      ->capture_default_str();
   app.add_flag("--no-velocity", no_velocity, "predict the last pose (default: the last pose moved by the last frame-to-frame motion)");
   app.add_option("--csv", csv_path, "write one row per frame and object here");
   app.add_option("--out-dir", out_dir, "write one results JSON per frame here (<frame>.json)");

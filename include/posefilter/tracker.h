@@ -11,7 +11,8 @@
 //      re-initialised by a full estimate (TrackOptions::init) from the frame's stage 1, if
 //      the caller gives one, and stays lost otherwise (the next frames search about its last
 //      tracked pose again). A weight below refresh_weight also asks the stage 1, and its pose
-//      wins where it weighs more.
+//      wins where it weighs more. Objects estimated from one stage 1 in the same frame go
+//      through the joint scene pass together (scene_pass).
 // An object with no pose yet (never started: no Reset and no stage 1 so far) starts from the
 // stage 1 the same way.
 //
@@ -60,6 +61,9 @@ struct TrackOptions {
   double search_r_rad = 0.05;
   // Predict by the last frame-to-frame motion (false: the last pose).
   bool constant_velocity = true;
+  // When several objects are estimated from one frame's stage 1, run the joint scene pass
+  // (posefilter/scene_pass.h) over them with `init`'s options.
+  bool scene_pass = true;
   // The search window: both poses' projected boxes, united and grown by this fraction of
   // their size on each side, (0, 2].
   double window_margin = 0.25;
@@ -139,7 +143,11 @@ class Tracker {
   bool MakeWindow(const Camera& cam, const Box& a, const Box& b, std::size_t k, Window* out) const;
   FilterOptions StepOptions(std::uint64_t seed) const;
   TrackResult Search(const Camera& cam, std::size_t k);
-  TrackResult Initialise(const SceneInput& frame, std::size_t k, const TrackStage1& stage1);
+  // The full estimate of object k from the stage 1 (*est, *cls: its result and class, when it
+  // ran), judged by Judge.
+  TrackResult Initialise(const SceneInput& frame, std::size_t k, const TrackStage1& stage1, EstimateResult* est, int* cls);
+  // An estimate of object k weighed as a search would weigh it, and its status by lost_weight.
+  TrackResult Judge(const Camera& cam, std::size_t k, const EstimateResult& e) const;
   void Accept(std::size_t k, const TrackResult& r);
 
   std::vector<Mesh> meshes_;      // as given

@@ -19,12 +19,12 @@ class PyTracker {
  public:
   PyTracker(py::handle meshes_arg, py::handle init_arg, const py::kwargs& kw) {
     TrackOptions o;
-    std::set<std::string> own = {"constant_velocity"};
+    std::set<std::string> own = {"constant_velocity", "scene_pass"};
     for (const auto& k : kTrackKeywords) own.insert(k.name);
     for (const auto& item : kw) {
       const std::string name = py::str(item.first);
-      if (name == "constant_velocity") {
-        o.constant_velocity = item.second.cast<bool>();
+      if (name == "constant_velocity" || name == "scene_pass") {
+        (name == "scene_pass" ? o.scene_pass : o.constant_velocity) = item.second.cast<bool>();
         continue;
       }
       for (const auto& k : kTrackKeywords)
@@ -134,7 +134,7 @@ void BindTracking(py::module_& m) {
                         "(docs/PYTHON.md, 'Tracking').\n\n"
                         "Tracker(meshes, init=None, **options): meshes a Mesh or a list (their names are the "
                         "objects); options: lost_weight, refresh_weight, search_t (m), search_r (rad), "
-                        "window_margin, constant_velocity, and any Estimator option for the tracking step "
+                        "window_margin, constant_velocity, scene_pass, and any Estimator option for the tracking step "
                         "(defaults: Tracker.defaults()); init: a dict of Estimator options for the full estimate "
                         "that starts and restarts objects.")
       .def(py::init([](py::handle meshes, py::handle init, const py::kwargs& kw) { return PyTracker(meshes, init, kw); }),
@@ -144,6 +144,7 @@ void BindTracking(py::module_& m) {
         py::dict d = KeywordDict(o.filter, FilterKeywords());
         for (const auto& k : kTrackKeywords) d[k.name] = o.*k.field;
         d["constant_velocity"] = o.constant_velocity;
+        d["scene_pass"] = o.scene_pass;
         return d;
       }, "dict of the default options (the tracking step's filter options and the tracker's own)")
       .def("reset", &PyTracker::Reset, "obj"_a, "pose"_a, "Start (or restart) obj at a known 4x4 pose (object → camera).")

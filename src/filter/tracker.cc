@@ -13,6 +13,7 @@
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
 #include "posefilter/rng.h"
+#include "posefilter/scene_pass.h"
 #include "posefilter/support_plane.h"
 
 namespace posefilter {
@@ -270,7 +271,8 @@ TrackResult Tracker::Search(const Camera& cam, std::size_t k) {
   return r;
 }
 
-TrackResult Tracker::Initialise(const SceneInput& frame, std::size_t k, const TrackStage1& stage1) {
+TrackResult Tracker::Initialise(const SceneInput& frame, std::size_t k, const TrackStage1& stage1, EstimateResult* est,
+                                int* cls) {
   const auto t0 = Clock::now();
   const Mesh& mesh = meshes_[k];
   TrackResult r;
@@ -280,27 +282,36 @@ TrackResult Tracker::Initialise(const SceneInput& frame, std::size_t k, const Tr
   const auto& classes = stage1.prior.classes;
   const auto it = std::find(classes.begin(), classes.end(), mesh.name);
   if (it == classes.end()) return r;
+  *cls = int(it - classes.begin());
   SceneInput scene{frame.depth, frame.camera};
   if (const auto s = stage1.seeds.find(mesh.name); s != stage1.seeds.end()) scene.seeds = s->second;
   FilterOptions o = options_.init;
   o.seed = StepSeed(options_.filter.seed, frame_, k, 2);
   try {
-    const EstimateResult e = EstimatePose(scene, mesh, stage1.prior, int(it - classes.begin()), o);
-    r.T_cam_obj = e.T_cam_obj;
-    r.iterations = e.iterations;
-    // Judged by the tracking weight (the tracker's α, β, γ, in the window a search would use),
-    // so that one threshold serves both.
-    const Box b = CornerBox(lod_[k], e.T_cam_obj, frame.camera, options_.filter.render.near_m);
-    Window win;
-    if (MakeWindow(frame.camera, b, b, k, &win)) {
-      const Pose6 pose = TransformToPose(win.scene.camera.base_to_camera.inverse() * e.T_cam_obj);
-      r.weight = WeighPoses(win.scene, lod_[k], win.prior, 0, StepOptions(o.seed), {{pose, win.centre_cell}})[0];
-      r.status = r.weight >= options_.lost_weight ? TrackStatus::kInitialised : TrackStatus::kLost;
-    }
+    *est = EstimatePose(scene, mesh, stage1.prior, *cls, o);
+    r = Judge(frame.camera, k, *est);
   } catch (const Error&) {
     // The stage 1 holds no usable cell for the object in this frame.
   }
   r.time_ms = MsSince(t0);
+  return r;
+}
+
+TrackResult Tracker::Judge(const Camera& cam, std::size_t k, const EstimateResult& e) const {
+  TrackResult r;
+  r.obj = meshes_[k].name;
+  r.status = TrackStatus::kLost;
+  r.T_cam_obj = e.T_cam_obj;
+  r.iterations = e.iterations;
+  // Weighed as a search would weigh it (the tracker's α, β, γ, in the window about the pose),
+  // so that one threshold serves both.
+  const Box b = CornerBox(lod_[k], e.T_cam_obj, cam, options_.filter.render.near_m);
+  Window win;
+  if (MakeWindow(cam, b, b, k, &win)) {
+    const Pose6 pose = TransformToPose(win.scene.camera.base_to_camera.inverse() * e.T_cam_obj);
+    r.weight = WeighPoses(win.scene, lod_[k], win.prior, 0, StepOptions(options_.filter.seed), {{pose, win.centre_cell}})[0];
+    r.status = r.weight >= options_.lost_weight ? TrackStatus::kInitialised : TrackStatus::kLost;
+  }
   return r;
 }
 
@@ -366,8 +377,38 @@ std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn&
       need.push_back(k);
   if (!need.empty() && stage1) {
     const TrackStage1 s1 = stage1(frame);
+    std::vector<TrackResult> inits(meshes_.size());
+    std::vector<SceneObject> joint;  // the objects estimated from the stage 1 in this frame
+    std::vector<std::size_t> joint_k;
     for (std::size_t k : need) {
-      const TrackResult init = Initialise(frame, k, s1);
+      EstimateResult est;
+      int cls = -1;
+      inits[k] = Initialise(frame, k, s1, &est, &cls);
+      if (est.iterations > 0) joint.push_back({&meshes_[k], cls, est}), joint_k.push_back(k);
+    }
+    // Several objects from one stage 1: the joint scene pass (§17), so that two of them do not
+    // settle on one object's pixels.
+    if (options_.scene_pass && joint.size() > 1) {
+      const auto t0 = Clock::now();
+      FilterOptions o = options_.init;
+      o.seed = StepSeed(options_.filter.seed, frame_, 0, 3);
+      const std::vector<ScenePassResult> passed = RunScenePass(SceneInput{frame.depth, frame.camera}, s1.prior, joint, o);
+      const double share = MsSince(t0) / double(joint.size());
+      for (std::size_t j = 0; j < passed.size(); ++j) {
+        TrackResult& init = inits[joint_k[j]];
+        if (passed[j].replaced) {
+          const TrackResult again = Judge(frame.camera, joint_k[j], passed[j].estimate);
+          if (again.weight > init.weight) {
+            const double time_ms = init.time_ms;
+            init = again;
+            init.time_ms = time_ms;
+          }
+        }
+        init.time_ms += share;
+      }
+    }
+    for (std::size_t k : need) {
+      const TrackResult& init = inits[k];
       const double spent = out[k].time_ms;
       // A lost (or new) object takes the stage 1's pose when that is found, or at least better;
       // a tracked one only when the stage 1's is found and weighs more.
