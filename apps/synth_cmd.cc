@@ -59,7 +59,7 @@ int RunSynth(int argc, char** argv) {
                  "+ OUT/models/ (for track and run-dataset)");
   app.add_option("--speed", motion.speed_m, "--sequence: the target's slide per frame along the table (m)")->capture_default_str();
   app.add_option("--turn", motion.turn_rad, "--sequence: its turn per frame about the table's normal (rad)")->capture_default_str();
-  app.add_option("--jump-frame", motion.jump_frame, "--sequence: from this frame (from 0) on, the target is also displaced by --jump (-1 = never)")
+  app.add_option("--jump-frame", motion.jump_frame, "--sequence: from this frame on (1 or later; frames count from 0), the target is also displaced by --jump (-1 = never)")
       ->capture_default_str();
   app.add_option("--jump", motion.jump_m, "--sequence: the jump's length along the slide (m)")->capture_default_str();
 

@@ -104,15 +104,17 @@ struct SynthMotion {
   int frames = 10;          // [1, 1000]
   double speed_m = 0.01;    // slide per frame, metres, [0, 0.5]
   double turn_rad = 0.05;   // turn per frame, radians, [−π, π]
-  int jump_frame = -1;      // −1 = no jump, else in [0, frames)
+  int jump_frame = -1;      // −1 = no jump, else in [1, frames)
   double jump_m = 0;        // [0, 1] metres
   bool IsValid(std::string* why) const;
 };
 
-// The frames of a sequence: frame 0 is MakeSynthScene(opt, seed); in frame t the target has
+// The frames of a sequence: frame 0 is MakeSynthScene(opt, seed), except that clutter keeps
+// clear of the target's whole path (an object the single scene puts on the path is placed
+// elsewhere; the table, the target's pose and the detections stay); in frame t the target has
 // moved as `motion` says (gt, gt_box, detections, labels and occlusion_achieved follow it),
-// and the sensor noise, holes and detection jitter are drawn anew. Clutter keeps clear of the
-// target's whole path; a target that leaves the image is rendered as it is (gt still holds it).
+// and the sensor noise, holes and detection jitter are drawn anew. A target that leaves the
+// image is rendered as it is (gt still holds it).
 // Throws Error for invalid options or motion (naming the field), or occlusion > 0 (a sequence
 // has no occluder panel).
 std::vector<SynthScene> MakeSynthSequence(const SynthOptions& opt, const SynthMotion& motion, std::uint64_t seed);

@@ -2,7 +2,7 @@
 //
 // Per frame and object (docs/ALGORITHM.md, "Tracking"):
 //   1. predict: the last pose, moved by the last frame-to-frame motion (constant velocity) when
-//      the object was tracked in the two frames before;
+//      the object had a pose in the two frames before (tracked, or Reset and then tracked);
 //   2. search: a short particle filter run (TrackOptions::filter: few particles, few iterations,
 //      no annealing, small moves) whose initial particles are the predicted and the last pose
 //      jittered by (search_t_m, search_r_rad), weighed in a window around both poses'

@@ -286,8 +286,9 @@ namespace {
 
 // The scene of MakeSynthScene, or each frame of MakeSynthSequence (motion != nullptr): the world
 // (table, target at frame 0, occluder, clutter) is built once; then per frame the target is
-// moved (TargetAt) and everything rendered, with the sensor model and the prior drawn from
-// streams that run on from frame to frame. Frame 0 is MakeSynthScene(opt, seed).
+// moved (target_at) and everything rendered, with the sensor model and the prior drawn from
+// streams that run on from frame to frame. Frame 0 is MakeSynthScene(opt, seed) but for clutter
+// that would stand on the target's path, which is placed elsewhere.
 std::vector<SynthScene> BuildScenes(const SynthOptions& opt, std::uint64_t seed, const SynthMotion* motion) {
   std::string why;
   if (!opt.IsValid(&why)) throw Error("synth options: " + why);
@@ -531,7 +532,8 @@ bool SynthMotion::IsValid(std::string* why) const {
   if (frames < 1 || frames > 1000) return fail("frames must be in [1, 1000]");
   if (!InRange(speed_m, 0.0, 0.5)) return fail("speed_m must be in [0, 0.5] m per frame");
   if (!InRange(turn_rad, -M_PI, M_PI)) return fail("turn_rad must be in [-pi, pi] rad per frame");
-  if (jump_frame < -1 || jump_frame >= frames) return fail("jump_frame must be -1 (none) or a frame in [0, frames)");
+  if (jump_frame != -1 && (jump_frame < 1 || jump_frame >= frames))
+    return fail("jump_frame must be -1 (none) or a frame in [1, frames) (frame 0 is the seed's scene)");
   if (!InRange(jump_m, 0.0, 1.0)) return fail("jump_m must be in [0, 1] m");
   return true;
 }

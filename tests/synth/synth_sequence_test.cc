@@ -43,7 +43,7 @@ SynthOptions Lshape(int clutter = 2) {
 TEST(SynthMotionTest, DefaultsAndRangeEdgesAreValidAndEachBadFieldIsNamed) {
   std::string why;
   EXPECT_TRUE(SynthMotion{}.IsValid(&why)) << why;
-  for (const SynthMotion& ok : {Motion(1, 0, 0), Motion(1000, 0.5, M_PI), Motion(5, 0.01, -M_PI, 0, 0),
+  for (const SynthMotion& ok : {Motion(1, 0, 0), Motion(1000, 0.5, M_PI), Motion(5, 0.01, -M_PI, 1, 0),
                                 Motion(5, 0.01, 0.1, 4, 1.0), Motion(5, 0.01, 0.1, -1, 0.3)})
     EXPECT_TRUE(ok.IsValid(&why)) << why;
   const double nan = std::nan("");
@@ -108,18 +108,21 @@ TEST(SynthSequenceTest, FrameZeroIsMakeSynthSceneBitForBit) {
   ExpectFrameZeroIsTheScene(box, Motion(2, 0.0, 0.0), 7);
 }
 
-// BUG (reported, not fixed): synth.h promises both that frame 0 is MakeSynthScene(opt, seed)
-// and that the clutter keeps clear of the target's whole path. MakeSynthSequence rejects a
-// clutter placement that MakeSynthScene accepts when it lies on the path, and its frame 0 then
-// differs. With the CLI's defaults (lshape, clutter 3, 10 frames of 1 cm and 0.05 rad) 4 of
-// seeds 1..20 differ (4, 9, 12, 13): `posefilter synth --seed 4 --target lshape --out A` and
-// `posefilter synth --sequence 10 --seed 4 --target lshape --out B` write different
-// A/scene_000/depth.png and B/scenes/synth_0000_000001/depth.png. Enable once one of the two
-// promises is changed (and adjust it to the one that stays).
-TEST(SynthSequenceTest, DISABLED_FrameZeroIsMakeSynthSceneEvenWhenThePathCrossesClutter) {
+// Where a clutter placement of the single scene would stand on the target's path, the
+// sequence places that object elsewhere, so frame 0 differs from MakeSynthScene there (seeds 4
+// and 9 of the lshape with clutter 3 and 10 frames of 1 cm / 0.05 rad); the table, the target's
+// pose and the detections stay the scene's.
+TEST(SynthSequenceTest, FrameZeroKeepsTheScenesTargetWhenThePathCrossesClutter) {
   SynthOptions o;
   o.target = "lshape";
-  for (std::uint64_t seed : {4, 9}) ExpectFrameZeroIsTheScene(o, Motion(10, 0.01, 0.05), seed);
+  for (std::uint64_t seed : {4, 9}) {
+    const SynthScene one = MakeSynthScene(o, seed);
+    const SynthScene f0 = MakeSynthSequence(o, Motion(10, 0.01, 0.05), seed).front();
+    EXPECT_TRUE(f0.gt[0].T_cam_obj.matrix() == one.gt[0].T_cam_obj.matrix()) << seed;
+    EXPECT_EQ(f0.table_angle_rad, one.table_angle_rad) << seed;
+    EXPECT_EQ(f0.gt_box.cx, one.gt_box.cx) << seed;
+    EXPECT_FALSE(f0.depth.data == one.depth.data) << seed << ": the clutter on the path should have moved";
+  }
 }
 
 // The table's upward normal u (SynthScene::table_angle_rad α: u = (0, −cos α, −sin α)).
@@ -209,15 +212,9 @@ TEST(SynthSequenceTest, TheJumpDisplacesTheTargetFromTheJumpFrameOn) {
   EXPECT_NEAR(step23, 0.005, 1e-9);
 }
 
-// BUG (reported, not fixed): SynthMotion::IsValid accepts jump_frame 0 and synth.h says the
-// target is displaced "from jump_frame on", but BuildScenes' target_at(0) always returns the
-// unmoved pose: frame 0 is not displaced, frames ≥ 1 are, so jump_frame 0 behaves exactly as
-// jump_frame 1 (`posefilter synth --sequence 3 --jump-frame 0 --jump 0.05` puts the jump
-// between frames 0 and 1). Either IsValid should refuse 0 (frame 0 is MakeSynthScene's) or
-// frame 0 should move; enable and adjust once decided.
-TEST(SynthSequenceTest, DISABLED_AJumpAtFrameZeroDisplacesFrameZero) {
-  const SynthMotion at0 = Motion(3, 0.01, 0.0, 0, 0.05);
-  ExpectTheMotion(MakeSynthSequence(Lshape(0), at0, 3), at0);
+// Frame 0 is the scene as the seed makes it, so a jump starts at frame 1 at the earliest.
+TEST(SynthSequenceTest, AJumpAtFrameZeroIsRefused) {
+  ExpectInvalid(Motion(3, 0.01, 0.0, 0, 0.05), "jump_frame");
 }
 
 TEST(SynthSequenceTest, TheSensorNoiseIsDrawnAnewPerFrameAndTheWorldStays) {
