@@ -228,11 +228,7 @@ int RunTrack(int argc, char** argv) {
         const auto t0 = std::chrono::steady_clock::now();
         TrackStage1 s;
         if (prior_arg == "auto") {
-          std::vector<const Mesh*> ms;
-          for (const Mesh& m : tracker.meshes()) ms.push_back(&m);
-          AutoStage1 a = AutoPriorForMeshes(fr.depth, fr.camera, ms, names, f.name + ": --prior auto", cache_dir);
-          s.prior = std::move(a.prior);
-          for (std::size_t k = 0; k < names.size(); ++k) s.seeds[names[k]] = std::move(a.seeds[k]);
+          s = AutoTrackStage1(fr, tracker.meshes(), cache_dir, f.name + ": --prior auto");
         } else if (prior_arg == "none") {
           s.prior = UniformPrior(PyramidLayout::Thesis(fr.camera.width, fr.camera.height, int(names.size())), names);
         } else {

@@ -105,6 +105,12 @@ struct TrackStage1 {
 // every object is tracked.
 using Stage1Fn = std::function<TrackStage1(const SceneInput& frame)>;
 
+// The no-detector stage 1 of `--prior auto` for `frame` and the tracker's meshes:
+// AutoPriorForMeshes (PPF models cached in cache_dir, "" = no cache) as a TrackStage1, the
+// seeds by mesh name. Throws Error naming `what` as AutoPriorForMeshes does.
+TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<Mesh>& meshes, const std::string& cache_dir,
+                            const std::string& what);
+
 class Tracker {
  public:
   // Tracks `meshes` (metres, each named: the names are the object names; distinct). Throws

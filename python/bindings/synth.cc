@@ -30,12 +30,7 @@ std::vector<SynthScene> MakeSequence(int frames, std::uint64_t seed, double spee
                                      const py::kwargs& kw) {
   Mesh target_mesh;
   const SynthOptions opt = SynthOptionsFrom(kw, "make_synth_sequence", {}, &target_mesh);
-  SynthMotion motion;
-  motion.frames = frames;
-  motion.speed_m = speed;
-  motion.turn_rad = turn;
-  motion.jump_frame = jump_frame;
-  motion.jump_m = jump;
+  const SynthMotion motion{frames, speed, turn, jump_frame, jump};
   std::string why;
   if (!motion.IsValid(&why)) Fail("make_synth_sequence: invalid motion: " + why);
   py::gil_scoped_release release;

@@ -83,12 +83,8 @@ class PyTracker {
     TrackStage1 fixed;
     if (arg.is_none()) {
     } else if (py::isinstance<py::str>(arg) && arg.cast<std::string>() == "auto") {
-      stage1 = [&names, &meshes](const SceneInput& fr) {
-        AutoStage1 a = AutoPriorForMeshes(fr.depth, fr.camera, meshes, names, "prior 'auto'", DefaultPpfCacheDir());
-        TrackStage1 s;
-        s.prior = std::move(a.prior);
-        for (std::size_t k = 0; k < names.size(); ++k) s.seeds[names[k]] = std::move(a.seeds[k]);
-        return s;
+      stage1 = [this](const SceneInput& fr) {
+        return AutoTrackStage1(fr, tracker_->meshes(), DefaultPpfCacheDir(), "prior 'auto'");
       };
     } else if (PyCallable_Check(arg.ptr()) && !py::isinstance<Prior>(arg)) {
       stage1 = [&arg, &to_stage1, &depth](const SceneInput& fr) {

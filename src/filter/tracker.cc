@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/threads.h"
+#include "posefilter/auto_prior.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
@@ -107,6 +108,18 @@ PyramidLayout CropLayout(int w, int h) {
 }
 
 }  // namespace
+
+TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<Mesh>& meshes, const std::string& cache_dir,
+                            const std::string& what) {
+  std::vector<const Mesh*> ms;
+  std::vector<std::string> names;
+  for (const Mesh& m : meshes) ms.push_back(&m), names.push_back(m.name);
+  AutoStage1 a = AutoPriorForMeshes(frame.depth, frame.camera, ms, names, what, cache_dir);
+  TrackStage1 s;
+  s.prior = std::move(a.prior);
+  for (std::size_t k = 0; k < names.size(); ++k) s.seeds[names[k]] = std::move(a.seeds[k]);
+  return s;
+}
 
 FilterOptions TrackingFilterOptions() {
   FilterOptions o;

@@ -35,16 +35,6 @@ SynthOptions SeqOptions() {
   return so;
 }
 
-SynthMotion Motion(int frames, double speed, double turn, int jump_frame = -1, double jump = 0) {
-  SynthMotion m;
-  m.frames = frames;
-  m.speed_m = speed;
-  m.turn_rad = turn;
-  m.jump_frame = jump_frame;
-  m.jump_m = jump;
-  return m;
-}
-
 SceneInput Input(const SynthScene& s) { return SceneInput{s.depth, s.camera}; }
 
 // Tracker options: the default tracking step with `seed` and `threads`, and a small budget for
@@ -89,9 +79,9 @@ class TrackerTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     // A slide of 1 cm and a turn of 0.05 rad per frame.
-    moving_ = new std::vector<SynthScene>(MakeSynthSequence(SeqOptions(), Motion(6, 0.01, 0.05), 21));
+    moving_ = new std::vector<SynthScene>(MakeSynthSequence(SeqOptions(), SynthMotion{6, 0.01, 0.05}, 21));
     // Half a centimetre per frame, then a 15 cm jump at frame 2: far beyond the search.
-    jump_ = new std::vector<SynthScene>(MakeSynthSequence(SeqOptions(), Motion(4, 0.005, 0.0, 2, 0.15), 22));
+    jump_ = new std::vector<SynthScene>(MakeSynthSequence(SeqOptions(), SynthMotion{4, 0.005, 0.0, 2, 0.15}, 22));
   }
   static void TearDownTestSuite() {
     delete moving_;
@@ -171,7 +161,7 @@ TEST_F(TrackerTest, ConstantVelocityFollowsATargetFasterThanTheSearch) {
   // 5 cm per frame, five times the search's σ: the prediction by the last frame-to-frame motion
   // keeps it (without it, seed 21 loses the target from frame 3 on today).
   for (const std::uint64_t seed : {21, 30}) {
-    const std::vector<SynthScene> seq = MakeSynthSequence(SeqOptions(), Motion(6, 0.05, 0.0), seed);
+    const std::vector<SynthScene> seq = MakeSynthSequence(SeqOptions(), SynthMotion{6, 0.05, 0.0}, seed);
     const std::vector<TrackResult> rs = TrackFromGt(seq, Options());
     for (std::size_t t = 0; t < rs.size(); ++t) {
       EXPECT_EQ(rs[t].status, TrackStatus::kTracked) << "seed " << seed << ", frame " << t << ": " << Describe(rs);
@@ -372,7 +362,7 @@ TEST_F(TrackerTest, TwoObjectsSearchedOnSeveralThreadsGiveTheResultsOfOneThread)
 TEST_F(TrackerTest, ATargetThatLeavesTheImageIsReportedLostNeverACrash) {
   SynthOptions so = SeqOptions();
   so.clutter = 0;  // nothing else for the search to lock onto
-  const std::vector<SynthScene> seq = MakeSynthSequence(so, Motion(8, 0.12, 0.0), 23);
+  const std::vector<SynthScene> seq = MakeSynthSequence(so, SynthMotion{8, 0.12, 0.0}, 23);
   std::size_t out_of_view = 0;
   for (const auto& s : seq) out_of_view += TargetPixels(s) == 0;
   ASSERT_GE(out_of_view, 2u) << "the target should leave the image";

@@ -22,16 +22,6 @@ namespace fs = std::filesystem;
 using testing_util::ExpectError;
 using testing_util::ExpectInvalid;
 
-SynthMotion Motion(int frames, double speed, double turn, int jump_frame = -1, double jump = 0) {
-  SynthMotion m;
-  m.frames = frames;
-  m.speed_m = speed;
-  m.turn_rad = turn;
-  m.jump_frame = jump_frame;
-  m.jump_m = jump;
-  return m;
-}
-
 SynthOptions Lshape(int clutter = 2) {
   SynthOptions o;
   o.target = "lshape";
@@ -43,35 +33,35 @@ SynthOptions Lshape(int clutter = 2) {
 TEST(SynthMotionTest, DefaultsAndRangeEdgesAreValidAndEachBadFieldIsNamed) {
   std::string why;
   EXPECT_TRUE(SynthMotion{}.IsValid(&why)) << why;
-  for (const SynthMotion& ok : {Motion(1, 0, 0), Motion(1000, 0.5, M_PI), Motion(5, 0.01, -M_PI, 1, 0),
-                                Motion(5, 0.01, 0.1, 4, 1.0), Motion(5, 0.01, 0.1, -1, 0.3)})
+  for (const SynthMotion& ok : {SynthMotion{1, 0, 0}, SynthMotion{1000, 0.5, M_PI}, SynthMotion{5, 0.01, -M_PI, 1, 0},
+                                SynthMotion{5, 0.01, 0.1, 4, 1.0}, SynthMotion{5, 0.01, 0.1, -1, 0.3}})
     EXPECT_TRUE(ok.IsValid(&why)) << why;
   const double nan = std::nan("");
-  ExpectInvalid(Motion(0, 0.01, 0), "frames");
-  ExpectInvalid(Motion(1001, 0.01, 0), "frames");
-  ExpectInvalid(Motion(5, -0.01, 0), "speed_m");
-  ExpectInvalid(Motion(5, 0.51, 0), "speed_m");
-  ExpectInvalid(Motion(5, nan, 0), "speed_m");
-  ExpectInvalid(Motion(5, 0.01, 3.2), "turn_rad");
-  ExpectInvalid(Motion(5, 0.01, -3.2), "turn_rad");
-  ExpectInvalid(Motion(5, 0.01, nan), "turn_rad");
-  ExpectInvalid(Motion(5, 0.01, 0, -2, 0.1), "jump_frame");
-  ExpectInvalid(Motion(5, 0.01, 0, 5, 0.1), "jump_frame");
-  ExpectInvalid(Motion(5, 0.01, 0, 2, -0.1), "jump_m");
-  ExpectInvalid(Motion(5, 0.01, 0, 2, 1.5), "jump_m");
-  ExpectInvalid(Motion(5, 0.01, 0, 2, nan), "jump_m");
-  EXPECT_FALSE(Motion(0, 0, 0).IsValid(nullptr));
+  ExpectInvalid(SynthMotion{0, 0.01, 0}, "frames");
+  ExpectInvalid(SynthMotion{1001, 0.01, 0}, "frames");
+  ExpectInvalid(SynthMotion{5, -0.01, 0}, "speed_m");
+  ExpectInvalid(SynthMotion{5, 0.51, 0}, "speed_m");
+  ExpectInvalid(SynthMotion{5, nan, 0}, "speed_m");
+  ExpectInvalid(SynthMotion{5, 0.01, 3.2}, "turn_rad");
+  ExpectInvalid(SynthMotion{5, 0.01, -3.2}, "turn_rad");
+  ExpectInvalid(SynthMotion{5, 0.01, nan}, "turn_rad");
+  ExpectInvalid(SynthMotion{5, 0.01, 0, -2, 0.1}, "jump_frame");
+  ExpectInvalid(SynthMotion{5, 0.01, 0, 5, 0.1}, "jump_frame");
+  ExpectInvalid(SynthMotion{5, 0.01, 0, 2, -0.1}, "jump_m");
+  ExpectInvalid(SynthMotion{5, 0.01, 0, 2, 1.5}, "jump_m");
+  ExpectInvalid(SynthMotion{5, 0.01, 0, 2, nan}, "jump_m");
+  EXPECT_FALSE((SynthMotion{0, 0, 0}.IsValid(nullptr)));
 }
 
 TEST(SynthSequenceTest, RejectsBadMotionBadOptionsAndAnOccluder) {
-  ExpectError([] { MakeSynthSequence(Lshape(), Motion(0, 0.01, 0), 1); }, {"synth motion", "frames"});
-  ExpectError([] { MakeSynthSequence(Lshape(), Motion(3, 0.01, 0, 3, 0.1), 1); }, {"jump_frame"});
+  ExpectError([] { MakeSynthSequence(Lshape(), SynthMotion{0, 0.01, 0}, 1); }, {"synth motion", "frames"});
+  ExpectError([] { MakeSynthSequence(Lshape(), SynthMotion{3, 0.01, 0, 3, 0.1}, 1); }, {"jump_frame"});
   SynthOptions occluded = Lshape();
   occluded.occlusion = 0.3;
-  ExpectError([&] { MakeSynthSequence(occluded, Motion(3, 0.01, 0), 1); }, {"occlusion must be 0"});
+  ExpectError([&] { MakeSynthSequence(occluded, SynthMotion{3, 0.01, 0}, 1); }, {"occlusion must be 0"});
   SynthOptions bad = Lshape();
   bad.target = "teapot";
-  ExpectError([&] { MakeSynthSequence(bad, Motion(3, 0.01, 0), 1); }, {"synth options", "teapot"});
+  ExpectError([&] { MakeSynthSequence(bad, SynthMotion{3, 0.01, 0}, 1); }, {"synth options", "teapot"});
 }
 
 // Frame 0 of a sequence is MakeSynthScene(opt, seed), bit for bit. The clutter must keep
@@ -100,12 +90,12 @@ void ExpectFrameZeroIsTheScene(const SynthOptions& opt, const SynthMotion& motio
 }
 
 TEST(SynthSequenceTest, FrameZeroIsMakeSynthSceneBitForBit) {
-  ExpectFrameZeroIsTheScene(Lshape(2), Motion(6, 0.01, 0.05), 21);
-  ExpectFrameZeroIsTheScene(Lshape(0), Motion(3, 0.02, -0.1), 4);
+  ExpectFrameZeroIsTheScene(Lshape(2), SynthMotion{6, 0.01, 0.05}, 21);
+  ExpectFrameZeroIsTheScene(Lshape(0), SynthMotion{3, 0.02, -0.1}, 4);
   SynthOptions box = Lshape(3);
   box.target = "box";
   box.false_positives = 2;
-  ExpectFrameZeroIsTheScene(box, Motion(2, 0.0, 0.0), 7);
+  ExpectFrameZeroIsTheScene(box, SynthMotion{2, 0.0, 0.0}, 7);
 }
 
 // Where a clutter placement of the single scene would stand on the target's path, the
@@ -117,7 +107,7 @@ TEST(SynthSequenceTest, FrameZeroKeepsTheScenesTargetWhenThePathCrossesClutter) 
   o.target = "lshape";
   for (std::uint64_t seed : {4, 9}) {
     const SynthScene one = MakeSynthScene(o, seed);
-    const SynthScene f0 = MakeSynthSequence(o, Motion(10, 0.01, 0.05), seed).front();
+    const SynthScene f0 = MakeSynthSequence(o, SynthMotion{10, 0.01, 0.05}, seed).front();
     EXPECT_TRUE(f0.gt[0].T_cam_obj.matrix() == one.gt[0].T_cam_obj.matrix()) << seed;
     EXPECT_EQ(f0.table_angle_rad, one.table_angle_rad) << seed;
     EXPECT_EQ(f0.gt_box.cx, one.gt_box.cx) << seed;
@@ -176,7 +166,7 @@ void ExpectTheMotion(const std::vector<SynthScene>& seq, const SynthMotion& m) {
 }
 
 TEST(SynthSequenceTest, TheTargetTurnsAboutTheTableNormalAndSlidesAlongTheTable) {
-  const SynthMotion m = Motion(6, 0.01, 0.05);
+  const SynthMotion m = SynthMotion{6, 0.01, 0.05};
   const std::vector<SynthScene> seq = MakeSynthSequence(Lshape(), m, 21);
   ExpectTheMotion(seq, m);
   // The target's silhouette, box and detection follow it.
@@ -196,12 +186,12 @@ TEST(SynthSequenceTest, TheTargetTurnsAboutTheTableNormalAndSlidesAlongTheTable)
     EXPECT_LE(seq[t].occlusion_achieved, 1.0);
   }
   // A negative turn, no slide.
-  const SynthMotion back = Motion(4, 0.0, -0.2);
+  const SynthMotion back = SynthMotion{4, 0.0, -0.2};
   ExpectTheMotion(MakeSynthSequence(Lshape(0), back, 8), back);
 }
 
 TEST(SynthSequenceTest, TheJumpDisplacesTheTargetFromTheJumpFrameOn) {
-  const SynthMotion m = Motion(5, 0.005, 0.0, 2, 0.15);
+  const SynthMotion m = SynthMotion{5, 0.005, 0.0, 2, 0.15};
   const std::vector<SynthScene> seq = MakeSynthSequence(Lshape(), m, 22);
   ExpectTheMotion(seq, m);
   const double step01 = (seq[1].gt[0].T_cam_obj.translation() - seq[0].gt[0].T_cam_obj.translation()).norm();
@@ -214,14 +204,14 @@ TEST(SynthSequenceTest, TheJumpDisplacesTheTargetFromTheJumpFrameOn) {
 
 // Frame 0 is the scene as the seed makes it, so a jump starts at frame 1 at the earliest.
 TEST(SynthSequenceTest, AJumpAtFrameZeroIsRefused) {
-  ExpectInvalid(Motion(3, 0.01, 0.0, 0, 0.05), "jump_frame");
+  ExpectInvalid(SynthMotion{3, 0.01, 0.0, 0, 0.05}, "jump_frame");
 }
 
 TEST(SynthSequenceTest, TheSensorNoiseIsDrawnAnewPerFrameAndTheWorldStays) {
   // No motion: every frame shows the same world; only the noise (and holes and jitter) differ.
   SynthOptions noise_only = Lshape();
   noise_only.hole_fraction = 0;
-  const std::vector<SynthScene> noisy = MakeSynthSequence(noise_only, Motion(3, 0, 0), 5);
+  const std::vector<SynthScene> noisy = MakeSynthSequence(noise_only, SynthMotion{3, 0, 0}, 5);
   EXPECT_TRUE(noisy[1].gt[0].T_cam_obj.matrix() == noisy[0].gt[0].T_cam_obj.matrix());
   EXPECT_TRUE(noisy[1].labels == noisy[0].labels);
   EXPECT_FALSE(noisy[1].depth.data == noisy[0].depth.data);
@@ -231,7 +221,7 @@ TEST(SynthSequenceTest, TheSensorNoiseIsDrawnAnewPerFrameAndTheWorldStays) {
   clean.noise_sigma_m = 0;
   clean.hole_fraction = 0;
   clean.box_jitter_px = 0;
-  const std::vector<SynthScene> still = MakeSynthSequence(clean, Motion(3, 0, 0), 5);
+  const std::vector<SynthScene> still = MakeSynthSequence(clean, SynthMotion{3, 0, 0}, 5);
   for (std::size_t t = 1; t < still.size(); ++t) {
     EXPECT_TRUE(still[t].depth.data == still[0].depth.data) << t;
     EXPECT_TRUE(still[t].labels == still[0].labels) << t;
@@ -239,13 +229,13 @@ TEST(SynthSequenceTest, TheSensorNoiseIsDrawnAnewPerFrameAndTheWorldStays) {
     EXPECT_EQ(still[t].detections[0].x, still[0].detections[0].x) << t;
   }
   // Deterministic per seed.
-  const std::vector<SynthScene> again = MakeSynthSequence(noise_only, Motion(3, 0, 0), 5);
+  const std::vector<SynthScene> again = MakeSynthSequence(noise_only, SynthMotion{3, 0, 0}, 5);
   for (std::size_t t = 0; t < again.size(); ++t) EXPECT_TRUE(again[t].depth.data == noisy[t].depth.data) << t;
 }
 
 TEST(SynthSequenceTest, ATargetThatLeavesTheImageIsStillMadeWithItsGroundTruth) {
   SynthOptions o = Lshape(0);
-  const SynthMotion m = Motion(8, 0.15, 0.1);
+  const SynthMotion m = SynthMotion{8, 0.15, 0.1};
   std::vector<SynthScene> seq;
   ASSERT_NO_THROW(seq = MakeSynthSequence(o, m, 23));
   ExpectTheMotion(seq, m);
@@ -263,7 +253,7 @@ TEST(SynthSequenceTest, ATargetThatLeavesTheImageIsStillMadeWithItsGroundTruth) 
 
 TEST(SynthSequenceTest, WriteSynthSequenceWritesADatasetFolderThatReadsBack) {
   testing_util::ScratchDir dir("synth_sequence");
-  const std::vector<SynthScene> seq = MakeSynthSequence(Lshape(), Motion(3, 0.01, 0.05), 21);
+  const std::vector<SynthScene> seq = MakeSynthSequence(Lshape(), SynthMotion{3, 0.01, 0.05}, 21);
   const std::string root = dir.Path("seq");
   WriteSynthSequence(seq, root, "walk");
   EXPECT_TRUE(fs::exists(fs::path(root) / "models" / "lshape.ply"));
