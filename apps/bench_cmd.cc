@@ -51,13 +51,15 @@
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/synth.h"
 #include "render/cpu_kernel.h"
+#include "render/gpu_kernel.h"
 
 namespace posefilter::cli {
 
 namespace {
 
-// Engine names the bench knows of; the available ones are those FilterOptions::IsValid accepts.
-const std::vector<std::string> kKnownEngines = {"reference", "cpu", "hw", "cuda"};
+// Engine names the bench knows of; the available ones are those FilterOptions::IsValid accepts
+// (and, for gpu, that find a Vulkan device).
+const std::vector<std::string> kKnownEngines = {"reference", "cpu", "hw", "gpu"};
 
 // An engine name of the bench: a FilterOptions engine, or "cpu/<isa>" — the cpu engine with
 // its instruction set forced (FilterOptions::cpu_isa: avx512, avx2, portable).
@@ -69,10 +71,16 @@ void ApplyEngine(const std::string& name, FilterOptions* o) {
   o->cpu_isa = forced ? name.substr(cpu.size()) : "auto";
 }
 
-bool EngineAvailable(const std::string& engine) {
+bool EngineAvailable(const std::string& engine, std::string* why = nullptr) {
   FilterOptions o;
   ApplyEngine(engine, &o);
-  return o.IsValid(nullptr);
+  if (!o.IsValid(why)) return false;
+  return engine != "gpu" || render::GpuAvailable(why);
+}
+
+// The gpu engine's device ("" when there is none).
+std::string GpuDevice() {
+  return render::GpuAvailable(nullptr) ? render::GpuDeviceName() : std::string();
 }
 
 std::string Join(const std::vector<std::string>& v) {
@@ -131,13 +139,19 @@ int RunBench(int argc, char** argv) {
   std::string json_path;
   bool quiet = false;
   std::vector<std::string> available, cpu_isas;
+  // The default list takes the gpu engine only on a GPU: on a CPU Vulkan driver (lavapipe) it
+  // is correct but hundreds of times slower than the cpu engine.
+  std::vector<std::string> defaults;
   for (const auto& e : kKnownEngines)
-    if (EngineAvailable(e)) available.push_back(e);
+    if (EngineAvailable(e)) {
+      available.push_back(e);
+      if (e != "gpu" || GpuDevice().find("(cpu)") == std::string::npos) defaults.push_back(e);
+    }
   for (const char* isa : {"portable", "avx2", "avx512"})
     if (EngineAvailable(std::string("cpu/") + isa)) cpu_isas.push_back(isa);
   app.add_option("--engines", engines,
-                 "engines to compare, comma-separated (default: all available: " + Join(available) +
-                     "); cpu/avx512, cpu/avx2, cpu/portable force the cpu engine's instruction set")
+                 "engines to compare, comma-separated (default: " + Join(defaults) + "; available: " +
+                     Join(available) + "); cpu/avx512, cpu/avx2, cpu/portable force the cpu engine's instruction set")
       ->delimiter(',');
   app.add_option("--particles", particles, "particles N, 128..8192")->capture_default_str();
   app.add_option("--iterations", iterations, "iterations per run (no early stop), 1..1000")->capture_default_str();
@@ -152,12 +166,13 @@ int RunBench(int argc, char** argv) {
 
   return RunApp(app, argc, argv, [&] {
     // ---- Options.
-    if (engines.empty()) engines = available;
+    if (engines.empty()) engines = defaults;
     if (engines.empty()) throw Error("--engines: no engine is available");
     for (std::size_t i = 0; i < engines.size(); ++i) {
-      if (!EngineAvailable(engines[i]))
+      std::string why;
+      if (!EngineAvailable(engines[i], &why))
         throw Error("--engines: engine '" + engines[i] + "' is not available (available: " + Join(available) +
-                    "; cpu/ with one of: " + Join(cpu_isas) + ")");
+                    "; cpu/ with one of: " + Join(cpu_isas) + ")" + (engines[i] == "gpu" ? ": " + why : ""));
       if (std::find(engines.begin(), engines.begin() + i, engines[i]) != engines.begin() + i)
         throw Error("--engines: engine '" + engines[i] + "' is listed twice");
     }
@@ -198,14 +213,16 @@ int RunBench(int argc, char** argv) {
     const std::string load_average = LoadAverage().empty() ? "n/a" : LoadAverage();
     // The variant the `cpu` engine runs here: tables of different machines say which they measured.
     const std::string cpu_isa = render::CpuTargetName(render::BestCpuTarget());
+    const bool uses_gpu = std::find(engines.begin(), engines.end(), "gpu") != engines.end();
+    const std::string gpu_device = uses_gpu ? GpuDevice() : "";
     std::printf("workload: %s, %zu faces (rendered: %zu%s), at %.2f m in a %dx%d scene (seed %llu); %d particles, "
                 "%d iterations x %d repeats, every pixel and particle in each; threads %d%s; z-buffer %s; "
-                "cpu engine: %s; load average %s\n",
+                "cpu engine: %s;%s load average %s\n",
                 scene.target.name.c_str(), scene.target.faces.size(), rendered.faces.size(),
                 lod > 0 ? (" with --lod " + std::to_string(lod)).c_str() : "", scene.distance_m, scene.camera.width,
                 scene.camera.height, (unsigned long long)seed, particles, iterations, repeats, threads,
                 threads == 0 ? (" (all " + std::to_string(hw_threads) + " cores)").c_str() : "", zbuffer.c_str(),
-                cpu_isa.c_str(), load_average.c_str());
+                cpu_isa.c_str(), uses_gpu ? (" gpu engine: " + gpu_device + ";").c_str() : "", load_average.c_str());
     std::fflush(stdout);
 
     std::vector<EngineRun> runs(engines.size());
@@ -313,6 +330,7 @@ int RunBench(int argc, char** argv) {
             {"threads", threads},
             {"hardware_threads", hw_threads},
             {"cpu_isa", cpu_isa},
+            {"gpu_device", gpu_device},
             {"load_average", load_average},
             {"zbuffer", opt.render.zbuffer},
             {"seed", seed},

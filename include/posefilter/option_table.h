@@ -25,10 +25,11 @@ enum EngineBits : unsigned {
   kEngineReference = 1u << 0,
   kEngineCpu = 1u << 1,
   kEngineHw = 1u << 2,
-  kAllEngines = kEngineReference | kEngineCpu | kEngineHw,
+  kEngineGpu = 1u << 3,
+  kAllEngines = kEngineReference | kEngineCpu | kEngineHw | kEngineGpu,
 };
 
-// The bit of an engine name ("reference", "cpu", "hw"); 0 for any other name.
+// The bit of an engine name ("reference", "cpu", "hw", "gpu"); 0 for any other name.
 unsigned EngineBit(const std::string& engine);
 
 // How a validation message names an option.

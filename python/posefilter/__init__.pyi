@@ -212,7 +212,7 @@ class Estimator:
     def __init__(
         self,
         *,
-        engine: str = ...,  # 'cpu', cpu|reference|hw
+        engine: str = ...,  # 'cpu', cpu|reference|hw|gpu
         cpu_isa: str = ...,  # 'auto', auto|avx512|avx2|portable
         threads: int = ...,  # 0, >= 0
         seed: int = ...,  # 1, [0, 2^64 - 1]

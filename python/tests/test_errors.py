@@ -58,7 +58,7 @@ def test_uint16_depth_needs_a_valid_scale(easy_scene, tiny):
         (dict(iterations=0), "iterations"),
         (dict(alpha=0.5, beta=0.5, gamma=0.5), "alpha"),
         (dict(elite=200, particles=100), "elite"),
-        (dict(engine="gpu"), "engine"),
+        (dict(engine="vulkan"), "engine"),
         (dict(inlier_thr=0.0), "inlier_thr"),
         (dict(hard_inlier_thr=-1.0), "hard_inlier_thr"),
         (dict(heuristics_max_samples=0), "heuristics_max_samples"),

@@ -196,3 +196,19 @@ def test_mask_prior_finds_the_target_and_bad_masks_are_errors(easy_scene):
         est.estimate(s.depth, s.camera, s.target, mask=np.zeros_like(mask))
     with pytest.raises(pf.Error, match="one Mesh"):
         est.estimate(s.depth, s.camera, [s.target, s.target], mask=mask, obj=["a", "b"])
+
+
+def test_gpu_engine_gives_the_cpu_engines_pose(easy_scene):
+    """engine="gpu" (Vulkan; Mesa's lavapipe where there is no GPU) weighs exactly what the cpu
+    engine weighs: the same pose, weight and history for the same seed."""
+    args = (easy_scene.depth, easy_scene.camera, easy_scene.target, easy_scene.prior)
+    cpu = pf.Estimator(seed=3, engine="cpu", **TINY).estimate(*args)
+    try:
+        gpu = pf.Estimator(seed=3, engine="gpu", **TINY).estimate(*args)
+    except ValueError as e:
+        # Only a build without the gpu engine may refuse it, and it must say so.
+        assert "no Vulkan support" in str(e), e
+        return
+    np.testing.assert_array_equal(cpu.pose, gpu.pose)
+    np.testing.assert_array_equal(cpu.best_weight_history, gpu.best_weight_history)
+    assert cpu.weight == gpu.weight

@@ -25,6 +25,7 @@ bool ParseEngine(const std::string& name, Engine* out) {
   if (name == "reference") *out = Engine::kReference;
   else if (name == "cpu") *out = Engine::kCpu;
   else if (name == "hw") *out = Engine::kHw;
+  else if (name == "gpu") *out = Engine::kGpu;
   else return false;
   return true;
 }

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,6 +23,7 @@
 #include "posefilter/support_plane.h"
 #include "prior/volume_cache.h"
 #include "render/cpu_kernel.h"
+#include "render/gpu_kernel.h"
 #include "render/scene_normals.h"
 
 namespace posefilter::filter {
@@ -31,7 +33,8 @@ namespace posefilter::filter {
 // N_depth table (of the support depth), its scene normals (computed tile by tile where ICP
 // weighings render), and the mesh weighed there (empty: the context's mesh) with its face
 // planes for the cpu kernel's back-face pre-cull (render/face_planes.h; empty for the
-// reference engine).
+// reference engine), and for the gpu engine the level's model and scene on the device (made by
+// the first weighing on the level).
 struct Level {
   int factor = 1;
   SceneInput scene{};
@@ -39,6 +42,7 @@ struct Level {
   mutable render::SceneNormalTiles normals{};
   Mesh mesh{};
   render::FacePlanes face_planes{};
+  mutable std::shared_ptr<render::GpuKernel> gpu{};
 };
 
 // Everything one run needs that does not change between iterations.

@@ -20,7 +20,7 @@ namespace posefilter {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr unsigned kFloatEngines = kEngineReference | kEngineCpu;  // not modelled by the hw engine
+constexpr unsigned kFloatEngines = kEngineReference | kEngineCpu | kEngineGpu;  // not modelled by the hw engine
 
 struct Range {
   double lo, hi;
@@ -61,7 +61,7 @@ const std::vector<OptionInfo>& Table() {
   static const std::vector<OptionInfo> t = {
       // ---- engine and run
       Row("engine", POSEFILTER_FIELD(engine), "Engine", kAny, kAllEngines, "engine that weighs the particles",
-          "cpu|reference|hw"),
+          "cpu|reference|hw|gpu"),
       Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kEngineCpu,
           "cpu engine's instruction set: auto (the best this CPU runs), avx512, avx2 or portable (same results)",
           "auto|avx512|avx2|portable"),
@@ -225,6 +225,7 @@ unsigned EngineBit(const std::string& engine) {
   if (engine == "reference") return kEngineReference;
   if (engine == "cpu") return kEngineCpu;
   if (engine == "hw") return kEngineHw;
+  if (engine == "gpu") return kEngineGpu;
   return 0;
 }
 
@@ -296,7 +297,7 @@ std::string OptionInfo::RangeText() const {
 std::string OptionInfo::EnginesText() const {
   if (engines == kAllEngines) return "all";
   std::string s;
-  for (const char* e : {"reference", "cpu", "hw"})
+  for (const char* e : {"reference", "cpu", "hw", "gpu"})
     if (engines & EngineBit(e)) s += (s.empty() ? "" : ", ") + std::string(e);
   return s;
 }

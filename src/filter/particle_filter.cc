@@ -205,8 +205,9 @@ double ContactPenalty(const Context& ctx, const Eigen::Isometry3d& T) {
 // Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory. With
 // `icp`, the kernel also sums the ICP normal equations (scene normals passed); the weight
 // does not depend on it.
-double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
-  const Eigen::Isometry3d T = CameraFromObject(ctx, p);
+// The kernel parameters of particle p at T (object → camera) on the current level; `icp`:
+// with the level's scene normals.
+ScoreKernelParams ParticleParams(const Context& ctx, const Particle& p, const Eigen::Isometry3d& T, bool icp) {
   const Level& level = CurrentLevel(ctx);
   const SceneInput& scene = level.scene;
   const Mesh& mesh = level.mesh.faces.empty() ? ctx.mesh : level.mesh;
@@ -221,18 +222,52 @@ double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspa
   k.align_band_m = float(ctx.opt.diffusion.align_band_m);
   k.edge_band_m = float(ctx.opt.score.edge_band_m);
   k.scene_normals = icp ? LevelNormals(ctx).data() : nullptr;
-  const render::FacePlanes* planes = &level.face_planes;
-  *out = ctx.engine == filter::Engine::kCpu ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
+  return k;
+}
+
+// Weight of eq. 7.4 of particle p at T (object → camera) from its kernel result on the
+// current level, whose window is `window`.
+double WeightFromScore(const Context& ctx, const Particle& p, const Eigen::Isometry3d& T, const PixelRect& window,
+                       const ScoreKernelResult* out) {
+  const Level& level = CurrentLevel(ctx);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.score.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
   const double r_raster = n_raster > 0 ? std::min(1.0, I / double(n_raster)) : 0.0;
-  const long nd = long(level.valid_depth.Count(k.window));
+  const long nd = long(level.valid_depth.Count(window));
   const double r_depth = nd > 0 ? std::min(1.0, I / double(nd)) : 0.0;
   const double rho = ctx.prior.Prob(p.cell, ctx.cls);
   const double r_edge = out->n_edge > 0 ? double(out->n_edge_continued) / double(out->n_edge) : 0.0;
   return std::max(0.0, ctx.opt.score.alpha * r_raster + ctx.opt.score.beta * r_depth + ctx.opt.score.gamma * rho - ctx.opt.score.delta * r_edge -
                            ContactPenalty(ctx, T));
+}
+
+// Weight of eq. 7.4 for one particle, scored on the cpu kernel (cpu engine, and the gpu
+// engine's ICP weighings) or the reference kernel (reference engine, and the hw engine's float
+// polish); `ws` is the calling worker's own
+// scratch memory. With `icp`, the kernel also sums the ICP normal equations (scene normals
+// passed); the weight does not depend on it.
+double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
+  const Eigen::Isometry3d T = CameraFromObject(ctx, p);
+  const ScoreKernelParams k = ParticleParams(ctx, p, T, icp);
+  const render::FacePlanes* planes = &CurrentLevel(ctx).face_planes;
+  const bool cpu_kernel = ctx.engine == filter::Engine::kCpu || ctx.engine == filter::Engine::kGpu;
+  *out = cpu_kernel ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
+  return WeightFromScore(ctx, p, T, k.window, out);
+}
+
+// Records a weighing's result in its particle and the statistics.
+void Record(Particle& p, double weight, const ScoreKernelResult& r, bool icp, std::int64_t* faces_total,
+            std::int64_t* faces_front, std::int64_t* fragments, std::int64_t* weighings) {
+  p.weight = weight;
+  p.depth_offset = r.depth_diff_count > 0 ? r.depth_diff_sum / double(r.depth_diff_count) : 0.0;
+  p.icp_valid = icp && filter::SolveIcpStep(r, &p.icp_step);
+  p.icp_known = icp;
+  p.scored = true;
+  *faces_total += r.faces_total;
+  *faces_front += r.faces_front;
+  *fragments += r.n_raster;
+  ++*weighings;
 }
 
 }  // namespace
@@ -252,22 +287,39 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats,
     const SceneInput& scene = LevelScene(ctx);
     LevelNormals(ctx).Prepare(scene.depth, scene.camera, windows, ctx.opt.threads);
   }
-#pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
-  {
-    render::CpuWorkspace& ws = ctx.workspaces[std::size_t(omp_get_thread_num())];  // this worker's own
-#pragma omp for schedule(dynamic, 4)
+  if (ctx.engine == Engine::kGpu && !icp) {
+    // The gpu engine: every unscored particle of the set in one batch on the device.
+    const Level& level = CurrentLevel(ctx);
+    std::vector<int> idx;
+    std::vector<Eigen::Isometry3d> poses;
+    std::vector<ScoreKernelParams> params;
     for (int i = 0; i < n; ++i) {
       if (ps[i].scored) continue;
-      ScoreKernelResult r;
-      ps[i].weight = Weigh(ctx, ps[i], icp, &ws, &r);
-      ps[i].depth_offset = r.depth_diff_count > 0 ? r.depth_diff_sum / double(r.depth_diff_count) : 0.0;
-      ps[i].icp_valid = icp && filter::SolveIcpStep(r, &ps[i].icp_step);
-      ps[i].icp_known = icp;
-      ps[i].scored = true;
-      faces_total += r.faces_total;
-      faces_front += r.faces_front;
-      fragments += r.n_raster;
-      ++weighings;
+      idx.push_back(i);
+      poses.push_back(CameraFromObject(ctx, ps[i]));
+      params.push_back(ParticleParams(ctx, ps[i], poses.back(), false));
+    }
+    if (!params.empty()) {
+      if (!level.gpu) level.gpu = std::make_shared<render::GpuKernel>(params[0]);
+      std::vector<ScoreKernelResult> results;
+      level.gpu->Score(params, &results);
+      for (std::size_t j = 0; j < idx.size(); ++j) {
+        Particle& p = ps[std::size_t(idx[j])];
+        Record(p, WeightFromScore(ctx, p, poses[j], params[j].window, &results[j]), results[j], false, &faces_total,
+               &faces_front, &fragments, &weighings);
+      }
+    }
+  } else {
+#pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
+    {
+      render::CpuWorkspace& ws = ctx.workspaces[std::size_t(omp_get_thread_num())];  // this worker's own
+#pragma omp for schedule(dynamic, 4)
+      for (int i = 0; i < n; ++i) {
+        if (ps[i].scored) continue;
+        ScoreKernelResult r;
+        const double weight = Weigh(ctx, ps[i], icp, &ws, &r);
+        Record(ps[i], weight, r, icp, &faces_total, &faces_front, &fragments, &weighings);
+      }
     }
   }
   stats->faces_total += faces_total;
@@ -361,6 +413,8 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!filter::ParseEngine(options.engine, &ctx.engine)) throw Error("unknown engine '" + options.engine + "'");
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
+  if (std::string gpu_missing; ctx.engine == filter::Engine::kGpu && !render::GpuAvailable(&gpu_missing))
+    throw Error(gpu_missing);  // before any set-up
   const double diameter = mesh.Diameter();
   ctx.diameter = diameter;
   CheckMeshScale(mesh.name, diameter, prep.support);
@@ -387,7 +441,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
       }
     }
     // The cpu engine's pre-cull table: of the same arrays every weighing's parameters point at.
-    if (ctx.engine == filter::Engine::kCpu)
+    if (ctx.engine == filter::Engine::kCpu || ctx.engine == filter::Engine::kGpu)
       l.face_planes = render::BuildFacePlanes(
           MakeKernelParams(l.mesh.faces.empty() ? mesh : l.mesh, Eigen::Isometry3d::Identity(), scene.camera));
     return l;

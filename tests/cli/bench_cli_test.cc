@@ -1,9 +1,12 @@
 // `posefilter bench` end to end (the built binary): bad options each give a non-zero exit and
 // one line naming the option, before any measurement; a tiny real run (128 particles, 2
 // iterations, 1 repeat, 1 thread) prints the table and writes a JSON with every field, and the
-// engines measured agree on the fragments of the check run. No timing is asserted.
+// engines measured agree on the fragments of the check run (the gpu engine too, on the
+// machine's Vulkan device). No timing is asserted.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -11,6 +14,7 @@
 
 #include "posefilter/filter.h"
 #include "render/cpu_kernel.h"
+#include "render/gpu_kernel.h"
 #include "test_util.h"
 
 namespace posefilter {
@@ -21,13 +25,18 @@ using testing_util::ReadFile;
 using testing_util::RunResult;
 using testing_util::ScratchDir;
 
-// The engines FilterOptions::IsValid accepts (the bench's default set).
+// The bench's default set: the engines FilterOptions::IsValid accepts, the gpu engine only
+// where it runs on a GPU (not on a CPU Vulkan driver such as lavapipe).
 std::vector<std::string> AvailableEngines() {
   std::vector<std::string> out;
-  for (const char* e : {"reference", "cpu", "hw", "cuda"}) {
+  for (const char* e : {"reference", "cpu", "hw", "gpu"}) {
     FilterOptions o;
     o.engine = e;
-    if (o.IsValid(nullptr)) out.push_back(e);
+    if (!o.IsValid(nullptr)) continue;
+    if (std::string(e) == "gpu" &&
+        (!render::GpuAvailable(nullptr) || render::GpuDeviceName().find("(cpu)") != std::string::npos))
+      continue;
+    out.push_back(e);
   }
   return out;
 }
@@ -215,6 +224,51 @@ TEST(BenchCli, LodAndCullingOnlyModeChangeTheWorkload) {
   EXPECT_EQ(j.at("engines")[0].at("faces_per_weighing"), double(rendered));
   EXPECT_TRUE(j.at("engines")[0].at("cpu_ms_per_iteration_median").is_null());  // 1 iteration: no CPU figure
   EXPECT_NE(r.out.find(" - "), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace posefilter
+
+namespace posefilter {
+namespace {
+
+// The gpu engine in the bench beside the float engines: its check run counts the fragments
+// they count, and the workload names its device. Without a device (the Vulkan loader pointed
+// at no driver) or without the engine in the build, asking for it is a one-line error that
+// says why, from bench and from the filter commands alike.
+TEST(BenchCli, GpuEngineAgreesWithTheFloatEnginesOrSaysWhyNot) {
+  ScratchDir dir("bench_gpu");
+  if (render::GpuBuilt()) {
+    std::string why;
+    ASSERT_TRUE(render::GpuAvailable(&why)) << why;  // setup.sh installs lavapipe
+    const std::string json_path = dir.Path("bench.json");
+    const RunResult r = testing_util::RunCli({"bench", "--engines", "reference,cpu,gpu", "--particles", "128",
+                                              "--iterations", "1", "--repeats", "1", "--quiet", "--json", json_path},
+                                             dir.dir() / "run");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("fragments agree"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("gpu engine: " + render::GpuDeviceName()), std::string::npos) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(ReadFile(json_path));
+    EXPECT_EQ(j.at("engines_agree"), true);
+    EXPECT_EQ(j.at("workload").at("gpu_device"), render::GpuDeviceName());
+    ASSERT_EQ(j.at("engines").size(), 3u);
+    EXPECT_GT(j.at("engines")[2].at("check_fragments").get<std::int64_t>(), 10000);
+  }
+  // No driver: the loader finds no device (both of its variables, old and new loaders).
+  const std::string no_driver = "VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json ";
+  const std::string cli = testing_util::ShellQuote(POSEFILTER_CLI_PATH);
+  for (const std::string& args : {std::string("bench --engines gpu --particles 128 --iterations 1 --repeats 1"),
+                                  "demo --engine gpu --quiet --out " + testing_util::ShellQuote(dir.Path("demo"))}) {
+    const std::string out = dir.Path("nodev.out"), err = dir.Path("nodev.err");
+    const int status = std::system((no_driver + cli + " " + args + " >" + out + " 2>" + err).c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << args;
+    EXPECT_EQ(WEXITSTATUS(status), 1) << args;
+    const std::string e = ReadFile(err);
+    EXPECT_EQ(Lines(e).size(), 1u) << e;
+    EXPECT_NE(e.find("gpu engine"), std::string::npos) << e;
+    EXPECT_NE(e.find(render::GpuBuilt() ? "no Vulkan" : "no Vulkan support"), std::string::npos) << e;
+    EXPECT_NE(e.find("--engine cpu"), std::string::npos) << e;
+  }
 }
 
 }  // namespace

@@ -291,7 +291,7 @@ TEST_F(CliTest, NonsenseOptionValues) {
     ExpectInputError(Run(EstimateArgs(Scene("depth.png"), Scene("camera.json"), extra)), "estimate", c.needle);
   }
   // Values or options CLI11 rejects: exit 2, first line names the option.
-  for (const Case& c : std::vector<Case>{{{"--engine", "gpu"}, "--engine"},
+  for (const Case& c : std::vector<Case>{{{"--engine", "vulkan"}, "--engine"},
                                          {{"--cpu-isa", "avx9"}, "--cpu-isa"},
                                          {{"--move-probabilities", "1", "2"}, "--move-probabilities"},
                                          {{"--iterations", "abc"}, "--iterations"},

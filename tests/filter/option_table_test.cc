@@ -86,9 +86,9 @@ TEST(OptionTable, EveryBoundIsCheckedAndNamed) {
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_EQ(why, "anneal.subsample must be in [1, 4] (got 7)");
   o = {};
-  o.engine = "gpu";
+  o.engine = "vulkan";
   EXPECT_FALSE(ValidateFilterOptions(o, OptionNaming::kPython, &why));
-  EXPECT_EQ(why, "engine must be one of cpu|reference|hw (got 'gpu')");
+  EXPECT_EQ(why, "engine must be one of cpu|reference|hw|gpu (got 'vulkan')");
 }
 
 TEST(OptionTable, ConstraintsBetweenOptionsAreNamed) {
@@ -114,7 +114,7 @@ TEST(OptionTable, ConstraintsBetweenOptionsAreNamed) {
 
 TEST(OptionTable, OptionsTheEngineIgnoresAreReported) {
   FilterOptions o;
-  for (const char* e : {"reference", "cpu", "hw"}) {
+  for (const char* e : {"reference", "cpu", "hw", "gpu"}) {
     o.engine = e;
     EXPECT_TRUE(IgnoredOptions(o, OptionNaming::kCli).empty()) << e;  // defaults: nothing to say
   }
@@ -141,7 +141,7 @@ TEST(OptionTable, ValueTextReadsBack) {
   EXPECT_EQ(FindOption("pool")->RangeText(), "(0, 1]");
   EXPECT_EQ(FindOption("near")->RangeText(), "> 0");
   EXPECT_EQ(FindOption("cpu-isa")->EnginesText(), "cpu");
-  EXPECT_EQ(FindOption("anneal-subsample")->EnginesText(), "reference, cpu");
+  EXPECT_EQ(FindOption("anneal-subsample")->EnginesText(), "reference, cpu, gpu");
 }
 
 TEST(OptionTable, DocsOptionsMdIsTheTable) {

@@ -1,12 +1,16 @@
-// The cpu engine kernel against the reference kernel: every dispatch variant this machine can
-// run, many poses (edge-on, partly off-image, at the near plane, far off-screen vertices),
-// meshes, windows and both z-buffer modes — counts exactly equal, sums within 1e-4 relative.
-// Plus its input errors and the valid-depth summed-area table.
+// The fast kernels against the reference kernel in the same tests: every dispatch variant of
+// the cpu engine this machine can run, and the gpu engine's Vulkan kernel (on the machine's
+// Vulkan device: Mesa's lavapipe without a GPU). Many poses (edge-on, partly off-image, at the
+// near plane, far off-screen vertices), meshes, windows and both z-buffer modes — counts,
+// inlier and depth-difference sums exactly equal, ICP sums within 1e-4 relative (the gpu
+// kernel leaves the ICP sums to the cpu kernel: its cases are compared without scene
+// normals). Plus the cpu kernel's input errors and the valid-depth summed-area table.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <utility>
@@ -17,6 +21,10 @@
 #include "posefilter/rng.h"
 #include "posefilter/synth.h"
 #include "render/cpu_kernel.h"
+#include "render/gpu_kernel.h"
+#ifdef POSEFILTER_HAS_VULKAN
+#include "render/gpu/vulkan_device.h"
+#endif
 #include "test_util.h"
 
 namespace posefilter {
@@ -182,28 +190,61 @@ std::pair<std::int64_t, std::int64_t> AddSliversAroundBound(Mesh* m, const Camer
   return {below, above};
 }
 
-class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
+// A kernel under test: a cpu engine variant, or the gpu engine's kernel.
+struct Backend {
+  bool gpu = false;
+  CpuTarget target = CpuTarget::kPortable;
+};
+
+class KernelBackend : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (!render::CpuTargetSupported(GetParam()))
-      GTEST_SKIP() << "this machine/build cannot run the '" << render::CpuTargetName(GetParam())
+    if (gpu()) {
+      std::string why;
+      // A build with the gpu engine must find a device (setup.sh installs lavapipe): a missing
+      // one fails here. A build without it has no gpu kernel to test.
+      if (!render::GpuBuilt()) GTEST_SKIP() << "this build has no gpu engine (POSEFILTER_VULKAN=OFF)";
+      ASSERT_TRUE(render::GpuAvailable(&why)) << why;
+      validation_errors_ = render::GpuValidationErrors();
+    } else if (!render::CpuTargetSupported(GetParam().target)) {
+      GTEST_SKIP() << "this machine/build cannot run the '" << render::CpuTargetName(GetParam().target)
                    << "' kernel variant";
+    }
+  }
+  void TearDown() override {
+    if (gpu() && render::GpuBuilt() && render::GpuAvailable(nullptr))
+      EXPECT_EQ(render::GpuValidationErrors(), validation_errors_) << render::GpuFirstValidationError();
+  }
+  bool gpu() const { return GetParam().gpu; }
+
+  // The kernel under test on k; `planes`: the cpu kernel's back-face pre-cull (its skipped
+  // faces added to preculled_).
+  ScoreKernelResult Score(const ScoreKernelParams& k, const render::FacePlanes* planes = nullptr) {
+    if (gpu()) {
+      render::GpuKernel kernel(k);
+      std::vector<ScoreKernelResult> out;
+      kernel.Score({k}, &out);
+      return out.at(0);
+    }
+    const ScoreKernelResult r = render::ScoreCpuWith(GetParam().target, k, &ws_, planes);
+    if (planes) preculled_ += ws_.faces_preculled;
+    else EXPECT_EQ(ws_.faces_preculled, 0);
+    return r;
   }
 
-  // Compares ScoreCpuWith(target) with ScoreReference on one case in both z-buffer modes,
-  // without and with the back-face pre-cull (face planes of k's mesh).
+  // Compares the kernel under test with ScoreReference on one case in both z-buffer modes;
+  // the cpu kernel without and with the back-face pre-cull (face planes of k's mesh). The gpu
+  // kernel is compared without scene normals (no ICP sums).
   void Check(ScoreKernelParams k, const std::string& ctx) {
+    if (gpu()) k.scene_normals = nullptr;
     const render::FacePlanes planes = render::BuildFacePlanes(k);
     for (bool zb : {true, false}) {
       k.zbuffer = zb;
       RenderWorkspace rws;
       const ScoreKernelResult ref = ScoreReference(k, &rws);
-      const ScoreKernelResult got = render::ScoreCpuWith(GetParam(), k, &ws_);
+      const ScoreKernelResult got = Score(k);
       ExpectSame(ref, got, ctx + (zb ? " zbuffer" : " no-zbuffer"));
-      EXPECT_EQ(ws_.faces_preculled, 0);
-      const ScoreKernelResult pre = render::ScoreCpuWith(GetParam(), k, &ws_, &planes);
-      ExpectSame(ref, pre, ctx + (zb ? " zbuffer" : " no-zbuffer") + " pre-cull");
-      preculled_ += ws_.faces_preculled;
+      if (!gpu()) ExpectSame(ref, Score(k, &planes), ctx + (zb ? " zbuffer" : " no-zbuffer") + " pre-cull");
       fragments_ += ref.n_raster;
       edges_ += ref.n_edge;
       icp_ += ref.icp_count;
@@ -237,10 +278,11 @@ class CpuKernelTarget : public ::testing::TestWithParam<CpuTarget> {
   }
 
   CpuWorkspace ws_;  // shared by all cases: also checks that reuse leaves no stale state
+  int validation_errors_ = 0;  // the validation layer's count before the test (gpu)
   std::int64_t fragments_ = 0, edges_ = 0, icp_ = 0, occluded_ = 0, preculled_ = 0;
 };
 
-TEST_P(CpuKernelTarget, MatchesReferenceOnRandomPosesMeshesAndWindows) {
+TEST_P(KernelBackend, MatchesReferenceOnRandomPosesMeshesAndWindows) {
   Rng rng(20240611);
   const Camera cam = PinholeCamera(525, 520, 319.5, 239.5);
   std::vector<Mesh> meshes = {MakeBox(0.12, 0.08, 0.16), MakeCylinder(0.04, 0.14, 24), MakeLShape(0.14, 0.05, 0.06),
@@ -276,12 +318,12 @@ TEST_P(CpuKernelTarget, MatchesReferenceOnRandomPosesMeshesAndWindows) {
   EXPECT_GT(cases, 300);
   EXPECT_GT(fragments_, 100000);
   EXPECT_GT(edges_, 1000);
-  EXPECT_GT(icp_, 10000);
+  if (!gpu()) EXPECT_GT(icp_, 10000);
   EXPECT_GT(occluded_, 1000);
-  EXPECT_GT(preculled_, 5000);  // the pre-cull ran (and skipped faces) in most cases
+  if (!gpu()) EXPECT_GT(preculled_, 5000);  // the pre-cull ran (and skipped faces) in most cases
 }
 
-TEST_P(CpuKernelTarget, MatchesReferenceOnEdgeOnAndPixelAlignedGeometry) {
+TEST_P(KernelBackend, MatchesReferenceOnEdgeOnAndPixelAlignedGeometry) {
   const Camera cam = PinholeCamera(500, 500);
   DepthImage depth(640, 480, 1.0f);
   for (int i = 0; i < 640 * 480; i += 7) depth.data[i] = 0.995f;
@@ -314,7 +356,7 @@ TEST_P(CpuKernelTarget, MatchesReferenceOnEdgeOnAndPixelAlignedGeometry) {
 // be scored and refilled many times in one call. Layers of large quads and of small triangles
 // (4-, 8- and 16-pixel-wide stamps) stacked at different depths give tens of thousands of
 // displaced fragments.
-TEST_P(CpuKernelTarget, OverlappingLayersWithoutZBufferMatch) {
+TEST_P(KernelBackend, OverlappingLayersWithoutZBufferMatch) {
   Rng rng(7031);
   const Camera cam = PinholeCamera(525, 525);
   Mesh m;
@@ -351,7 +393,7 @@ TEST_P(CpuKernelTarget, OverlappingLayersWithoutZBufferMatch) {
   }
 }
 
-TEST_P(CpuKernelTarget, FarOffScreenVerticesTakeTheExactPathAndMatch) {
+TEST_P(KernelBackend, FarOffScreenVerticesTakeTheExactPathAndMatch) {
   // Huge triangles (vertices projecting beyond ±16384 px, still inside ±2^20 px) and vertices
   // beyond ±2^20 px (skipped): the int64 path of the kernel.
   Rng rng(7);
@@ -378,7 +420,7 @@ TEST_P(CpuKernelTarget, FarOffScreenVerticesTakeTheExactPathAndMatch) {
   EXPECT_GT(fragments_, 10000);
 }
 
-TEST_P(CpuKernelTarget, UnusualParametersMatchTheReference) {
+TEST_P(KernelBackend, UnusualParametersMatchTheReference) {
   Rng rng(99);
   const Camera cam = PinholeCamera(525, 525);
   const Mesh torus = MakeTorus(0.06, 0.025, 16, 12);
@@ -399,7 +441,7 @@ TEST_P(CpuKernelTarget, UnusualParametersMatchTheReference) {
   Check(k, "bands");
 }
 
-TEST_P(CpuKernelTarget, ImageWidthsWithInexactReciprocalsMatch) {
+TEST_P(KernelBackend, ImageWidthsWithInexactReciprocalsMatch) {
   // The z-buffer-free mode recovers a fragment's (u, v) for the ICP terms from its image index
   // v·width + u by a float quotient and one correction each way. Widths where that quotient
   // falls short for column 0 in most rows (e.g. 244: 447 of 480 rows) need the correction; a
@@ -427,10 +469,10 @@ TEST_P(CpuKernelTarget, ImageWidthsWithInexactReciprocalsMatch) {
       Check(SceneParams(torus, T, cam, depth, win, &normals), "width " + std::to_string(w));
   }
   EXPECT_EQ(widths, 3);
-  EXPECT_GT(icp_, 1000);
+  if (!gpu()) EXPECT_GT(icp_, 1000);
 }
 
-TEST_P(CpuKernelTarget, TinyTrianglesAtTheWindowsBottomRightMatch) {
+TEST_P(KernelBackend, TinyTrianglesAtTheWindowsBottomRightMatch) {
   // A finely tessellated torus far away: nearly every triangle's box is at most 4×4 px (the
   // kernel's stamp path), placed so that stamps reach past the window's last row and column
   // (the z-buffer's spare rows and row slack) and past the image's bottom-right corner.
@@ -453,7 +495,7 @@ TEST_P(CpuKernelTarget, TinyTrianglesAtTheWindowsBottomRightMatch) {
   EXPECT_GT(edges_, 500);
 }
 
-TEST_P(CpuKernelTarget, TallAndWideSliversMatch) {
+TEST_P(KernelBackend, TallAndWideSliversMatch) {
   // Slivers in every box shape the raster distinguishes: 1–2 and 3–4 px wide and 5–60 px tall
   // (several rows per vector), 9–16 px wide (two row pieces), at sub-pixel positions and
   // depths 0.6–1.4 m, overlapping, each listed in both windings (one is culled), with
@@ -485,10 +527,10 @@ TEST_P(CpuKernelTarget, TallAndWideSliversMatch) {
     }
   }
   EXPECT_GT(fragments_, 20000);
-  EXPECT_GT(icp_, 1000);
+  if (!gpu()) EXPECT_GT(icp_, 1000);
 }
 
-TEST_P(CpuKernelTarget, SliversAroundTheFloatEdgeBoundMatch) {
+TEST_P(KernelBackend, SliversAroundTheFloatEdgeBoundMatch) {
   // The raster steps edge values in float when a triangle's bounding box (1/256 px) has
   // wx·wy < 2^23 (cpu_kernel_impl.inc: every edge value at a pixel centre of the box is an
   // integer below 2^24), and in int32 above. Slivers 1–30 px wide (narrow boxes and boxes of
@@ -500,7 +542,7 @@ TEST_P(CpuKernelTarget, SliversAroundTheFloatEdgeBoundMatch) {
   EXPECT_GT(fragments_, 20000);
 }
 
-TEST_P(CpuKernelTarget, SliversAroundTheInt32EdgeBoundMatch) {
+TEST_P(KernelBackend, SliversAroundTheInt32EdgeBoundMatch) {
   // The raster steps edge values in int32 when a triangle's bounding box (1/256 px) has
   // 2^23 ≤ wx·wy < 2^30 (cpu_kernel_impl.inc), and in double above. Tall slivers 2–16 px wide
   // whose wx·wy spans 2^28 … 2^32, clipped by the window at the top and bottom, take both
@@ -511,7 +553,7 @@ TEST_P(CpuKernelTarget, SliversAroundTheInt32EdgeBoundMatch) {
   EXPECT_GT(fragments_, 20000);
 }
 
-TEST_P(CpuKernelTarget, PreCullAtGrazingAnglesMatches) {
+TEST_P(KernelBackend, PreCullAtGrazingAnglesMatches) {
   // The back-face pre-cull skips a face when s = N·(v0 − c) exceeds a margin that covers the
   // float transform, the projection and the snapping (PreCullConstants). Faces nearly edge-on
   // to the camera — planes through the viewing ray turned by 10^-7 … 1.4 rad either way, 0.3 to
@@ -564,9 +606,10 @@ TEST_P(CpuKernelTarget, PreCullAtGrazingAnglesMatches) {
       RenderWorkspace rws;
       const ScoreKernelResult ref = ScoreReference(k, &rws);
       const render::FacePlanes planes = render::BuildFacePlanes(k);
-      const ScoreKernelResult got = render::ScoreCpuWith(GetParam(), k, &ws_, &planes);
+      const std::int64_t before = preculled_;
+      const ScoreKernelResult got = Score(k, &planes);
       ExpectSame(ref, got, "scene " + std::to_string(scene) + (zb ? " zbuffer" : " no-zbuffer"));
-      skipped += ws_.faces_preculled;
+      skipped += preculled_ - before;
       faces += k.num_faces;
       front += ref.faces_front;
     }
@@ -574,15 +617,40 @@ TEST_P(CpuKernelTarget, PreCullAtGrazingAnglesMatches) {
   // Under half the faces are front (the most grazing ones snap to 2·Area ≤ 0); the margin must
   // leave most back faces to the pre-cull, and the grazing ones to the exact test.
   EXPECT_GT(front, faces / 4);
+  if (gpu()) return;  // the gpu kernel has no pre-cull
   EXPECT_GT(skipped, faces / 4);
   EXPECT_LT(skipped + front, faces);
 }
 
-INSTANTIATE_TEST_SUITE_P(CpuKernel, CpuKernelTarget,
-                         ::testing::Values(CpuTarget::kPortable, CpuTarget::kAvx2, CpuTarget::kAvx512),
-                         [](const ::testing::TestParamInfo<CpuTarget>& i) {
-                           return std::string(render::CpuTargetName(i.param));
-                         });
+std::string BackendName(const ::testing::TestParamInfo<Backend>& i) {
+  return i.param.gpu ? "gpu" : render::CpuTargetName(i.param.target);
+}
+INSTANTIATE_TEST_SUITE_P(CpuKernel, KernelBackend,
+                         ::testing::Values(Backend{false, CpuTarget::kPortable}, Backend{false, CpuTarget::kAvx2},
+                                           Backend{false, CpuTarget::kAvx512}),
+                         BackendName);
+INSTANTIATE_TEST_SUITE_P(GpuKernel, KernelBackend, ::testing::Values(Backend{true}), BackendName);
+
+#ifdef POSEFILTER_HAS_VULKAN
+// The validation check can fail: with POSEFILTER_VULKAN_VALIDATION=1 (ctest gpu_validation), a
+// buffer of size 0 — invalid usage — raises the count the gpu tests compare before and after.
+TEST(GpuKernelValidation, TheLayerCountsInvalidUsage) {
+  if (!render::GpuBuilt() || std::getenv("POSEFILTER_VULKAN_VALIDATION") == nullptr)
+    GTEST_SKIP() << "validation off (the ctest gpu_validation runs this with it on)";
+  std::string why;
+  ASSERT_TRUE(render::GpuAvailable(&why)) << why;
+  const auto dev = render::gpu::VulkanDevice::Shared();
+  ASSERT_TRUE(dev->validation());
+  const int before = dev->ValidationErrors();
+  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bci.size = 0;  // VUID-VkBufferCreateInfo-size-00912
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  VkBuffer b = VK_NULL_HANDLE;
+  if (vkCreateBuffer(dev->device(), &bci, nullptr, &b) == VK_SUCCESS && b != VK_NULL_HANDLE)
+    vkDestroyBuffer(dev->device(), b, nullptr);
+  EXPECT_GT(dev->ValidationErrors(), before);
+}
+#endif
 
 TEST(CpuKernel, DispatchListsPortableFirstAndTheBestVariantIsSupported) {
   const auto targets = render::SupportedCpuTargets();
