@@ -175,14 +175,22 @@ void VulkanDevice::Init() {
         family = i;
         break;
       }
-    if (family == UINT32_MAX || !f.shaderInt64 || !f.shaderFloat64 || p.apiVersion < VK_API_VERSION_1_1) {
+    // Subgroup arithmetic in compute shaders (the sums' reduction, shaders/reduce.glsl).
+    VkPhysicalDeviceSubgroupProperties sg{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    p2.pNext = &sg;
+    if (p.apiVersion >= VK_API_VERSION_1_1) vkGetPhysicalDeviceProperties2(d, &p2);
+    const bool subgroups = (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                           (sg.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
+    if (family == UINT32_MAX || !f.shaderInt64 || !f.shaderFloat64 || p.apiVersion < VK_API_VERSION_1_1 || !subgroups) {
       rejected += std::string(rejected.empty() ? "" : ", ") + p.deviceName;
       continue;
     }
     ok.push_back({d, family, p});
   }
   if (ok.empty())
-    throw Error("gpu engine: no Vulkan 1.1 device with a compute queue and 64-bit shader integers and floats (seen: " +
+    throw Error("gpu engine: no Vulkan 1.1 device with a compute queue, 64-bit shader integers and floats and "
+                "subgroup arithmetic (seen: " +
                 rejected + ")" + kHowToGetOne);
   const Candidate* pick = nullptr;
   if (const char* want = std::getenv("POSEFILTER_GPU_DEVICE"); want != nullptr && *want != '\0') {

@@ -5,7 +5,9 @@
 // Vulkan instance and device costs tens of milliseconds, more than a whole tracked frame.
 // Device selection: POSEFILTER_GPU_DEVICE (an index into vkEnumeratePhysicalDevices, or a
 // substring of the device name) if set, else the first discrete GPU, else an integrated one,
-// else any device with a compute queue (Mesa's lavapipe on a machine without a GPU).
+// else any device with a compute queue (Mesa's lavapipe on a machine without a GPU). A usable
+// device has Vulkan 1.1, 64-bit integers and floats in shaders, and subgroup arithmetic in
+// compute shaders (every desktop GPU driver and lavapipe).
 // Validation: POSEFILTER_VULKAN_VALIDATION=1 enables VK_LAYER_KHRONOS_validation and counts
 // the error messages it reports (ValidationErrors); the tests run once with it set.
 // The device holds no render state: every GpuKernel (gpu_kernel.h) owns its buffers,
