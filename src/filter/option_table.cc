@@ -62,8 +62,9 @@ const std::vector<OptionInfo>& Table() {
       // ---- engine and run
       Row("engine", POSEFILTER_FIELD(engine), "Engine", kAny, kAllEngines, "engine that weighs the particles",
           "cpu|reference|hw|gpu"),
-      Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kEngineCpu,
-          "cpu engine's instruction set: auto (the best this CPU runs), avx512, avx2 or portable (same results)",
+      Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kEngineCpu | kEngineGpu,
+          "cpu kernel's instruction set (the cpu engine; the gpu engine's ICP weighings): auto (the best this CPU "
+          "runs), avx512, avx2 or portable (same results)",
           "auto|avx512|avx2|portable"),
       Row("threads", POSEFILTER_FIELD(threads), "Engine", AtLeast(0), kAllEngines,
           "worker threads: scoring, scene normals, heuristic volumes (0 = all cores, at most 4 per hardware thread)"),

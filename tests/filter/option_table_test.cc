@@ -140,7 +140,7 @@ TEST(OptionTable, ValueTextReadsBack) {
   EXPECT_EQ(FindOption("particles")->RangeText(), "[2, 1000000]");
   EXPECT_EQ(FindOption("pool")->RangeText(), "(0, 1]");
   EXPECT_EQ(FindOption("near")->RangeText(), "> 0");
-  EXPECT_EQ(FindOption("cpu-isa")->EnginesText(), "cpu");
+  EXPECT_EQ(FindOption("cpu-isa")->EnginesText(), "cpu, gpu");
   EXPECT_EQ(FindOption("anneal-subsample")->EnginesText(), "reference, cpu, gpu");
 }
 
