@@ -8,6 +8,7 @@
 
 #include <cstdlib>
 #include <string>
+#include <thread>
 
 #include "filter/easy_case.h"
 #include "posefilter/error.h"
@@ -63,6 +64,22 @@ TEST(GpuEngine, SamePosesAndWeightsAsTheCpuEngine) {
   const EstimateResult cpu = c.Run(o);
   o.engine = "gpu";
   ExpectSameEstimate(cpu, c.Run(o), "box, no z-buffer");
+}
+
+// Estimates on several threads share the one device (each owns its buffers and command
+// buffers; submissions and uploads are serialised): each gives its sequential result.
+TEST(GpuEngine, ConcurrentEstimatesGiveTheSequentialResults) {
+  REQUIRE_GPU();
+  const EasyCase a("lshape", 16), b("torus", 17);
+  const FilterOptions o = Budget("gpu");
+  const EstimateResult seq_a = a.Run(o), seq_b = b.Run(o);
+  EstimateResult par_a, par_b;
+  std::thread ta([&] { par_a = a.Run(o); });
+  std::thread tb([&] { par_b = b.Run(o); });
+  ta.join();
+  tb.join();
+  ExpectSameEstimate(seq_a, par_a, "lshape");
+  ExpectSameEstimate(seq_b, par_b, "torus");
 }
 
 TEST(GpuEngine, ADeviceLostOrHungMidRunIsAnErrorAndTheNextEstimateWorks) {

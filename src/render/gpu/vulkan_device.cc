@@ -323,8 +323,9 @@ void VulkanDevice::Upload(const Buffer& dst, const void* data, VkDeviceSize byte
   Buffer staging = CreateBuffer(bytes, /*host=*/true);
   std::memcpy(staging.mapped, data, bytes);
   VkCommandBuffer cmd = VK_NULL_HANDLE;
+  // The upload pool and what is recorded from it belong to one upload at a time.
+  std::lock_guard<std::mutex> upload_lock(upload_mutex_);
   {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
     VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     ai.commandPool = upload_pool_;
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -340,13 +341,11 @@ void VulkanDevice::Upload(const Buffer& dst, const void* data, VkDeviceSize byte
   try {
     SubmitAndWait(cmd, 60.0);
   } catch (...) {
+    vkFreeCommandBuffers(device_, upload_pool_, 1, &cmd);
     DestroyBuffer(&staging);
     throw;
   }
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    vkFreeCommandBuffers(device_, upload_pool_, 1, &cmd);
-  }
+  vkFreeCommandBuffers(device_, upload_pool_, 1, &cmd);
   DestroyBuffer(&staging);
 }
 

@@ -96,14 +96,15 @@ class VulkanDevice {
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
-  VkCommandPool upload_pool_ = VK_NULL_HANDLE;  // under queue_mutex_
+  VkCommandPool upload_pool_ = VK_NULL_HANDLE;  // under upload_mutex_
   std::uint32_t queue_family_ = 0;
   VkPhysicalDeviceMemoryProperties memory_{};
   VkDeviceSize max_storage_range_ = 0;
   std::uint32_t max_group_count_ = 0;
   std::string name_, type_;
   std::atomic<bool> lost_{false};
-  mutable std::mutex queue_mutex_;     // vkQueueSubmit and the upload pool
+  mutable std::mutex queue_mutex_;     // vkQueueSubmit
+  std::mutex upload_mutex_;            // the upload pool and its command buffers
   mutable std::mutex message_mutex_;
   int validation_errors_ = 0;
   std::mutex cache_mutex_;
