@@ -202,9 +202,6 @@ double ContactPenalty(const Context& ctx, const Eigen::Isometry3d& T) {
   return off > 0 ? ctx.opt.support.contact * std::min(1.0, off / ctx.opt.support.contact_span_m) : 0.0;
 }
 
-// Weight of eq. 7.4 for one particle; `ws` is the calling worker's own scratch memory. With
-// `icp`, the kernel also sums the ICP normal equations (scene normals passed); the weight
-// does not depend on it.
 // The kernel parameters of particle p at T (object → camera) on the current level; `icp`:
 // with the level's scene normals.
 ScoreKernelParams ParticleParams(const Context& ctx, const Particle& p, const Eigen::Isometry3d& T, bool icp) {
@@ -242,11 +239,10 @@ double WeightFromScore(const Context& ctx, const Particle& p, const Eigen::Isome
                            ContactPenalty(ctx, T));
 }
 
-// Weight of eq. 7.4 for one particle, scored on the cpu kernel (cpu engine, and the gpu
-// engine's ICP weighings) or the reference kernel (reference engine, and the hw engine's float
-// polish); `ws` is the calling worker's own
-// scratch memory. With `icp`, the kernel also sums the ICP normal equations (scene normals
-// passed); the weight does not depend on it.
+// Weight of eq. 7.4 for one particle, scored on the cpu kernel (the cpu engine, and the gpu
+// engine's ICP weighings) or the reference kernel (the reference engine, and the hw engine's
+// float polish); `ws` is the calling worker's own scratch memory. With `icp`, the kernel also
+// sums the ICP normal equations (scene normals passed); the weight does not depend on it.
 double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
   const Eigen::Isometry3d T = CameraFromObject(ctx, p);
   const ScoreKernelParams k = ParticleParams(ctx, p, T, icp);
@@ -440,7 +436,8 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
         }
       }
     }
-    // The cpu engine's pre-cull table: of the same arrays every weighing's parameters point at.
+    // The cpu kernel's pre-cull table (the cpu engine; the gpu engine's ICP weighings): of the
+    // same arrays every weighing's parameters point at.
     if (ctx.engine == filter::Engine::kCpu || ctx.engine == filter::Engine::kGpu)
       l.face_planes = render::BuildFacePlanes(
           MakeKernelParams(l.mesh.faces.empty() ? mesh : l.mesh, Eigen::Isometry3d::Identity(), scene.camera));
