@@ -743,6 +743,48 @@ TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
                    {"face 5", "out of range"});
 }
 
+// The gpu kernel's inputs: every misuse is an Error naming it (a build without the engine
+// has none to test: its error is tested by the CLI and filter tests).
+TEST(GpuKernel, BadInputsThrowNamingTheProblem) {
+  if (!render::GpuBuilt()) GTEST_SKIP() << "this build has no gpu engine";
+  std::string why;
+  ASSERT_TRUE(render::GpuAvailable(&why)) << why;
+  const Mesh box = MakeBox(0.1, 0.1, 0.1);
+  const Camera cam = PinholeCamera(500, 500);
+  DepthImage depth(640, 480, 1.0f), other_depth(640, 480, 1.0f);
+  auto params = [&] { return SceneParams(box, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480}); };
+  Mesh broken = box;
+  broken.faces[5][1] = 8;  // one past the last vertex
+  ExpectThrowsWith([&] { render::GpuKernel(SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480})); },
+                   {"gpu engine", "face 5", "out of range"});
+  ScoreKernelParams k = params();
+  k.depth = nullptr;
+  ExpectThrowsWith([&] { render::GpuKernel kernel(k); }, {"gpu engine", "depth"});
+  render::GpuKernel kernel(params());
+  std::vector<ScoreKernelResult> out;
+  k = params();
+  k.window = PixelRect{600, 0, 50, 10};  // sticks out of the image
+  ExpectThrowsWith([&] { kernel.Score({params(), k}, &out); }, {"gpu engine", "window of particle 1"});
+  k = params();
+  k.depth = other_depth.data.data();
+  ExpectThrowsWith([&] { kernel.Score({k}, &out); }, {"gpu engine", "another model or image"});
+  k = params();
+  k.inlier.thr1_m = 0.01f;
+  ExpectThrowsWith([&] { kernel.Score({params(), k}, &out); }, {"gpu engine", "mixes", "particle 1"});
+  const std::vector<float> normals = ComputeSceneNormals(depth, cam);
+  k = params();
+  k.scene_normals = normals.data();
+  ExpectThrowsWith([&] { kernel.Score({k}, &out); }, {"gpu engine", "ICP"});
+  // An empty window renders nothing, as the reference: only faces_total is set.
+  k = params();
+  k.window = PixelRect{10, 10, 0, 5};
+  kernel.Score({k}, &out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].faces_total, 12);
+  EXPECT_EQ(out[0].faces_front, 0);
+  EXPECT_EQ(out[0].n_raster, 0);
+}
+
 TEST(CpuKernel, ValidDepthSatCountsAnyRectangle) {
   Rng rng(3);
   const int W = 37, H = 23;

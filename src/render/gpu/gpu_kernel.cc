@@ -119,10 +119,16 @@ VkDeviceSize BufferLimit(const VulkanDevice& dev) {
   return limit;
 }
 
-bool SameSettings(const ScoreKernelParams& a, const ScoreKernelParams& b) {
+// Whether a and b point at the same model and scene depth arrays.
+bool SameArrays(const ScoreKernelParams& a, const ScoreKernelParams& b) {
   return a.vertices == b.vertices && a.num_vertices == b.num_vertices && a.faces == b.faces &&
          a.num_faces == b.num_faces && a.depth == b.depth && a.depth_width == b.depth_width &&
-         a.depth_height == b.depth_height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
+         a.depth_height == b.depth_height;
+}
+
+// Whether a and b share the arrays and every setting of a batch (all but the pose and window).
+bool SameSettings(const ScoreKernelParams& a, const ScoreKernelParams& b) {
+  return SameArrays(a, b) && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
          a.near_m == b.near_m && a.inlier.thr1_m == b.inlier.thr1_m && a.inlier.hard == b.inlier.hard &&
          a.inlier.hard_thr_m == b.inlier.hard_thr_m && a.zbuffer == b.zbuffer &&
          a.align_band_m == b.align_band_m && a.edge_band_m == b.edge_band_m;
@@ -208,6 +214,10 @@ GpuKernel::GpuKernel(const ScoreKernelParams& like) : impl_(std::make_unique<Imp
     throw Error("gpu engine: the mesh arrays are missing");
   if (!like.depth || like.depth_width <= 0 || like.depth_height <= 0)
     throw Error("gpu engine: the scene depth is missing");
+  // Checked once here: every later batch points at these same arrays (SameArrays).
+  for (std::int64_t f = 0; f < 3 * std::int64_t(like.num_faces); ++f)
+    if (like.faces[f] >= std::uint32_t(like.num_vertices))
+      throw Error("gpu engine: face " + std::to_string(f / 3) + " has a vertex index out of range");
   const VkDeviceSize limit = BufferLimit(*m.dev);
   const VkDeviceSize vbytes = VkDeviceSize(like.num_vertices) * 3 * sizeof(float);
   const VkDeviceSize fbytes = VkDeviceSize(like.num_faces) * 3 * sizeof(std::uint32_t);
@@ -269,9 +279,7 @@ void GpuKernel::Score(const std::vector<ScoreKernelParams>& params, std::vector<
     const ScoreKernelParams& k = params[i];
     if (i > 0 && !SameSettings(k, params[0]))
       throw Error("gpu engine: a batch mixes models, images or settings (particle " + std::to_string(i) + ")");
-    if (k.vertices != m.like.vertices || k.faces != m.like.faces || k.depth != m.like.depth ||
-        k.num_vertices != m.like.num_vertices || k.num_faces != m.like.num_faces ||
-        k.depth_width != m.like.depth_width || k.depth_height != m.like.depth_height)
+    if (!SameArrays(k, m.like))
       throw Error("gpu engine: the parameters point at another model or image than the kernel uploaded");
     if (k.scene_normals) throw Error("gpu engine: ICP sums (scene_normals) are not computed on the device");
     (*out)[i].faces_total = k.num_faces;
