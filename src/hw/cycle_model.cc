@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "hw/latency.h"
+
 namespace posefilter::hw {
 
 std::uint64_t LoopCycles(const LoopRecord& r) {
@@ -55,6 +57,13 @@ std::uint64_t DataflowLatency(const CycleTrace& trace) {
   }
   return slowest + fill;
 }
+
+std::uint64_t ParticleWork::Faces() const {
+  if (pixel == 0) return vertex;
+  return std::max<std::uint64_t>(vertex, pixel + kRcVertexDepth);
+}
+
+std::uint64_t ParticleWork::Total() const { return kRcWindowReadCycles + fill + Compute() + kRcOutputCycles; }
 
 ParticleWork ParticleWorkFromTrace(const CycleTrace& trace) {
   ParticleWork w;

@@ -36,14 +36,21 @@ std::uint64_t LoopTrips(const CycleTrace& trace, const std::string& module, cons
 // max_m cycles_m + Σ_m depth_m. `modules` empty → 0.
 std::uint64_t DataflowLatency(const CycleTrace& trace);
 
-// One particle's work in a raster core (from the records of a one-particle RasterCore call):
-// the window fill, the FT read, the vertex stage, the pixel stage, the z pass (0 in the
-// thesis's mode).
+// One particle's work in a raster core (from the records of a one-particle RasterCore call),
+// each loop's trips × II + depth: the window fill, the FT read, the vertex stage (3 clocks per
+// face), the pixel stage (1 clock per pixel of each forwarded triangle's clipped box), the z
+// pass (0 in the thesis's mode).
 struct ParticleWork {
   std::uint64_t fill = 0, ft = 0, vertex = 0, pixel = 0, zpass = 0;
-  // After the fill: FT read, then the vertex and pixel stages as the core's internal dataflow
-  // (triangle FIFO between them: the slower sets the time), then the z pass.
-  std::uint64_t Compute() const { return ft + (vertex > pixel ? vertex : pixel) + zpass; }
+  // The face phase: the vertex and pixel stages run as a dataflow joined by the triangle FIFO,
+  // so the slower one sets the time; the pixel stage starts one vertex-stage depth after the
+  // first vertex (its first triangle). No pixel work: the vertex stage alone.
+  std::uint64_t Faces() const;
+  // After the fill: the FT read, the face phase, then the z pass.
+  std::uint64_t Compute() const { return ft + Faces() + zpass; }
+  // One particle from its window word to its output word (what the RTL twin's testbench
+  // counts): window read + fill + Compute() + output.
+  std::uint64_t Total() const;
 };
 ParticleWork ParticleWorkFromTrace(const CycleTrace& trace);
 

@@ -34,6 +34,7 @@
 
 #include "hw/hw_types.h"
 #include "hw/distributor.h"
+#include "hw/latency.h"
 #include "hw/transform.h"
 
 #ifndef __SYNTHESIS__
@@ -254,19 +255,255 @@ inline ap_uint<24> DepthF20(const depth_t& z) {
   return ap_uint<24>(RawUnsigned(z)) << (20 - kDepthFracBits);
 }
 
+// A front face ready for the pixel stage: the triangle FIFO's entry between the vertex stage and
+// the pixel stage of the core's internal dataflow (Fig. 7.20). Positions are relative to the
+// window: the clipped bounding box starts at (x0, y0) and is w × h pixels (≥ 1 each).
+struct TriangleSetup {
+  ap_int<24> A[3], B[3];  // edge steps per pixel column / row, F8 (eq. 6.19–6.20)
+  ap_int<50> e0[3];       // edge functions at the box's first pixel, F16 (eq. 6.16–6.18)
+  ap_uint<1> own[3];      // 1: E_k = 0 is inside (owned edge: A > 0, or A = 0 and B > 0)
+  ap_uint<32> iz[3];      // 1/W of the vertices, F26
+  ap_uint<6> sh;          // normalisation of the barycentric weights (RecoverDepth)
+  ap_uint<8> x0, y0;      // box origin in the window, pixels
+  ap_uint<8> w, h;        // box size, pixels, 1 … kMaxWindow
+  ap_uint<1> last;        // end of the particle's faces (no triangle in this entry)
+};
+
+// Vertex stage (Fig. 7.20 "vertex" + triangle setup): 3·num_faces vertices, one per clock across
+// faces (flattened), projected (ProjectVertex); per face the near/guard-band test, back-face
+// culling (§6.2: 2·Area ≤ 0 is culled), the bounding box clipped to the window (ceil of min,
+// floor of max) and the edge setup. Front faces with a non-empty clipped box go to the pixel
+// stage; the stream ends with one `last` entry. Returns the number of front faces.
+inline face_count_t VertexStage(int num_faces, const ap_int<36> ft[kFtElements], const ap_int<52>& near_w,
+                                const Window& win, hls::stream<Vertex>& vert_in, hls::stream<TriangleSetup>& tri_out) {
+  const int u0 = win.u0.to_int(), v0 = win.v0.to_int();
+  const int ww = win.width.to_int(), wh = win.height.to_int();
+  face_count_t front = 0;
+  ScreenVertex sv[3];
+#pragma HLS ARRAY_PARTITION variable = sv complete
+  bool ok = true;
+  int k = 0;  // vertex of the current face, 0 … 2
+RC_VERTICES:
+  for (int i = 0; i < 3 * num_faces; ++i) {
+#pragma HLS PIPELINE II = 1
+#pragma HLS LOOP_TRIPCOUNT min = 36 max = 6144
+    sv[k] = ProjectVertex(ft, vert_in.read(), near_w);
+    ok = (k == 0 ? true : ok) && sv[k].ok;
+    if (k < 2) {
+      ++k;
+      continue;
+    }
+    k = 0;
+    if (!ok) continue;  // a vertex behind the near plane or outside the guard band
+    // Back-face culling (§6.2): 2·Area = (V2x−V0x)(V1y−V0y) − (V2y−V0y)(V1x−V0x) ≤ 0.
+    const ap_int<50> area2 = ap_int<50>((sv[2].x - sv[0].x) * (sv[1].y - sv[0].y)) -
+                             ap_int<50>((sv[2].y - sv[0].y) * (sv[1].x - sv[0].x));
+    if (area2 <= 0) continue;
+    ++front;
+    ap_int<23> min_x = sv[0].x, max_x = sv[0].x, min_y = sv[0].y, max_y = sv[0].y;
+    for (int j = 1; j < 3; ++j) {
+#pragma HLS UNROLL
+      if (sv[j].x < min_x) min_x = sv[j].x;
+      if (sv[j].x > max_x) max_x = sv[j].x;
+      if (sv[j].y < min_y) min_y = sv[j].y;
+      if (sv[j].y > max_y) max_y = sv[j].y;
+    }
+    int u_lo = (-((-min_x) >> kSubpixelBits)).to_int(), u_hi = (max_x >> kSubpixelBits).to_int();
+    int v_lo = (-((-min_y) >> kSubpixelBits)).to_int(), v_hi = (max_y >> kSubpixelBits).to_int();
+    if (u_lo < u0) u_lo = u0;
+    if (v_lo < v0) v_lo = v0;
+    if (u_hi > u0 + ww - 1) u_hi = u0 + ww - 1;
+    if (v_hi > v0 + wh - 1) v_hi = v0 + wh - 1;
+    if (u_lo > u_hi || v_lo > v_hi) continue;
+    // Edge j opposite vertex j, from Va = V[j+1] to Vb = V[j+2] (eq. 6.13): A = Vb.y − Va.y,
+    // B = −(Vb.x − Va.x); E_j at the first pixel (eq. 6.16–6.18).
+    TriangleSetup t;
+    for (int j = 0; j < 3; ++j) {
+#pragma HLS UNROLL
+      const int a = (j + 1) % 3, b = (j + 2) % 3;
+      t.A[j] = sv[b].y - sv[a].y;
+      t.B[j] = sv[a].x - sv[b].x;
+      t.e0[j] = ap_int<50>(t.A[j] * ap_int<24>((ap_int<24>(u_lo) << kSubpixelBits) - sv[a].x)) +
+                ap_int<50>(t.B[j] * ap_int<24>((ap_int<24>(v_lo) << kSubpixelBits) - sv[a].y));
+      t.own[j] = (t.A[j] > 0 || (t.A[j] == 0 && t.B[j] > 0)) ? 1 : 0;
+      t.iz[j] = sv[j].iz;
+    }
+    const int len = BitLength(area2);
+    t.sh = len > 24 ? len - 24 : 0;
+    t.x0 = u_lo - u0;
+    t.y0 = v_lo - v0;
+    t.w = u_hi - u_lo + 1;
+    t.h = v_hi - v_lo + 1;
+    t.last = 0;
+    tri_out.write(t);
+  }
+  TriangleSetup end;
+  for (int j = 0; j < 3; ++j) {
+    end.A[j] = end.B[j] = 0;
+    end.e0[j] = 0;
+    end.own[j] = 0;
+    end.iz[j] = 0;
+  }
+  end.sh = 0;
+  end.x0 = end.y0 = end.w = end.h = 0;
+  end.last = 1;
+  tri_out.write(end);
+  return front;
+}
+
+// Pixel stage (Fig. 7.20 "pixel"): every pixel of every triangle's clipped box, one pixel per
+// clock, rows and triangles back to back (one flattened loop; the next triangle is read in the
+// clock after the previous one's last pixel). Inside test on the incremental edge functions
+// (+A·256 per column, +B·256 per row, eq. 6.19–6.20), depth recovery (eq. 6.21–6.22), then
+// zbuffer = 0: the soft inlier of the fragment (§7.5.1); zbuffer = 1: the z-buffer's
+// read-modify-write (min; in hardware a one-word forward covers back-to-back fragments on
+// the same address). Returns the number of box pixels visited (the loop's trips).
+inline uint64_t PixelStage(hls::stream<TriangleSetup>& tri_in, const RasterParams& prm, bool zbuffer,
+                           RasterCoreMemory& mem, Accumulators* acc) {
+  TriangleSetup t;
+#pragma HLS ARRAY_PARTITION variable = t.A complete
+  ap_int<50> e[3], row_e[3];
+#pragma HLS ARRAY_PARTITION variable = e complete
+#pragma HLS ARRAY_PARTITION variable = row_e complete
+  int x = 0, y = 0;
+  bool need = true;  // read the next triangle in this clock
+  uint64_t trips = 0;
+RC_RASTER:
+  for (;;) {
+#pragma HLS PIPELINE II = 1
+#pragma HLS LOOP_TRIPCOUNT min = 1 max = 100000
+#pragma HLS DEPENDENCE variable = mem.zbuf inter false
+    if (need) {
+      t = tri_in.read();
+      if (t.last == 1) break;
+      for (int k = 0; k < 3; ++k) e[k] = row_e[k] = t.e0[k];
+      x = 0;
+      y = 0;
+      need = false;
+    }
+    ++trips;
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) inside = inside && (e[k] > 0 || (e[k] == 0 && t.own[k] == 1));
+    if (inside) {
+      const ap_uint<24> z = RecoverDepth(e, t.sh.to_int(), t.iz);
+      const int a = (t.y0.to_int() + y) * kMaxWindow + t.x0.to_int() + x;
+      if (zbuffer) {
+        // z-test on the window z-buffer (F16, rounded; the first of equal words wins).
+        ap_uint<25> zq = (ap_uint<25>(z) + 8) >> 4;
+        if (zq >= kZbufEmpty) zq = kZbufEmpty - 1;
+        if (zq < mem.zbuf[a]) mem.zbuf[a] = zbuf_word_t(zq);
+      } else {
+        ++acc->n_raster;
+        CompareFragment(z, DepthF20(mem.frag[a]), prm, acc);
+      }
+    }
+    if (x + 1 < t.w.to_int()) {
+      ++x;
+      for (int k = 0; k < 3; ++k) e[k] += ap_int<50>(t.A[k]) << kSubpixelBits;
+    } else {
+      x = 0;
+      ++y;
+      for (int k = 0; k < 3; ++k) {
+        row_e[k] += ap_int<50>(t.B[k]) << kSubpixelBits;
+        e[k] = row_e[k];
+      }
+      if (y == t.h.to_int()) need = true;
+    }
+  }
+  return trips;
+}
+
+// z pass (z-buffer mode, ours): compares the nearest fragment of each covered pixel and counts
+// the silhouette edge samples (a covered pixel and an uncovered 4-neighbour inside the window
+// with valid scene depth; continued when |z_s(neighbour) − z_r| ≤ edge_band). The window is
+// read in raster order, one z-buffer word and one depth word per clock, through two line
+// buffers (delay lines of the (z-buffer, depth) pairs): pixel j = i − width is evaluated in
+// the clock that reads word i (its lower neighbour); delay line 1 (width − 1 words) yields word
+// i − width + 1 (its right neighbour), shifted on into `cen` and `lft`; delay line 2 (width
+// words) yields word i − 2·width (its upper neighbour). width·(height + 1) clocks.
+struct ZPixel {
+  zbuf_word_t z;
+  depth_t d;
+};
+
+inline void ZPass(const Window& win, const RasterParams& prm, const RasterCoreMemory& mem, Accumulators* acc) {
+  const int ww = win.width.to_int(), wh = win.height.to_int();
+  const ap_uint<24> band = RawUnsigned(prm.edge_band);
+  ZPixel line1[kMaxWindow], line2[kMaxWindow];  // delay lines (BRAM or LUTRAM, one read + one write per clock)
+#ifndef __SYNTHESIS__
+  for (int k = 0; k < kMaxWindow; ++k) {  // C simulation: defined contents (never used before written)
+    line1[k].z = line2[k].z = kZbufEmpty;
+    line1[k].d = line2[k].d = 0;
+  }
+#endif
+  int p1 = 0, p2 = 0;  // pointers: read the oldest word, write the new one in its place
+  ZPixel lft, cen;     // words j − 1 and j
+  lft.z = cen.z = kZbufEmpty;
+  lft.d = cen.d = 0;
+  int x = 0, y = 0;  // the word read in this clock, (x, y); y = height in the flush row
+RC_ZPASS:
+  for (int i = 0; i < ww * (wh + 1); ++i) {
+#pragma HLS PIPELINE II = 1
+#pragma HLS LOOP_TRIPCOUNT min = 2 max = 40200
+#pragma HLS DEPENDENCE variable = line1 inter false
+#pragma HLS DEPENDENCE variable = line2 inter false
+    ZPixel dn;  // word i: the lower neighbour of pixel j (none in the flush row)
+    dn.z = kZbufEmpty;
+    dn.d = 0;
+    if (y < wh) {
+      dn.z = mem.zbuf[y * kMaxWindow + x];
+      dn.d = mem.frag[y * kMaxWindow + x];
+    }
+    ZPixel rgt = dn;  // word i − width + 1: the right neighbour (a 0-word line for width 1)
+    if (ww > 1) {
+      rgt = line1[p1];
+      line1[p1] = dn;
+      p1 = p1 + 1 == ww - 1 ? 0 : p1 + 1;
+    }
+    const ZPixel up = line2[p2];  // word j − width: the upper neighbour
+    line2[p2] = cen;
+    p2 = p2 + 1 == ww ? 0 : p2 + 1;
+    if (y >= 1 && cen.z != kZbufEmpty) {  // pixel j = (x, y − 1) is covered
+      ++acc->n_raster;
+      const ap_uint<24> z = ap_uint<24>(cen.z) << 4;
+      CompareFragment(z, DepthF20(cen.d), prm, acc);
+      const ZPixel nb[4] = {lft, rgt, up, dn};
+      const bool in_window[4] = {x > 0, x < ww - 1, y > 1, y < wh};
+    RC_EDGE_NEIGHBOURS:
+      for (int n = 0; n < 4; ++n) {
+#pragma HLS UNROLL
+        if (!in_window[n] || nb[n].z != kZbufEmpty) continue;
+        const ap_uint<24> zs = DepthF20(nb[n].d);
+        ++acc->n_edge;  // a missing reading next to the outline is a discontinuity: not continued
+        if (zs == 0) continue;
+        const ap_uint<25> diff = zs > z ? ap_uint<25>(zs - z) : ap_uint<25>(z - zs);
+        if (diff <= band) ++acc->n_edge_continued;
+      }
+    }
+    lft = cen;
+    cen = rgt;
+    if (++x == ww) {
+      x = 0;
+      ++y;
+    }
+  }
+}
+
 }  // namespace raster_detail
 
 // One raster core. Processes `num_particles` particles (its share of the round-robin deal:
 // particles c, c + M, c + 2M, … of the iteration), each with `num_faces` faces; reads per
 // particle its window (info_in), width·height depth pixels (depth_in, row-major), 12 FT
 // elements (ft_in) and 3·num_faces vertices (vert_in); writes one RasterCoreOutput.
-// The top instantiates kMaxRasterCores copies (UNROLL over an array of stream sets).
+// Per particle: (1) the window fill, (2) the FT read, (3) the vertex stage and the pixel
+// stage as a dataflow joined by the triangle FIFO (Fig. 7.20), (4) in z-buffer mode the z pass.
+// The top instantiates M copies, each with its own RasterCoreMemory.
 inline void RasterCore(int num_particles, int num_faces, const RasterParams& prm,
                        hls::stream<Window>& info_in, hls::stream<depth_t>& depth_in,
                        hls::stream<ft_t>& ft_in, hls::stream<Vertex>& vert_in,
                        hls::stream<RasterCoreOutput>& out, RasterCoreMemory& mem HW_TRACE_PARAM) {
   using namespace raster_detail;
-  uint64_t fill_trips = 0, vertex_trips = 0, raster_trips = 0, zpass_trips = 0;
+  uint64_t fill_trips = 0, vertex_trips = 0, pixel_trips = 0, zpass_trips = 0;
   const ap_int<52> near_w = ap_int<52>(RawUnsigned(prm.near_plane)) << 12;  // F20 → F32
   const bool zbuffer = prm.zbuffer == 1;
 RC_PARTICLES:
@@ -279,19 +516,24 @@ RC_PARTICLES:
     acc.faces_front = 0;
     acc.faces_total = num_faces;
 
-    // 1. The window and its depth fragment; clear the z-buffer on the way.
+    // 1. The window and its depth fragment, row by row (column/row counters, no divider);
+    // the z-buffer is cleared on the way.
     const Window win = info_in.read();
-    const int u0 = win.u0.to_int(), v0 = win.v0.to_int();
     const int ww = win.width.to_int(), wh = win.height.to_int();
+    int fx = 0, fy = 0;
   RC_DEPTH_FILL:
     for (int i = 0; i < ww * wh; ++i) {
 #pragma HLS PIPELINE II = 1
 #pragma HLS LOOP_TRIPCOUNT min = 1 max = 40000
-      const int a = (i / ww) * kMaxWindow + i % ww;
+      const int a = fy * kMaxWindow + fx;
       const depth_t d = depth_in.read();
       mem.frag[a] = d;
       mem.zbuf[a] = kZbufEmpty;
       if (d != 0) ++acc.n_depth;
+      if (++fx == ww) {
+        fx = 0;
+        ++fy;
+      }
     }
     fill_trips += uint64_t(ww) * wh;
 
@@ -304,125 +546,17 @@ RC_PARTICLES:
       ft[e] = RawSigned(ft_in.read());
     }
 
-    // 3. Faces: transform, cull, rasterize (the core's internal dataflow of Fig. 7.20:
-    // vertex stage → triangle setup → pixel stage).
-  RC_FACES:
-    for (int f = 0; f < num_faces; ++f) {
-#pragma HLS LOOP_TRIPCOUNT min = 12 max = 2048
-      ScreenVertex sv[3];
-      bool ok = true;
-    RC_VERTICES:
-      for (int k = 0; k < 3; ++k) {
-#pragma HLS PIPELINE II = 1
-        sv[k] = ProjectVertex(ft, vert_in.read(), near_w);
-        ok = ok && sv[k].ok;
-      }
-      vertex_trips += 3;
-      if (!ok) continue;  // a vertex behind the near plane or outside the guard band
-      // Back-face culling (§6.2): 2·Area = (V2x−V0x)(V1y−V0y) − (V2y−V0y)(V1x−V0x) ≤ 0.
-      const ap_int<50> area2 = ap_int<50>((sv[2].x - sv[0].x) * (sv[1].y - sv[0].y)) -
-                               ap_int<50>((sv[2].y - sv[0].y) * (sv[1].x - sv[0].x));
-      if (area2 <= 0) continue;
-      ++acc.faces_front;
-      // Bounding box of the face in pixels (ceil of min, floor of max), clipped to the window.
-      ap_int<23> min_x = sv[0].x, max_x = sv[0].x, min_y = sv[0].y, max_y = sv[0].y;
-      for (int k = 1; k < 3; ++k) {
-        if (sv[k].x < min_x) min_x = sv[k].x;
-        if (sv[k].x > max_x) max_x = sv[k].x;
-        if (sv[k].y < min_y) min_y = sv[k].y;
-        if (sv[k].y > max_y) max_y = sv[k].y;
-      }
-      int u_lo = (-((-min_x) >> kSubpixelBits)).to_int(), u_hi = (max_x >> kSubpixelBits).to_int();
-      int v_lo = (-((-min_y) >> kSubpixelBits)).to_int(), v_hi = (max_y >> kSubpixelBits).to_int();
-      if (u_lo < u0) u_lo = u0;
-      if (v_lo < v0) v_lo = v0;
-      if (u_hi > u0 + ww - 1) u_hi = u0 + ww - 1;
-      if (v_hi > v0 + wh - 1) v_hi = v0 + wh - 1;
-      ++raster_trips;  // the setup slot of a front face in the pixel stage
-      if (u_lo > u_hi || v_lo > v_hi) continue;
-      // Edge k opposite vertex k, from Va = V[k+1] to Vb = V[k+2] (eq. 6.13): A = Vb.y − Va.y,
-      // B = −(Vb.x − Va.x); E_k at the first pixel (eq. 6.16–6.18), then +A·256 per column
-      // and +B·256 per row (eq. 6.19–6.20). Inside: E_k > 0, or E_k = 0 on an owned edge.
-      ap_int<24> A[3], B[3];
-      ap_int<50> row_e[3];
-      ap_int<2> min_e[3];
-#pragma HLS ARRAY_PARTITION variable = A complete
-#pragma HLS ARRAY_PARTITION variable = B complete
-#pragma HLS ARRAY_PARTITION variable = row_e complete
-      for (int k = 0; k < 3; ++k) {
-        const int a = (k + 1) % 3, b = (k + 2) % 3;
-        A[k] = sv[b].y - sv[a].y;
-        B[k] = sv[a].x - sv[b].x;
-        row_e[k] = ap_int<50>(A[k] * ap_int<24>((ap_int<24>(u_lo) << kSubpixelBits) - sv[a].x)) +
-                   ap_int<50>(B[k] * ap_int<24>((ap_int<24>(v_lo) << kSubpixelBits) - sv[a].y));
-        min_e[k] = (A[k] > 0 || (A[k] == 0 && B[k] > 0)) ? 0 : 1;
-      }
-      // Normalisation of the barycentric weights for the depth divider (per face).
-      const int len = BitLength(area2);
-      const int sh = len > 24 ? len - 24 : 0;
-      const ap_uint<32> iz[3] = {sv[0].iz, sv[1].iz, sv[2].iz};
-    RC_RASTER_ROWS:
-      for (int v = v_lo; v <= v_hi; ++v) {
-#pragma HLS LOOP_TRIPCOUNT min = 1 max = 200
-        ap_int<50> e[3] = {row_e[0], row_e[1], row_e[2]};
-      RC_RASTER:
-        for (int u = u_lo; u <= u_hi; ++u) {
-#pragma HLS PIPELINE II = 1
-#pragma HLS LOOP_TRIPCOUNT min = 1 max = 200
-#pragma HLS DEPENDENCE variable = mem.zbuf inter false
-          if (e[0] >= min_e[0] && e[1] >= min_e[1] && e[2] >= min_e[2]) {
-            const ap_uint<24> z = RecoverDepth(e, sh, iz);
-            const int a = (v - v0) * kMaxWindow + (u - u0);
-            if (zbuffer) {
-              // z-test on the window z-buffer (F16, rounded; the first of equal words wins).
-              ap_uint<25> zq = (ap_uint<25>(z) + 8) >> 4;
-              if (zq >= kZbufEmpty) zq = kZbufEmpty - 1;
-              if (zq < mem.zbuf[a]) mem.zbuf[a] = zbuf_word_t(zq);
-            } else {
-              ++acc.n_raster;
-              CompareFragment(z, DepthF20(mem.frag[a]), prm, &acc);
-            }
-          }
-          for (int k = 0; k < 3; ++k) e[k] += ap_int<50>(A[k]) << kSubpixelBits;
-        }
-        for (int k = 0; k < 3; ++k) row_e[k] += ap_int<50>(B[k]) << kSubpixelBits;
-      }
-      raster_trips += uint64_t(u_hi - u_lo + 1) * uint64_t(v_hi - v_lo + 1) - 1;
-    }
+    // 3. Faces: vertex stage → triangle FIFO → pixel stage (the core's internal dataflow).
+    hls::stream<TriangleSetup> tri("triangles");
+#pragma HLS STREAM variable = tri depth = kTriangleFifoDepth
+    acc.faces_front = VertexStage(num_faces, ft, near_w, win, vert_in, tri);
+    pixel_trips += PixelStage(tri, prm, zbuffer, mem, &acc);
+    vertex_trips += uint64_t(3) * num_faces;
 
-    // 4. z-buffer mode: compare the nearest fragment of each covered pixel, edge samples
-    // (a covered pixel and an uncovered 4-neighbour inside the window with valid scene
-    // depth; continued when |z_s(neighbour) − z_r| ≤ edge_band). In hardware a 3-line
-    // buffer of the z-buffer gives the four neighbours at II = 1.
+    // 4. z-buffer mode: the z pass over the window.
     if (zbuffer) {
-      const ap_uint<24> band = RawUnsigned(prm.edge_band);
-    RC_ZPASS:
-      for (int i = 0; i < ww * wh; ++i) {
-#pragma HLS PIPELINE II = 1
-#pragma HLS LOOP_TRIPCOUNT min = 1 max = 40000
-        const int y = i / ww, x = i % ww;
-        const int a = y * kMaxWindow + x;
-        const zbuf_word_t zw = mem.zbuf[a];
-        if (zw == kZbufEmpty) continue;
-        ++acc.n_raster;
-        const ap_uint<24> z = ap_uint<24>(zw) << 4;
-        CompareFragment(z, DepthF20(mem.frag[a]), prm, &acc);
-      RC_EDGE_NEIGHBOURS:
-        for (int n = 0; n < 4; ++n) {
-#pragma HLS UNROLL
-          const int xn = x + (n == 0 ? -1 : n == 1 ? 1 : 0);
-          const int yn = y + (n == 2 ? -1 : n == 3 ? 1 : 0);
-          if (xn < 0 || yn < 0 || xn >= ww || yn >= wh) continue;
-          const int an = yn * kMaxWindow + xn;
-          if (mem.zbuf[an] != kZbufEmpty) continue;
-          const ap_uint<24> zs = DepthF20(mem.frag[an]);
-          ++acc.n_edge;  // a missing reading next to the outline is a discontinuity: not continued
-          if (zs == 0) continue;
-          const ap_uint<25> diff = zs > z ? ap_uint<25>(zs - z) : ap_uint<25>(z - zs);
-          if (diff <= band) ++acc.n_edge_continued;
-        }
-      }
-      zpass_trips += uint64_t(ww) * wh;
+      ZPass(win, prm, mem, &acc);
+      zpass_trips += uint64_t(ww) * (wh + 1);
     }
 
     RasterCoreOutput o;
@@ -438,20 +572,16 @@ RC_PARTICLES:
     o.faces_total = acc.faces_total;
     out.write(o);
   }
-  // Cycle records (one per stage and call; the stages of the core overlap as a dataflow,
-  // see docs/HARDWARE.md for the composition):
-  // depth fill: stream read (1) + BRAM write (1) + valid count (1).
-  HW_TRACE("raster_core", "RC_DEPTH_FILL", fill_trips, 1, 3);
-  HW_TRACE("raster_core", "RC_FT_READ", uint64_t(num_particles) * kFtElements, 1, 1);
-  // vertex stage: 12 MACs as 3 DSP cascades (4) + the 32-stage 1/W divider in parallel with
-  // the two 22-stage snapping dividers (32) + guard/near tests (2) + register (1).
-  HW_TRACE("raster_core", "RC_VERTICES", vertex_trips, 1, 39);
-  // pixel stage: one cycle per pixel of each front face's clipped bounding box (at least one
-  // setup slot per front face); depth: edge setup (6: products and normalisation) +
-  // depth-recovery divider (24) + χ multiply/round (3) + accumulate or z-buffer RMW (2).
-  HW_TRACE("raster_core", "RC_RASTER", raster_trips, 1, 35);
-  // z pass: z-buffer/line-buffer read (2) + compare (3) + accumulate (1).
-  HW_TRACE("raster_core", "RC_ZPASS", zpass_trips, 1, 6);
+  // Loop records (trips, II, pipeline depth from latency.h; docs/HARDWARE.md "Cycle model").
+#ifndef __SYNTHESIS__
+  // Each loop is entered once per particle: its depth counts once per entry.
+  const uint32_t entries = uint32_t(num_particles);
+#endif
+  HW_TRACE("raster_core", "RC_DEPTH_FILL", fill_trips, 1, entries * kRcFillDepth);
+  HW_TRACE("raster_core", "RC_FT_READ", uint64_t(num_particles) * kFtElements, 1, entries * kRcFtReadDepth);
+  HW_TRACE("raster_core", "RC_VERTICES", vertex_trips, 1, entries * kRcVertexDepth);
+  HW_TRACE("raster_core", "RC_RASTER", pixel_trips, 1, entries * kRcPixelDepth);
+  HW_TRACE("raster_core", "RC_ZPASS", zpass_trips, 1, (zbuffer ? entries : 0u) * kRcZpassDepth);
 }
 
 }  // namespace posefilter::hw

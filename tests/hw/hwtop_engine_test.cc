@@ -44,27 +44,6 @@ TEST(HwTopCycleModel, LoopAndModuleCyclesFollowTripsTimesIiPlusDepth) {
   EXPECT_EQ(DataflowLatency(*t), 114u + 13u);
 }
 
-TEST(HwTopCycleModel, RoundsSerialiseFillAndTheSlowestCoreOfEachRound) {
-  std::vector<ParticleWork> w(5);
-  for (int p = 0; p < 5; ++p) {
-    w[p].fill = 100;
-    w[p].ft = 12;
-    w[p].vertex = 300;
-    w[p].pixel = 200 + 100 * p;  // p = 0, 1: vertex-bound; p ≥ 2: pixel-bound
-    w[p].zpass = 100;
-  }
-  EXPECT_EQ(w[0].Compute(), 12u + 300u + 100u);
-  EXPECT_EQ(w[4].Compute(), 12u + 600u + 100u);
-  // M = 2: rounds {0,1}, {2,3}, {4}; distributor fills 150, 90 (< core fill 100), 80.
-  const std::vector<std::uint64_t> fill = {150, 90, 80};
-  const std::uint64_t expect = (150 + 412) + (100 + 612) + (100 + 712);
-  EXPECT_EQ(ComposeRounds(w, fill, 2), expect);
-  // M = 1: every particle its own round.
-  std::uint64_t one = 0;
-  for (int p = 0; p < 5; ++p) one += 100 + w[p].Compute();
-  EXPECT_EQ(ComposeRounds(w, std::vector<std::uint64_t>(5, 0), 1), one);
-}
-
 // ---------------------------------------------------------------------------------------------
 // The weigh top on a small synthetic problem loaded by hand.
 
