@@ -1,9 +1,15 @@
 // posefilter hw-report — the hw engine's cycle model on a synthetic scene comparable to the
 // thesis's (640×480, thesis camera, N = 510, windows capped at 200×200, a model of 1024
 // vertices / 2048 faces — the synthetic torus), side by side with the thesis's figures
-// (thesis Ch. 7: Tables 7.2, 7.3, Fig. 7.11, 7.21). docs/HARDWARE.md explains the model.
+// (thesis Ch. 7: Tables 7.2, 7.3, Fig. 7.11, 7.21). Two configurations: "thesis" (the given
+// options with every extension of ours off: no z-buffer, the thesis's 13 moves, no annealing,
+// niches, support plane or polish) and "ours" (the options as given). docs/HARDWARE.md explains
+// the model and the comparison.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -40,6 +46,106 @@ std::string Ms(double v) {
   return buf;
 }
 
+// The thesis's configuration of the filter (Ch. 7): the scale of `opt` (particles, iterations,
+// seed, windows) with each extension of ours off.
+FilterOptions ThesisConfiguration(FilterOptions opt) {
+  opt.render.zbuffer = false;
+  opt.render.adaptive_resolution = false;
+  opt.render.grow_window = false;
+  opt.score.occlusion_aware = false;
+  opt.score.delta = 0;  // the edge penalty needs the z-buffer
+  opt.support.plane = false;
+  opt.support.contact = 0;
+  opt.support.stable_start = 0;
+  opt.anneal.start_m = 0;  // the fixed inlier threshold
+  opt.anneal.subsample = 1;
+  opt.anneal.simplify = false;
+  opt.niches.region_cap = 1;
+  opt.niches.rotation_cap = 1;
+  opt.diffusion.min_sigma_fraction = 0;
+  for (int m = 0; m < kNumMoves; ++m) opt.diffusion.move_probabilities[m] = m < int(Move::kAlignDepth) ? 1.0 : 0.0;
+  opt.polish.steps = 0;
+  opt.init_oversample = 1;
+  opt.seed_start = 0;
+  opt.fine_particle_fraction = 1;
+  opt.stop.stall_iterations = 0;
+  return opt;
+}
+
+struct Configuration {
+  std::string name;
+  FilterOptions options;
+  HwProfile profile;
+  PoseErrors errors;
+};
+
+nlohmann::json ProfileJson(const HwProfile& p, const PoseErrors& e) {
+  nlohmann::json models = nlohmann::json::array();
+  for (const HwCoreModel& m : p.models) {
+    nlohmann::json mods = nlohmann::json::array();
+    for (const auto& mod : m.modules) mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}, {"ms", p.CyclesToMs(mod.cycles)}});
+    models.push_back({{"cores", m.cores},
+                      {"depth_distribution_ms", p.CyclesToMs(m.depth_distribution_cycles)},
+                      {"first_iteration_ms", p.CyclesToMs(m.first_iteration_cycles)},
+                      {"average_iteration_ms", p.CyclesToMs(m.average_iteration_cycles)},
+                      {"weigh_ms", p.CyclesToMs(m.weigh_cycles)},
+                      {"update_ms", p.CyclesToMs(m.update_cycles)},
+                      {"iteration_ms", p.CyclesToMs(m.iteration_cycles)},
+                      {"depth_reads_shared", m.depth_reads_shared},
+                      {"depth_reads_unshared", m.depth_reads_unshared},
+                      {"modules", mods}});
+  }
+  nlohmann::json init_mods = nlohmann::json::array();
+  for (const auto& mod : p.init_modules) init_mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}});
+  const double faces_ratio = p.faces_front > 0 ? p.faces_total / p.faces_front : 0;
+  return {{"vertices", p.num_vertices}, {"faces", p.num_faces}, {"particles", p.num_particles},
+          {"iterations", p.iterations}, {"modelled_iterations", p.modelled_iterations}, {"clock_mhz", p.clock_mhz},
+          {"weight", p.result.weight}, {"adds_m", e.adds}, {"found", e.adds_ok},
+          {"mean_window_area", p.mean_window_area}, {"postprocess_ms", p.CyclesToMs(p.postprocess_cycles)},
+          {"init_ms", p.CyclesToMs(p.init_cycles)}, {"init_modules", init_mods},
+          {"init_reads_per_draw", p.init_reads}, {"init_reads_linear_per_draw", p.init_reads_linear},
+          {"resample_reads_per_draw", p.resample_reads}, {"resample_reads_linear_per_draw", p.resample_reads_linear},
+          {"faces_total", p.faces_total}, {"faces_front", p.faces_front}, {"faces_ratio", faces_ratio},
+          {"models", models}};
+}
+
+void PrintProfile(const Configuration& c) {
+  const HwProfile& p = c.profile;
+  std::printf("configuration \"%s\": weight %.3f, ADD-S %.1f mm (%s), mean window %.0f px^2, %d iterations (%d modelled)\n",
+              c.name.c_str(), p.result.weight, 1000 * c.errors.adds, c.errors.adds_ok ? "found" : "not found",
+              p.mean_window_area, p.iterations, p.modelled_iterations);
+  std::printf("%-34s %10s %10s %10s\n", "per iteration [ms]", "", "ours", "thesis");
+  for (const HwCoreModel& m : p.models) {
+    const ThesisRow* t = ThesisFor(m.cores);
+    std::printf("M = %d cores\n", m.cores);
+    std::printf("  %-32s %10s %10s %10s\n", "depth distribution", "", Ms(p.CyclesToMs(m.depth_distribution_cycles)).c_str(),
+                Ms(t ? t->depth_distribution_ms : -1).c_str());
+    std::printf("  %-32s %10s %10s %10s\n", "first iteration", "", Ms(p.CyclesToMs(m.first_iteration_cycles)).c_str(),
+                Ms(t ? t->first_iteration_ms : -1).c_str());
+    std::printf("  %-32s %10s %10s %10s\n", "average iteration", "", Ms(p.CyclesToMs(m.average_iteration_cycles)).c_str(),
+                Ms(t ? t->average_iteration_ms : -1).c_str());
+    std::printf("  %-32s %10s %10s\n", "  weigh region (modelled its)", "", Ms(p.CyclesToMs(m.weigh_cycles)).c_str());
+    std::printf("  %-32s %10s %10s\n", "  resample + diffusion", "", Ms(p.CyclesToMs(m.update_cycles)).c_str());
+    std::printf("  %-32s %10.0f %10s\n", "  depth px read, shared", m.depth_reads_shared, "");
+    std::printf("  %-32s %10.0f %10s\n", "  depth px read, unshared", m.depth_reads_unshared, "");
+    std::printf("  per module [cycles, ms]:\n");
+    for (const auto& mod : m.modules)
+      std::printf("    %-30s %10.0f %10s\n", mod.module.c_str(), mod.cycles, Ms(p.CyclesToMs(mod.cycles)).c_str());
+  }
+  std::printf("%-34s %10s %10s\n", "once per run", "ours", "thesis");
+  std::printf("  %-32s %10s %10s\n", "post-process [ms]", Ms(p.CyclesToMs(p.postprocess_cycles)).c_str(), "-");
+  std::printf("  %-32s %10s %10s\n", "initialisation [ms]", Ms(p.CyclesToMs(p.init_cycles)).c_str(), "-");
+  const double init_ratio = p.init_reads > 0 ? p.init_reads_linear / p.init_reads : 0;
+  const double res_ratio = p.resample_reads > 0 ? p.resample_reads_linear / p.resample_reads : 0;
+  const double faces_ratio = p.faces_front > 0 ? p.faces_total / p.faces_front : 0;
+  std::printf("  %-32s %4.1f -> %-5.2f %10s\n", "init reads per draw", p.init_reads_linear, p.init_reads, "2520->61.5");
+  std::printf("  %-32s %10.1fx %9.0fx\n", "  threshold tracker saving", init_ratio, kThesisInitRatio);
+  std::printf("  %-32s %4.1f -> %-5.2f %10s\n", "resample reads per draw", p.resample_reads_linear, p.resample_reads,
+              "375->8.34");
+  std::printf("  %-32s %10.1fx %9.0fx\n", "  threshold tracker saving", res_ratio, kThesisResampleRatio);
+  std::printf("  %-32s %10.2f %10.2f\n\n", "faces / rendered faces", faces_ratio, kThesisFacesRatio);
+}
+
 }  // namespace
 
 int RunHwReport(int argc, char** argv) {
@@ -68,6 +174,13 @@ int RunHwReport(int argc, char** argv) {
   app.add_option("--window-diameters", opt.render.min_window_diameters,
                  "minimum window side in object diameters (4: every window 200x200, as the thesis; 1: the filter's default)")
       ->capture_default_str();
+  std::vector<std::string> configs = {"thesis", "ours"};
+  app.add_option("--configs", configs,
+                 "configurations to model: thesis (the options with every extension of ours off: no z-buffer, 13 moves, "
+                 "no annealing, niches, support plane or polish), ours (the options as given)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"thesis", "ours"}))
+      ->capture_default_str();
   app.add_option("--json", json_path, "also write the report as JSON");
   AddFilterOptions(app, &opt);
 
@@ -85,82 +198,55 @@ int RunHwReport(int argc, char** argv) {
     const SynthScene scene = MakeSynthScene(so, scene_seed);
     const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
     popt.raw_pyramid = scene.raw_pyramid;
-    const HwProfile p =
-        ProfileHw(SceneInput{scene.depth, scene.camera}, scene.target, prior, prior.ClassIndex(scene.target.name), opt, popt);
-    const PoseErrors e = ComputePoseErrors(SamplePoints(scene.target), scene.target.Diameter(), p.result.T_cam_obj,
-                                           scene.gt[0].T_cam_obj);
-
-    std::printf("hw-report: scene seed %llu, %s (%d vertices, %d faces), %dx%d, N = %d, %d iterations (%d modelled), %.0f MHz\n",
-                (unsigned long long)scene_seed, target.c_str(), p.num_vertices, p.num_faces, scene.camera.width,
-                scene.camera.height, p.num_particles, p.iterations, p.modelled_iterations, p.clock_mhz);
-    std::printf("result: weight %.3f, ADD-S %.1f mm (%s), mean window %.0f px^2\n\n", p.result.weight, 1000 * e.adds,
-                e.adds_ok ? "found" : "not found", p.mean_window_area);
-    std::printf("%-34s %10s %10s %10s\n", "per iteration [ms]", "", "ours", "thesis");
-    for (const HwCoreModel& m : p.models) {
-      const ThesisRow* t = ThesisFor(m.cores);
-      std::printf("M = %d cores\n", m.cores);
-      std::printf("  %-32s %10s %10s %10s\n", "depth distribution", "", Ms(p.CyclesToMs(m.depth_distribution_cycles)).c_str(),
-                  Ms(t ? t->depth_distribution_ms : -1).c_str());
-      std::printf("  %-32s %10s %10s %10s\n", "first iteration", "", Ms(p.CyclesToMs(m.first_iteration_cycles)).c_str(),
-                  Ms(t ? t->first_iteration_ms : -1).c_str());
-      std::printf("  %-32s %10s %10s %10s\n", "average iteration", "", Ms(p.CyclesToMs(m.average_iteration_cycles)).c_str(),
-                  Ms(t ? t->average_iteration_ms : -1).c_str());
-      std::printf("  %-32s %10s %10s\n", "  weigh region (modelled its)", "", Ms(p.CyclesToMs(m.weigh_cycles)).c_str());
-      std::printf("  %-32s %10s %10s\n", "  resample + diffusion", "", Ms(p.CyclesToMs(m.update_cycles)).c_str());
-      std::printf("  %-32s %10.0f %10s\n", "  depth px read, shared", m.depth_reads_shared, "");
-      std::printf("  %-32s %10.0f %10s\n", "  depth px read, unshared", m.depth_reads_unshared, "");
-      std::printf("  per module [cycles, ms]:\n");
-      for (const auto& mod : m.modules)
-        std::printf("    %-30s %10.0f %10s\n", mod.module.c_str(), mod.cycles, Ms(p.CyclesToMs(mod.cycles)).c_str());
+    if (configs.empty()) throw Error("--configs: name at least one of thesis, ours");
+    std::vector<Configuration> runs;
+    for (const std::string& name : configs) {
+      if (std::any_of(runs.begin(), runs.end(), [&](const Configuration& c) { return c.name == name; })) continue;
+      Configuration c;
+      c.name = name;
+      c.options = name == "thesis" ? ThesisConfiguration(opt) : opt;
+      c.profile = ProfileHw(SceneInput{scene.depth, scene.camera}, scene.target, prior, prior.ClassIndex(scene.target.name),
+                            c.options, popt);
+      c.errors = ComputePoseErrors(SamplePoints(scene.target), scene.target.Diameter(), c.profile.result.T_cam_obj,
+                                   scene.gt[0].T_cam_obj);
+      runs.push_back(std::move(c));
     }
-    std::printf("\n%-34s %10s %10s\n", "once per run", "ours", "thesis");
-    std::printf("  %-32s %10s %10s\n", "post-process [ms]", Ms(p.CyclesToMs(p.postprocess_cycles)).c_str(), "-");
-    std::printf("  %-32s %10s %10s\n", "initialisation [ms]", Ms(p.CyclesToMs(p.init_cycles)).c_str(), "-");
-    const double init_ratio = p.init_reads > 0 ? p.init_reads_linear / p.init_reads : 0;
-    const double res_ratio = p.resample_reads > 0 ? p.resample_reads_linear / p.resample_reads : 0;
-    const double faces_ratio = p.faces_front > 0 ? p.faces_total / p.faces_front : 0;
-    std::printf("  %-32s %4.1f -> %-5.2f %10s\n", "init reads per draw", p.init_reads_linear, p.init_reads, "2520->61.5");
-    std::printf("  %-32s %10.1fx %9.0fx\n", "  threshold tracker saving", init_ratio, kThesisInitRatio);
-    std::printf("  %-32s %4.1f -> %-5.2f %10s\n", "resample reads per draw", p.resample_reads_linear, p.resample_reads,
-                "375->8.34");
-    std::printf("  %-32s %10.1fx %9.0fx\n", "  threshold tracker saving", res_ratio, kThesisResampleRatio);
-    std::printf("  %-32s %10.2f %10.2f\n", "faces / rendered faces", faces_ratio, kThesisFacesRatio);
+    const HwProfile& p0 = runs[0].profile;
+    std::printf("hw-report: scene seed %llu, %s (%d vertices, %d faces), %dx%d, N = %d, %.0f MHz\n\n",
+                (unsigned long long)scene_seed, target.c_str(), p0.num_vertices, p0.num_faces, scene.camera.width,
+                scene.camera.height, p0.num_particles, p0.clock_mhz);
+    for (const Configuration& c : runs) PrintProfile(c);
+
+    // Side by side: Table 7.2 (depth distribution) and 7.3 (iterations) against each configuration.
+    std::printf("side by side [ms]            %10s", "thesis");
+    for (const Configuration& c : runs) std::printf(" %10s", c.name.c_str());
+    std::printf("\n");
+    for (std::size_t k = 0; k < p0.models.size(); ++k) {
+      const int cores = p0.models[k].cores;
+      const ThesisRow* t = ThesisFor(cores);
+      const auto row = [&](const char* what, double thesis, double HwCoreModel::*field) {
+        std::printf("M = %-2d %-22s %10s", cores, what, Ms(thesis).c_str());
+        for (const Configuration& c : runs) std::printf(" %10s", Ms(c.profile.CyclesToMs(c.profile.models[k].*field)).c_str());
+        std::printf("\n");
+      };
+      row("depth distribution", t ? t->depth_distribution_ms : -1, &HwCoreModel::depth_distribution_cycles);
+      row("first iteration", t ? t->first_iteration_ms : -1, &HwCoreModel::first_iteration_cycles);
+      row("average iteration", t ? t->average_iteration_ms : -1, &HwCoreModel::average_iteration_cycles);
+    }
 
     if (!json_path.empty()) {
-      nlohmann::json models = nlohmann::json::array();
-      for (const HwCoreModel& m : p.models) {
-        nlohmann::json mods = nlohmann::json::array();
-        for (const auto& mod : m.modules) mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}, {"ms", p.CyclesToMs(mod.cycles)}});
-        const ThesisRow* t = ThesisFor(m.cores);
-        models.push_back({{"cores", m.cores},
-                          {"depth_distribution_ms", p.CyclesToMs(m.depth_distribution_cycles)},
-                          {"first_iteration_ms", p.CyclesToMs(m.first_iteration_cycles)},
-                          {"average_iteration_ms", p.CyclesToMs(m.average_iteration_cycles)},
-                          {"weigh_ms", p.CyclesToMs(m.weigh_cycles)},
-                          {"update_ms", p.CyclesToMs(m.update_cycles)},
-                          {"iteration_ms", p.CyclesToMs(m.iteration_cycles)},
-                          {"depth_reads_shared", m.depth_reads_shared},
-                          {"depth_reads_unshared", m.depth_reads_unshared},
-                          {"modules", mods},
-                          {"thesis", t ? nlohmann::json{{"depth_distribution_ms", t->depth_distribution_ms},
-                                                        {"first_iteration_ms", t->first_iteration_ms},
-                                                        {"average_iteration_ms", t->average_iteration_ms}}
-                                       : nlohmann::json(nullptr)}});
-      }
-      nlohmann::json init_mods = nlohmann::json::array();
-      for (const auto& mod : p.init_modules) init_mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}});
+      nlohmann::json confs = nlohmann::json::object();
+      for (const Configuration& c : runs) confs[c.name] = ProfileJson(c.profile, c.errors);
+      nlohmann::json tables = nlohmann::json::array();
+      for (const auto& r : kThesis)
+        tables.push_back({{"cores", r.cores},
+                          {"depth_distribution_ms", r.depth_distribution_ms},
+                          {"first_iteration_ms", r.first_iteration_ms},
+                          {"average_iteration_ms", r.average_iteration_ms}});
       const nlohmann::json j = {
-          {"scene_seed", scene_seed}, {"target", target}, {"vertices", p.num_vertices}, {"faces", p.num_faces},
-          {"particles", p.num_particles}, {"iterations", p.iterations}, {"modelled_iterations", p.modelled_iterations},
-          {"clock_mhz", p.clock_mhz}, {"weight", p.result.weight}, {"adds_m", e.adds}, {"found", e.adds_ok},
-          {"mean_window_area", p.mean_window_area}, {"postprocess_ms", p.CyclesToMs(p.postprocess_cycles)},
-          {"init_ms", p.CyclesToMs(p.init_cycles)}, {"init_modules", init_mods},
-          {"init_reads_per_draw", p.init_reads}, {"init_reads_linear_per_draw", p.init_reads_linear},
-          {"resample_reads_per_draw", p.resample_reads}, {"resample_reads_linear_per_draw", p.resample_reads_linear},
-          {"faces_total", p.faces_total}, {"faces_front", p.faces_front}, {"faces_ratio", faces_ratio},
-          {"models", models},
-          {"thesis", {{"init_tracker_saving", kThesisInitRatio}, {"resample_tracker_saving", kThesisResampleRatio},
-                      {"faces_ratio", kThesisFacesRatio}}}};
+          {"scene_seed", scene_seed}, {"target", target}, {"configurations", confs},
+          {"thesis", {{"tables", tables}, {"init_tracker_saving", kThesisInitRatio},
+                      {"resample_tracker_saving", kThesisResampleRatio}, {"faces_ratio", kThesisFacesRatio}}}};
       WriteFileAtomically(json_path, [&](std::ostream& out) { out << j.dump(1) << "\n"; });
     }
   });
