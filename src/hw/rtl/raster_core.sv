@@ -1,0 +1,780 @@
+// raster_core.sv — RTL of one raster core of the render/score pipeline (thesis §7.5.3
+// "Raster Core (partial inlier)", Fig. 7.20; rasterization eq. 6.12–6.22; soft inlier §7.5.1),
+// bit-exact with the C model posefilter::hw::RasterCore (src/hw/raster_core.h) for one
+// particle at a time. Microarchitecture (src/hw/rtl/README.md):
+//
+//   IDLE   accept the Window word (u0, v0, width, height)
+//   FILL   width·height depth pixels, row-major, II = 1: fragment memory and z-buffer clear
+//          at address y·200 + x (row/column counters, no division); N_depth
+//   FT     12 FT words, II = 1
+//   FACES  vertex stage ──triangle FIFO──▶ pixel stage, concurrently:
+//          vertex stage: 3·num_faces vertices, II = 1 across faces: FT·[v;1] (exact),
+//            near test, 1/W (32-stage divider) and the two snapping dividers (22 stages,
+//            padded to 32), guard band; per face: 2·Area, culling, clipped bounding box,
+//            edge setup (A, B, E at the first pixel, owned-edge minimum, sh) → FIFO
+//          pixel stage: one pixel of the current triangle's clipped box per cycle, no bubble
+//            between rows or triangles; inside test, depth recovery (24-stage divider), then
+//            zbuffer = 0: CompareFragment against the fragment memory;
+//            zbuffer = 1: z-buffer read-modify-write (min) with one-entry write forwarding
+//   ZPASS  (zbuffer = 1) the window in raster order from both memories, line buffers for the
+//          4-neighbours; pixel (x, y) is evaluated when (x, y + 1) is read: width·(height + 1)
+//   OUT    the RasterCoreOutput word
+//
+// Number formats (as raster_core.h; Fn = n fractional bits of the raw integer):
+//   FT element ap_int<36> F22, vertex ap_int<13> F10, U V W ap_int<52> F32,
+//   screen x y ap_int<23> F8 (guard band ±2^21), 1/W ap_uint<32> F26, 2·Area and edge
+//   functions ap_int<50> F16, z_r ap_uint<24> F20, z-buffer word ap_uint<18> F16
+//   (all ones = empty), depth pixel ap_uint<12> F10, χ ap_uint<11> F10, Σχ 42 bits F10,
+//   Σ(z_s − z_r) ap_int<56> F20.
+module raster_core #(
+    parameter int TRI_FIFO_DEPTH = 16  // triangle FIFO entries (power of two)
+) (
+    input  logic        clk,
+    input  logic        rst,
+    // Runtime parameters (RasterParams raw words; stable while a particle is processed).
+    input  logic        prm_zbuffer,
+    input  logic        prm_hard,
+    input  logic [23:0] prm_thr1,        // F20 m
+    input  logic [19:0] prm_inv_thr1,    // F8 1/m
+    input  logic [23:0] prm_hard_thr,    // F20 m
+    input  logic [23:0] prm_align_band,  // F20 m
+    input  logic [23:0] prm_edge_band,   // F20 m
+    input  logic [23:0] prm_near_plane,  // F20 m
+    input  logic [11:0] num_faces,       // ≤ kMaxFaces = 2048
+    // Window word (sample info).
+    input  logic        win_valid,
+    output logic        win_ready,
+    input  logic [9:0]  win_u0,
+    input  logic [9:0]  win_v0,
+    input  logic [7:0]  win_width,
+    input  logic [7:0]  win_height,
+    // Depth pixels of the window, row-major (depth_t raw, F10 m).
+    input  logic        depth_valid,
+    output logic        depth_ready,
+    input  logic [11:0] depth_data,
+    // FT elements, row-major 3×4 (ft_t raw, F22).
+    input  logic        ft_valid,
+    output logic        ft_ready,
+    input  logic [35:0] ft_data,
+    // Vertices, three per face (xyz_t raw, F10 m).
+    input  logic        vert_valid,
+    output logic        vert_ready,
+    input  logic [12:0] vert_x,
+    input  logic [12:0] vert_y,
+    input  logic [12:0] vert_z,
+    // RasterCoreOutput.
+    output logic        out_valid,
+    input  logic        out_ready,
+    output logic [41:0] out_inlier_sum,      // F10
+    output logic [31:0] out_n_raster,
+    output logic [31:0] out_n_occluded,
+    output logic [31:0] out_n_depth,
+    output logic [55:0] out_depth_diff_sum,  // F20
+    output logic [31:0] out_depth_diff_count,
+    output logic [31:0] out_n_edge,
+    output logic [31:0] out_n_edge_continued,
+    output logic [11:0] out_faces_front,
+    output logic [11:0] out_faces_total
+);
+  localparam int KW = 200;                 // kMaxWindow: memory row stride
+  localparam int KPIX = KW * KW;           // 40000 words per memory
+  localparam logic [17:0] ZEMPTY = '1;     // kZbufEmpty
+  localparam int GUARD = 1 << 21;          // kGuardBandSubpixels
+
+  typedef enum logic [2:0] {S_IDLE, S_FILL, S_FT, S_FACES, S_ZPASS, S_OUT} state_t;
+  state_t state;
+
+  // ---------------------------------------------------------------- window and accumulators
+  logic [9:0] u0, v0;
+  logic [7:0] ww, wh;
+  logic [41:0] acc_inlier;
+  logic [31:0] acc_n_raster, acc_n_occluded, acc_n_depth, acc_diff_count, acc_n_edge, acc_n_cont;
+  logic [55:0] acc_diff;
+  logic [11:0] acc_front;
+
+  // ---------------------------------------------------------------- memories (BRAM)
+  // Fragment memory 40000 × 12 (depth_t) and z-buffer 40000 × 18: one write and one
+  // registered read port each (simple dual port, read-before-write).
+  logic [11:0] frag_mem[KPIX];
+  logic [17:0] zbuf_mem[KPIX];
+  logic        frag_we, zbuf_we;
+  logic [15:0] frag_wa, zbuf_wa, frag_ra, zbuf_ra;
+  logic [11:0] frag_wd, frag_q;
+  logic [17:0] zbuf_wd, zbuf_q;
+  always_ff @(posedge clk) begin
+    if (frag_we) frag_mem[frag_wa] <= frag_wd;
+    frag_q <= frag_mem[frag_ra];
+  end
+  always_ff @(posedge clk) begin
+    if (zbuf_we) zbuf_mem[zbuf_wa] <= zbuf_wd;
+    zbuf_q <= zbuf_mem[zbuf_ra];
+  end
+
+  // ---------------------------------------------------------------- FILL
+  logic [7:0]  fx, fy;
+  logic [15:0] faddr, frow;
+  wire fill_hs = depth_valid && depth_ready;
+  assign depth_ready = state == S_FILL;
+
+  // ---------------------------------------------------------------- FT
+  logic [35:0] ft[12];
+  logic [3:0]  ftc;
+  assign ft_ready = state == S_FT;
+
+  // ================================================================ vertex stage
+  // Credits: a face may start (its first vertex be accepted) only if the FIFO has room for
+  // it and for every face already in the vertex/face pipeline.
+  logic [12:0] vcnt;          // vertices accepted (≤ 3·2048)
+  logic [1:0]  vk;            // corner of the next vertex
+  logic [7:0]  inflight;      // faces between their first vertex and the FIFO
+  logic [$clog2(TRI_FIFO_DEPTH):0] fifo_count;
+  logic [12:0] nverts;
+  assign nverts = 13'(num_faces) * 13'd3;
+  wire credit_ok = (32'(fifo_count) + 32'(inflight)) < TRI_FIFO_DEPTH;
+  assign vert_ready = state == S_FACES && vcnt != nverts && (vk != 0 || credit_ok);
+  wire vert_hs = vert_valid && vert_ready;
+
+  // V0: the accepted vertex.
+  logic        v0_v;
+  logic [1:0]  v0_k;
+  logic signed [12:0] v0_p[3];
+  always_ff @(posedge clk) begin
+    v0_v <= rst ? 1'b0 : vert_hs;
+    v0_k <= vk;
+    v0_p[0] <= vert_x;
+    v0_p[1] <= vert_y;
+    v0_p[2] <= vert_z;
+  end
+
+  // V1: the nine products FT[r][j]·p[j] (36 × 13 → 49 bits, exact).
+  logic        v1_v;
+  logic [1:0]  v1_k;
+  logic signed [48:0] v1_m[3][3];
+  always_ff @(posedge clk) begin
+    v1_v <= rst ? 1'b0 : v0_v;
+    v1_k <= v0_k;
+    for (int r = 0; r < 3; r++)
+      for (int j = 0; j < 3; j++) v1_m[r][j] <= $signed(ft[4*r+j]) * v0_p[j];
+  end
+
+  // V2: U, V, W = (FT[r][3] << 10) + Σ products, ap_int<52> F32.
+  logic        v2_v;
+  logic [1:0]  v2_k;
+  logic signed [51:0] v2_h[3];
+  always_ff @(posedge clk) begin
+    v2_v <= rst ? 1'b0 : v1_v;
+    v2_k <= v1_k;
+    for (int r = 0; r < 3; r++)
+      v2_h[r] <= (52'($signed(ft[4*r+3])) <<< 10) + 52'(v1_m[r][0]) + 52'(v1_m[r][1]) + 52'(v1_m[r][2]);
+  end
+
+  // V3: divider operands. near: W < near·2^12 (F20 → F32) skips the face. 1/W: floor(2^58/W)
+  // (F26). SnapRatio: floor((|U|·2^9 + W) / (2W)) = round-half-away(256·U/W) in magnitude.
+  logic        v3_v, v3_near_ok, v3_negx, v3_negy;
+  logic [1:0]  v3_k;
+  logic [51:0] v3_w;
+  logic [53:0] v3_d2;
+  logic [61:0] v3_n2x, v3_n2y;
+  wire signed [51:0] near_w = 52'({prm_near_plane, 12'b0});
+  wire [51:0] magx = v2_h[0][51] ? 52'(-v2_h[0]) : 52'(v2_h[0]);
+  wire [51:0] magy = v2_h[1][51] ? 52'(-v2_h[1]) : 52'(v2_h[1]);
+  always_ff @(posedge clk) begin
+    v3_v       <= rst ? 1'b0 : v2_v;
+    v3_k       <= v2_k;
+    v3_near_ok <= !(v2_h[2] < near_w);
+    v3_negx    <= v2_h[0][51];
+    v3_negy    <= v2_h[1][51];
+    v3_w       <= v2_h[2];
+    v3_d2      <= {{2{v2_h[2][51]}}, v2_h[2]} << 1;
+    v3_n2x     <= ({10'b0, magx} << 9) + {{10{v2_h[2][51]}}, v2_h[2]};
+    v3_n2y     <= ({10'b0, magy} << 9) + {{10{v2_h[2][51]}}, v2_h[2]};
+  end
+
+  // Dividers: 1/W (32 stages) and the two snapping dividers (22 stages + 10 padding).
+  logic [31:0] q_iz;
+  logic [21:0] q_x, q_y;
+  logic        ov_iz, ov_x, ov_y;
+  rc_div #(.QW(32), .NW(60), .DW(52), .PAD(0)) u_div_iz (
+      .clk, .n(60'h1 << 58), .d(v3_w), .q(q_iz), .ovf(ov_iz));
+  rc_div #(.QW(22), .NW(62), .DW(54), .PAD(10)) u_div_x (
+      .clk, .n(v3_n2x), .d(v3_d2), .q(q_x), .ovf(ov_x));
+  rc_div #(.QW(22), .NW(62), .DW(54), .PAD(10)) u_div_y (
+      .clk, .n(v3_n2y), .d(v3_d2), .q(q_y), .ovf(ov_y));
+  logic       vd_v, vd_near_ok, vd_negx, vd_negy, vd_any;
+  logic [1:0] vd_k;
+  rc_delay #(.W(5), .L(32)) u_vdel (
+      .clk, .rst, .vin(v3_v), .din({v3_k, v3_near_ok, v3_negx, v3_negy}),
+      .vout(vd_v), .dout({vd_k, vd_near_ok, vd_negx, vd_negy}), .any(vd_any));
+
+  // V4: the snapped vertex (ScreenVertex): x, y F8, 1/W F26, ok.
+  logic        v4_v, v4_ok;
+  logic [1:0]  v4_k;
+  logic signed [22:0] v4_x, v4_y;
+  logic [31:0] v4_iz;
+  always_ff @(posedge clk) begin
+    v4_v  <= rst ? 1'b0 : vd_v;
+    v4_k  <= vd_k;
+    v4_ok <= vd_near_ok && !ov_iz && !ov_x && 32'(q_x) < GUARD && !ov_y && 32'(q_y) < GUARD;
+    v4_x  <= vd_negx ? -$signed({1'b0, q_x}) : $signed({1'b0, q_x});
+    v4_y  <= vd_negy ? -$signed({1'b0, q_y}) : $signed({1'b0, q_y});
+    v4_iz <= q_iz;
+  end
+
+  // Face assembly: corners 0 and 1 wait in registers for corner 2.
+  logic signed [22:0] fa_x[2], fa_y[2];
+  logic [31:0] fa_iz[2];
+  logic        fa_ok[2];
+  always_ff @(posedge clk)
+    if (v4_v && v4_k != 2) begin
+      fa_x[v4_k[0]]  <= v4_x;
+      fa_y[v4_k[0]]  <= v4_y;
+      fa_iz[v4_k[0]] <= v4_iz;
+      fa_ok[v4_k[0]] <= v4_ok;
+    end
+
+  // F1: 2·Area products (eq. 6.12: (V2x−V0x)(V1y−V0y) − (V2y−V0y)(V1x−V0x)) and the box.
+  logic        f1_v, f1_ok;
+  logic signed [22:0] f1_x[3], f1_y[3];
+  logic [31:0] f1_iz[3];
+  logic signed [47:0] f1_p1, f1_p2;
+  logic signed [22:0] f1_minx, f1_maxx, f1_miny, f1_maxy;
+  logic signed [22:0] cx[3], cy[3];
+  assign cx[0] = fa_x[0];
+  assign cx[1] = fa_x[1];
+  assign cx[2] = v4_x;
+  assign cy[0] = fa_y[0];
+  assign cy[1] = fa_y[1];
+  assign cy[2] = v4_y;
+  function automatic logic signed [22:0] min3(input logic signed [22:0] a, b, c);
+    logic signed [22:0] m;
+    m = a;
+    if (b < m) m = b;
+    if (c < m) m = c;
+    min3 = m;
+  endfunction
+  function automatic logic signed [22:0] max3(input logic signed [22:0] a, b, c);
+    logic signed [22:0] m;
+    m = a;
+    if (b > m) m = b;
+    if (c > m) m = c;
+    max3 = m;
+  endfunction
+  always_ff @(posedge clk) begin
+    f1_v  <= rst ? 1'b0 : (v4_v && v4_k == 2);
+    f1_ok <= fa_ok[0] && fa_ok[1] && v4_ok;
+    for (int k = 0; k < 3; k++) f1_x[k] <= cx[k];
+    for (int k = 0; k < 3; k++) f1_y[k] <= cy[k];
+    f1_iz[0] <= fa_iz[0];
+    f1_iz[1] <= fa_iz[1];
+    f1_iz[2] <= v4_iz;
+    f1_p1 <= 48'(24'(cx[2]) - 24'(cx[0])) * 48'(24'(cy[1]) - 24'(cy[0]));
+    f1_p2 <= 48'(24'(cy[2]) - 24'(cy[0])) * 48'(24'(cx[1]) - 24'(cx[0]));
+    f1_minx <= min3(cx[0], cx[1], cx[2]);
+    f1_maxx <= max3(cx[0], cx[1], cx[2]);
+    f1_miny <= min3(cy[0], cy[1], cy[2]);
+    f1_maxy <= max3(cy[0], cy[1], cy[2]);
+  end
+
+  // F2: 2·Area, culling (2·Area ≤ 0, §6.2), box in pixels (ceil of min, floor of max) clipped
+  // to the window (absolute pixel coordinates, signed 16 bits).
+  logic        f2_v, f2_front, f2_nonempty;
+  logic signed [22:0] f2_x[3], f2_y[3];
+  logic [31:0] f2_iz[3];
+  logic signed [49:0] f2_area2;
+  logic signed [15:0] f2_ulo, f2_uhi, f2_vlo, f2_vhi;
+  logic signed [15:0] ulo_c, uhi_c, vlo_c, vhi_c;
+  logic signed [49:0] area2_c;
+  wire signed [23:0] nminx = -(24'(f1_minx)), nminy = -(24'(f1_miny));
+  always_comb begin
+    ulo_c = -(16'(nminx >>> 8));
+    vlo_c = -(16'(nminy >>> 8));
+    uhi_c = 16'(f1_maxx >>> 8);
+    vhi_c = 16'(f1_maxy >>> 8);
+    if (ulo_c < $signed({6'b0, u0})) ulo_c = $signed({6'b0, u0});
+    if (vlo_c < $signed({6'b0, v0})) vlo_c = $signed({6'b0, v0});
+    if (uhi_c > $signed({6'b0, u0}) + $signed({8'b0, ww}) - 16'sd1) uhi_c = $signed({6'b0, u0}) + $signed({8'b0, ww}) - 16'sd1;
+    if (vhi_c > $signed({6'b0, v0}) + $signed({8'b0, wh}) - 16'sd1) vhi_c = $signed({6'b0, v0}) + $signed({8'b0, wh}) - 16'sd1;
+    area2_c = 50'(f1_p1) - 50'(f1_p2);
+  end
+  always_ff @(posedge clk) begin
+    f2_v        <= rst ? 1'b0 : f1_v;
+    f2_front    <= f1_ok && area2_c > 0;
+    f2_nonempty <= ulo_c <= uhi_c && vlo_c <= vhi_c;
+    for (int k = 0; k < 3; k++) f2_x[k] <= f1_x[k];
+    for (int k = 0; k < 3; k++) f2_y[k] <= f1_y[k];
+    for (int k = 0; k < 3; k++) f2_iz[k] <= f1_iz[k];
+    f2_area2 <= area2_c;
+    f2_ulo <= ulo_c;
+    f2_uhi <= uhi_c;
+    f2_vlo <= vlo_c;
+    f2_vhi <= vhi_c;
+  end
+
+  // F3: edge setup (eq. 6.13–6.18). Edge k opposite corner k, from Va = V[k+1] to
+  // Vb = V[k+2]: A = Vb.y − Va.y, B = Va.x − Vb.x; products of E_k at the first pixel
+  // A·(u_lo·256 − Va.x) + B·(v_lo·256 − Va.y) (operands ap_int<24>); owned edge: A > 0 or
+  // A = 0 and B > 0 (min_e = 0, else 1); sh = max(BitLength(2·Area) − 24, 0).
+  logic        f3_v, f3_push;
+  logic signed [23:0] f3_a[3], f3_b[3];
+  logic signed [47:0] f3_pa[3], f3_pb[3];
+  logic [2:0]  f3_mine;
+  logic [4:0]  f3_sh;
+  logic [31:0] f3_iz[3];
+  logic [7:0]  f3_xlo, f3_xhi, f3_ylo, f3_yhi;
+  logic [15:0] f3_addr0;
+  logic [5:0]  len_c;
+  always_comb begin
+    len_c = 0;
+    for (int i = 0; i < 49; i++) if (f2_area2[i]) len_c = 6'(i + 1);
+  end
+  for (genvar k = 0; k < 3; k++) begin : g_edge
+    localparam int A_ = (k + 1) % 3, B_ = (k + 2) % 3;
+    wire signed [23:0] ak = 24'(f2_y[B_]) - 24'(f2_y[A_]);
+    wire signed [23:0] bk = 24'(f2_x[A_]) - 24'(f2_x[B_]);
+    wire signed [23:0] dx = 24'({f2_ulo, 8'b0}) - 24'(f2_x[A_]);
+    wire signed [23:0] dy = 24'({f2_vlo, 8'b0}) - 24'(f2_y[A_]);
+    always_ff @(posedge clk) begin
+      f3_a[k]  <= ak;
+      f3_b[k]  <= bk;
+      f3_pa[k] <= ak * dx;
+      f3_pb[k] <= bk * dy;
+      f3_mine[k] <= !(ak > 0 || (ak == 0 && bk > 0));
+    end
+  end
+  always_ff @(posedge clk) begin
+    f3_v    <= rst ? 1'b0 : f2_v;
+    f3_push <= f2_front && f2_nonempty;
+    f3_sh  <= len_c > 24 ? 5'(len_c - 6'd24) : 5'd0;
+    for (int k = 0; k < 3; k++) f3_iz[k] <= f2_iz[k];
+    f3_xlo <= 8'(f2_ulo - $signed({6'b0, u0}));
+    f3_xhi <= 8'(f2_uhi - $signed({6'b0, u0}));
+    f3_ylo <= 8'(f2_vlo - $signed({6'b0, v0}));
+    f3_yhi <= 8'(f2_vhi - $signed({6'b0, v0}));
+    f3_addr0 <= 16'(f2_vlo - $signed({6'b0, v0})) * 16'(KW) + 16'(f2_ulo - $signed({6'b0, u0}));
+  end
+
+  // F4: E_k at the first pixel (ap_int<50>), the FIFO entry.
+  typedef struct packed {
+    logic [7:0]  xlo, xhi, ylo, yhi;
+    logic [15:0] addr0;
+    logic [2:0][49:0] e;
+    logic [2:0][23:0] a, b;
+    logic [2:0]  mine;
+    logic [4:0]  sh;
+    logic [2:0][31:0] iz;
+  } tri_t;
+  localparam int TRI_W = 4 * 8 + 16 + 3 * 50 + 2 * 3 * 24 + 3 + 5 + 3 * 32;  // 446 bits
+  logic f4_v, f4_push;
+  tri_t f4_t;
+  always_ff @(posedge clk) begin
+    f4_v    <= rst ? 1'b0 : f3_v;
+    f4_push <= f3_push;
+    f4_t.xlo <= f3_xlo;
+    f4_t.xhi <= f3_xhi;
+    f4_t.ylo <= f3_ylo;
+    f4_t.yhi <= f3_yhi;
+    f4_t.addr0 <= f3_addr0;
+    for (int k = 0; k < 3; k++) begin
+      f4_t.e[k]  <= 50'(f3_pa[k]) + 50'(f3_pb[k]);
+      f4_t.a[k]  <= f3_a[k];
+      f4_t.b[k]  <= f3_b[k];
+      f4_t.iz[k] <= f3_iz[k];
+    end
+    f4_t.mine <= f3_mine;
+    f4_t.sh   <= f3_sh;
+  end
+  // faces_front: faces that passed the near/guard test and culling (even with an empty box).
+  wire face_front_now = f2_v && f2_front;
+
+  // ---------------------------------------------------------------- triangle FIFO
+  logic tri_pop, tri_empty;
+  tri_t tri_head;
+  rc_fifo #(.W(TRI_W), .DEPTH(TRI_FIFO_DEPTH)) u_fifo (
+      .clk, .rst, .push(f4_v && f4_push), .din(f4_t), .pop(tri_pop), .head(tri_head),
+      .empty(tri_empty), .count(fifo_count));
+
+  // ================================================================ pixel stage
+  // Pixel generator: the current pixel of the current triangle (registers), stepped by
+  // +256·A per column and +256·B per row (eq. 6.19–6.20).
+  logic        pg_act;
+  logic [7:0]  pg_x, pg_y, pg_xlo, pg_xhi, pg_yhi;
+  logic [15:0] pg_addr, pg_rowaddr;
+  logic signed [49:0] pg_e[3], pg_rowe[3];
+  logic signed [23:0] pg_a[3], pg_b[3];
+  logic [2:0]  pg_mine;
+  logic [4:0]  pg_sh;
+  logic [31:0] pg_iz[3];
+  wire pg_lastcol = pg_x == pg_xhi;
+  wire pg_last = pg_lastcol && pg_y == pg_yhi;
+  assign tri_pop = !tri_empty && (!pg_act || pg_last);
+  always_ff @(posedge clk) begin
+    if (rst) pg_act <= 1'b0;
+    else if (tri_pop) pg_act <= 1'b1;
+    else if (pg_last) pg_act <= 1'b0;
+    if (tri_pop) begin
+      pg_x <= tri_head.xlo;
+      pg_y <= tri_head.ylo;
+      pg_xlo <= tri_head.xlo;
+      pg_xhi <= tri_head.xhi;
+      pg_yhi <= tri_head.yhi;
+      pg_addr <= tri_head.addr0;
+      pg_rowaddr <= tri_head.addr0;
+      for (int k = 0; k < 3; k++) begin
+        pg_e[k] <= tri_head.e[k];
+        pg_rowe[k] <= tri_head.e[k];
+        pg_a[k] <= tri_head.a[k];
+        pg_b[k] <= tri_head.b[k];
+        pg_iz[k] <= tri_head.iz[k];
+      end
+      pg_mine <= tri_head.mine;
+      pg_sh <= tri_head.sh;
+    end else if (pg_act) begin
+      if (pg_lastcol) begin
+        pg_x <= pg_xlo;
+        pg_y <= pg_y + 1'b1;
+        pg_addr <= pg_rowaddr + 16'(KW);
+        pg_rowaddr <= pg_rowaddr + 16'(KW);
+        for (int k = 0; k < 3; k++) begin
+          pg_rowe[k] <= pg_rowe[k] + (50'(pg_b[k]) <<< 8);
+          pg_e[k] <= pg_rowe[k] + (50'(pg_b[k]) <<< 8);
+        end
+      end else begin
+        pg_x <= pg_x + 1'b1;
+        pg_addr <= pg_addr + 1'b1;
+        for (int k = 0; k < 3; k++) pg_e[k] <= pg_e[k] + (50'(pg_a[k]) <<< 8);
+      end
+    end
+  end
+
+  // P1: inside test (E_k > 0, or E_k = 0 on an owned edge) and e_k' = (E_k >> sh)[23:0].
+  // p*_v: an inside fragment; p*_s: the slot is occupied (inside or not) — the drain of the
+  // pixel stage is data-independent.
+  logic        p1_v, p1_s, p2_s, p3_s, p4_s, p5_s, c1_s, c2_s;
+  logic [23:0] p1_en[3];
+  logic [31:0] p1_iz[3];
+  logic [15:0] p1_addr;
+  always_ff @(posedge clk) begin
+    p1_s <= rst ? 1'b0 : pg_act;
+    p1_v <= rst ? 1'b0 : (pg_act && pg_e[0] >= $signed({49'b0, pg_mine[0]}) &&
+                          pg_e[1] >= $signed({49'b0, pg_mine[1]}) && pg_e[2] >= $signed({49'b0, pg_mine[2]}));
+    for (int k = 0; k < 3; k++) begin
+      p1_en[k] <= 24'(pg_e[k] >>> pg_sh);
+      p1_iz[k] <= pg_iz[k];
+    end
+    p1_addr <= pg_addr;
+  end
+
+  // P2: Σe' (ap_uint<26>) and the products e_k'·(1/W_k) (F26).
+  logic        p2_v;
+  logic [25:0] p2_se;
+  logic [55:0] p2_pr[3];
+  logic [15:0] p2_addr;
+  always_ff @(posedge clk) begin
+    p2_v <= rst ? 1'b0 : p1_v;
+    p2_s <= rst ? 1'b0 : p1_s;
+    p2_se <= 26'(p1_en[0]) + 26'(p1_en[1]) + 26'(p1_en[2]);
+    for (int k = 0; k < 3; k++) p2_pr[k] <= 56'(p1_en[k]) * 56'(p1_iz[k]);
+    p2_addr <= p1_addr;
+  end
+
+  // P3: Σ e_k'·(1/W_k) (ap_uint<58>).
+  logic        p3_v;
+  logic [25:0] p3_se;
+  logic [57:0] p3_sez;
+  logic [15:0] p3_addr;
+  always_ff @(posedge clk) begin
+    p3_v <= rst ? 1'b0 : p2_v;
+    p3_s <= rst ? 1'b0 : p2_s;
+    p3_se <= p2_se;
+    p3_sez <= 58'(p2_pr[0]) + 58'(p2_pr[1]) + 58'(p2_pr[2]);
+    p3_addr <= p2_addr;
+  end
+
+  // Depth recovery (eq. 6.21–6.22 on 1/z): z_r = floor(Σe'·2^46 / Σe'·iz), F20, 24 stages;
+  // overflow (Σe'·iz = 0 or z ≥ 16 m) saturates to all ones.
+  logic [23:0] q_z;
+  logic        ov_z;
+  rc_div #(.QW(24), .NW(72), .DW(58), .PAD(0)) u_div_z (
+      .clk, .n({p3_se, 46'b0}), .d(p3_sez), .q(q_z), .ovf(ov_z));
+  logic        pd_v, pd_s, pd_any;
+  logic [15:0] pd_addr;
+  rc_delay #(.W(17), .L(24)) u_pdel (
+      .clk, .rst, .vin(p3_s), .din({p3_v, p3_addr}), .vout(pd_s), .dout({pd_v, pd_addr}),
+      .any(pd_any));
+
+  // P4: z_r and the z-buffer word zq = min((z_r + 8) >> 4, kZbufEmpty − 1); memory read.
+  logic        p4_v;
+  logic [23:0] p4_z;
+  logic [17:0] p4_zq;
+  logic [15:0] p4_addr;
+  wire [24:0] t = (25'(q_z) + 25'd8) >> 4;
+  always_ff @(posedge clk) begin
+    p4_v <= rst ? 1'b0 : pd_s && pd_v;
+    p4_s <= rst ? 1'b0 : pd_s;
+    p4_z <= q_z;
+    p4_zq <= t >= 25'(ZEMPTY) ? ZEMPTY - 1'b1 : t[17:0];
+    p4_addr <= pd_addr;
+  end
+
+  // P5: zbuffer = 0: the fragment word is here → CompareFragment; zbuffer = 1: the z-buffer
+  // word is here → strict-less update, forwarded from the write of the previous cycle
+  // (the one write the registered read could not see).
+  logic        p5_v;
+  logic [23:0] p5_z;
+  logic [17:0] p5_zq;
+  logic [15:0] p5_addr;
+  logic        lw_v;
+  logic [15:0] lw_addr;
+  logic [17:0] lw_val;
+  always_ff @(posedge clk) begin
+    p5_v <= rst ? 1'b0 : p4_v;
+    p5_s <= rst ? 1'b0 : p4_s;
+    c1_s <= rst ? 1'b0 : p5_s;  // the two CompareFragment stages
+    c2_s <= rst ? 1'b0 : c1_s;
+    p5_z <= p4_z;
+    p5_zq <= p4_zq;
+    p5_addr <= p4_addr;
+  end
+  wire [17:0] zcur = (lw_v && lw_addr == p5_addr) ? lw_val : zbuf_q;
+  wire zwrite = state == S_FACES && prm_zbuffer && p5_v && p5_zq < zcur;
+  always_ff @(posedge clk) begin
+    lw_v <= rst ? 1'b0 : zwrite;
+    lw_addr <= p5_addr;
+    lw_val <= p5_zq;
+  end
+
+  // ================================================================ ZPASS (zbuffer = 1)
+  // Read counters (x, y) over width × (height + 1); row `height` reads nothing and only
+  // drains the line buffers.
+  logic [7:0]  zx, zy;
+  logic [15:0] zaddr, zrow;
+  logic        zp_issue;  // a position is issued this cycle
+  logic        zp_done;   // all positions issued
+  assign zp_issue = state == S_ZPASS && !zp_done;
+  // Z1 sideband (the registered memory read arrives one cycle later).
+  logic        z1_v, z1_rd;
+  logic [7:0]  z1_x, z1_y;
+  always_ff @(posedge clk) begin
+    z1_v  <= rst ? 1'b0 : zp_issue;
+    z1_rd <= zy < wh;
+    z1_x  <= zx;
+    z1_y  <= zy;
+  end
+  // Line buffers: lb1 = row y − 1 (z-buffer word, fragment), lb2 = row y − 2 (empty flag,
+  // fragment); distributed RAM, asynchronous read.
+  logic [29:0] lb1[256];
+  logic [12:0] lb2[256];
+  logic [29:0] zl_prev;  // (x − 1, y − 1)
+  wire  [29:0] zc  = lb1[z1_x];
+  wire  [29:0] zr_ = lb1[8'(z1_x + 1'b1)];
+  wire  [12:0] zu  = lb2[z1_x];
+  wire  [29:0] zd  = {zbuf_q, frag_q};
+  always_ff @(posedge clk) begin
+    if (z1_v) begin
+      if (z1_rd) lb1[z1_x] <= zd;
+      lb2[z1_x] <= {zc[29:12] == ZEMPTY, zc[11:0]};
+      zl_prev <= zc;
+    end
+  end
+  // Z2: the centre (x, y − 1) and its neighbours (exists, empty, fragment).
+  logic        z2_v;
+  logic [17:0] z2_cw;
+  logic [11:0] z2_cf;
+  logic [3:0]  z2_ne_ok, z2_ne_empty;  // left, right, up, down
+  logic [11:0] z2_ne_f[4];
+  always_ff @(posedge clk) begin
+    z2_v <= rst ? 1'b0 : (z1_v && z1_y != 0);
+    z2_cw <= zc[29:12];
+    z2_cf <= zc[11:0];
+    z2_ne_ok <= {z1_rd, z1_y >= 2, 9'(z1_x) + 9'd1 < 9'(ww), z1_x != 0};
+    z2_ne_empty <= {zd[29:12] == ZEMPTY, zu[12], zr_[29:12] == ZEMPTY, zl_prev[29:12] == ZEMPTY};
+    z2_ne_f[0] <= zl_prev[11:0];
+    z2_ne_f[1] <= zr_[11:0];
+    z2_ne_f[2] <= zu[11:0];
+    z2_ne_f[3] <= zd[11:0];
+  end
+  // Edge samples of a covered centre: uncovered neighbours in the window (n_edge), continued
+  // when the neighbour's depth is valid and |z_s − z_r| ≤ edge_band (z_r = word << 4, F20).
+  logic [2:0] ne_cnt, nc_cnt;
+  wire        z2_cov = z2_v && z2_cw != ZEMPTY;
+  wire [23:0] z2_z = 24'({z2_cw, 4'b0});
+  logic [3:0] ne_hit, nc_hit;
+  for (genvar n = 0; n < 4; n++) begin : g_nb
+    wire [23:0] zs = 24'({z2_ne_f[n], 10'b0});
+    wire [24:0] df = zs > z2_z ? 25'(zs - z2_z) : 25'(z2_z - zs);
+    assign ne_hit[n] = z2_ne_ok[n] && z2_ne_empty[n];
+    assign nc_hit[n] = ne_hit[n] && zs != 0 && df <= {1'b0, prm_edge_band};
+  end
+  assign ne_cnt = 3'(ne_hit[0]) + 3'(ne_hit[1]) + 3'(ne_hit[2]) + 3'(ne_hit[3]);
+  assign nc_cnt = 3'(nc_hit[0]) + 3'(nc_hit[1]) + 3'(nc_hit[2]) + 3'(nc_hit[3]);
+
+  // ---------------------------------------------------------------- shared CompareFragment
+  logic        cf_in_v, cf_v, cf_occ, cf_band;
+  logic [23:0] cf_zr, cf_zs;
+  logic [10:0] cf_chi;
+  logic [25:0] cf_d;
+  always_comb begin
+    if (state == S_ZPASS) begin
+      cf_in_v = z2_cov;
+      cf_zr = z2_z;
+      cf_zs = 24'({z2_cf, 10'b0});
+    end else begin
+      cf_in_v = state == S_FACES && !prm_zbuffer && p5_v;
+      cf_zr = p5_z;
+      cf_zs = 24'({frag_q, 10'b0});
+    end
+  end
+  rc_compare u_cmp (
+      .clk, .rst, .hard(prm_hard), .thr1(prm_thr1), .inv_thr1(prm_inv_thr1),
+      .hard_thr(prm_hard_thr), .align_band(prm_align_band), .in_valid(cf_in_v), .zr(cf_zr),
+      .zs(cf_zs), .out_valid(cf_v), .chi(cf_chi), .occluded(cf_occ), .in_band(cf_band),
+      .d(cf_d));
+
+  // ---------------------------------------------------------------- memory ports
+  always_comb begin
+    frag_we = fill_hs;
+    frag_wa = faddr;
+    frag_wd = depth_data;
+    zbuf_we = fill_hs || zwrite;
+    zbuf_wa = fill_hs ? faddr : p5_addr;
+    zbuf_wd = fill_hs ? ZEMPTY : p5_zq;
+    frag_ra = state == S_ZPASS ? zaddr : p4_addr;
+    zbuf_ra = state == S_ZPASS ? zaddr : p4_addr;
+  end
+
+  // ---------------------------------------------------------------- control
+  wire vert_busy = v0_v || v1_v || v2_v || v3_v || vd_any || v4_v || f1_v || f2_v || f3_v || f4_v;
+  wire pix_busy = !tri_empty || pg_act || p1_s || p2_s || p3_s || pd_any || p4_s || p5_s || c1_s || c2_s;
+  wire faces_done = vcnt == nverts && !vert_busy && !pix_busy;
+  logic z3_s, z4_s;  // the two CompareFragment stages behind Z2
+  always_ff @(posedge clk) begin
+    z3_s <= rst ? 1'b0 : z2_v;
+    z4_s <= rst ? 1'b0 : z3_s;
+  end
+  wire zp_busy = z1_v || z2_v || z3_s || z4_s;
+
+  assign win_ready = state == S_IDLE;
+  assign out_valid = state == S_OUT;
+
+  always_ff @(posedge clk) begin
+    if (rst) begin
+      state <= S_IDLE;
+      inflight <= '0;
+    end else begin
+      // Face credits.
+      inflight <= inflight + ((vert_hs && vk == 0) ? 1 : 0) - (f4_v ? 1 : 0);
+      case (state)
+        S_IDLE:
+          if (win_valid) begin
+            u0 <= win_u0;
+            v0 <= win_v0;
+            ww <= win_width;
+            wh <= win_height;
+            fx <= '0;
+            fy <= '0;
+            faddr <= '0;
+            frow <= '0;
+            acc_inlier <= '0;
+            acc_n_raster <= '0;
+            acc_n_occluded <= '0;
+            acc_n_depth <= '0;
+            acc_diff_count <= '0;
+            acc_n_edge <= '0;
+            acc_n_cont <= '0;
+            acc_diff <= '0;
+            acc_front <= '0;
+            state <= S_FILL;
+          end
+        S_FILL:
+          if (fill_hs) begin
+            if (depth_data != 0) acc_n_depth <= acc_n_depth + 1;
+            if (fx == ww - 1'b1) begin
+              fx <= '0;
+              fy <= fy + 1'b1;
+              faddr <= frow + 16'(KW);
+              frow <= frow + 16'(KW);
+              if (fy == wh - 1'b1) begin
+                state <= S_FT;
+                ftc <= '0;
+              end
+            end else begin
+              fx <= fx + 1'b1;
+              faddr <= faddr + 1'b1;
+            end
+          end
+        S_FT:
+          if (ft_valid) begin
+            ft[ftc] <= ft_data;
+            ftc <= ftc + 1'b1;
+            if (ftc == 11) begin
+              state <= S_FACES;
+              vcnt <= '0;
+              vk <= '0;
+            end
+          end
+        S_FACES: begin
+          if (vert_hs) begin
+            vcnt <= vcnt + 1'b1;
+            vk <= vk == 2 ? 2'd0 : vk + 1'b1;
+          end
+          if (faces_done) begin
+            if (prm_zbuffer) begin
+              state <= S_ZPASS;
+              zx <= '0;
+              zy <= '0;
+              zaddr <= '0;
+              zrow <= '0;
+              zp_done <= 1'b0;
+            end else state <= S_OUT;
+          end
+        end
+        S_ZPASS: begin
+          if (zp_issue) begin
+            if (zx == ww - 1'b1) begin
+              zx <= '0;
+              zy <= zy + 1'b1;
+              zaddr <= zrow + 16'(KW);
+              zrow <= zrow + 16'(KW);
+              if (zy == wh) zp_done <= 1'b1;
+            end else begin
+              zx <= zx + 1'b1;
+              zaddr <= zaddr + 1'b1;
+            end
+          end
+          if (zp_done && !zp_busy) state <= S_OUT;
+        end
+        S_OUT:
+          if (out_ready) state <= S_IDLE;
+        default: state <= S_IDLE;
+      endcase
+
+      // Accumulators.
+      if (face_front_now) acc_front <= acc_front + 1'b1;
+      if (state == S_FACES && !prm_zbuffer && p5_v) acc_n_raster <= acc_n_raster + 1;
+      if (state == S_ZPASS && z2_cov) begin
+        acc_n_raster <= acc_n_raster + 1;
+        acc_n_edge <= acc_n_edge + 32'(ne_cnt);
+        acc_n_cont <= acc_n_cont + 32'(nc_cnt);
+      end
+      if (cf_v) begin
+        acc_inlier <= acc_inlier + 42'(cf_chi);
+        if (cf_occ) acc_n_occluded <= acc_n_occluded + 1;
+        if (cf_band) begin
+          acc_diff <= acc_diff + 56'($signed(cf_d));
+          acc_diff_count <= acc_diff_count + 1;
+        end
+      end
+    end
+  end
+
+  assign out_inlier_sum = acc_inlier;
+  assign out_n_raster = acc_n_raster;
+  assign out_n_occluded = acc_n_occluded;
+  assign out_n_depth = acc_n_depth;
+  assign out_depth_diff_sum = acc_diff;
+  assign out_depth_diff_count = acc_diff_count;
+  assign out_n_edge = acc_n_edge;
+  assign out_n_edge_continued = acc_n_cont;
+  assign out_faces_front = acc_front;
+  assign out_faces_total = num_faces;
+endmodule
