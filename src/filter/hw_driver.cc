@@ -124,8 +124,6 @@ struct HwMemories {
   HeuristicVolume volumes[kNumCells];
   Window cell_windows[kNumCells];
   hypothesis_t hypothesis[kNumCells];
-  cdf_t cdf_mem[kNumCells];
-  RasterCoreBank banks[kMaxRasterCores];
   Sample samples[2][kMaxParticles];   // ping-pong sample memories
   weight_t sorted_w[kMaxParticles];
   particle_index_t sorted_idx[kMaxParticles];
@@ -175,7 +173,7 @@ class HwRunner {
     InitOptions iopt;  // tracker on, LFSR leap on (docs/HARDWARE.md)
     InitReport report;
     if (init_trace) init_trace->Clear();
-    HwInitTop(m.init_prob, m.init_sum, m.volumes, m.cdf_mem, gen, iopt, m.samples[0], N, report, init_trace);
+    HwInitTop(m.init_prob, m.init_sum, m.volumes, gen, iopt, m.samples[0], N, report, init_trace);
     res.stats.init_cdf_reads = std::int64_t(report.counters.reads.to_uint64());
     res.stats.init_cdf_reads_linear = std::int64_t(report.counters.reads_linear.to_uint64());
 
@@ -200,8 +198,8 @@ class HwRunner {
       if (weigh_trace) weigh_trace->Clear();
       if (update_trace) update_trace->Clear();
       DepthDistributionCounts dd;
-      HwWeighTop(N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem, m.banks, m.sorted_w,
-                 m.sorted_idx, m.stats, m.offsets, &dd, weigh_trace);
+      HwWeighTopCores(cfg_.num_cores, N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem,
+                      m.sorted_w, m.sorted_idx, m.stats, m.offsets, &dd, weigh_trace);
       for (int p = 0; p < N; ++p) {
         res.stats.faces_total += m.stats[p].faces_total.to_int();
         res.stats.faces_front += m.stats[p].faces_front.to_int();
@@ -215,8 +213,9 @@ class HwRunner {
       const bool last = filter::RunEnds(opt_, it, anneal_its, res.best_weight_history, &res.converged);
       if (!last) {
         ResampleCounters rc;
-        HwUpdateTop(m.sorted_w, m.sorted_idx, m.samples[cur], m.offsets, m.hypothesis, rprm_, resample_rng, dprm_, m.volumes,
-                    diffusion_rng, m.samples[1 - cur], &rc, update_trace);
+        // w_best = the sorter's first output; the sample memory on both of its read ports.
+        HwUpdateTop(m.sorted_w, m.sorted_idx, m.sorted_w[0], m.samples[cur], m.samples[cur], m.offsets, m.hypothesis, rprm_,
+                    resample_rng, dprm_, m.volumes, diffusion_rng, m.samples[1 - cur], &rc, update_trace);
         res.stats.resample_cdf_reads += rc.cdf_reads;
         res.stats.resample_cdf_reads_linear += rc.cdf_reads_linear;
       }
@@ -539,7 +538,6 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
   double window_area = 0;
   std::unique_ptr<CycleTrace> one(new CycleTrace);
   std::unique_ptr<CycleTrace> vm_trace(new CycleTrace);
-  std::unique_ptr<RasterCoreBank[]> bank1(new RasterCoreBank[kMaxRasterCores]);
   double last_model_iteration[16] = {};
 
   auto hook = [&](int it, int cur, CycleTrace* weigh, CycleTrace* update, bool last) {
@@ -566,8 +564,8 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
       depth_off_t off1[kMaxParticles];
       DepthDistributionCounts dd1;
       one->Clear();
-      HwWeighTop(1, cfg1, s1, m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem, bank1.get(), w1, i1, st1, off1, &dd1,
-                 one.get());
+      HwWeighTop<1>(1, cfg1, s1, m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem, w1, i1, st1, off1, &dd1,
+                    one.get());
       work[p] = ParticleWorkFromTrace(*one);
       windows[p] = ParticleWindowHw(samples[p], m.cell_windows[samples[p].cell.to_int()], cfg1, pc);
       window_area += double(windows[p].width.to_int()) * windows[p].height.to_int();

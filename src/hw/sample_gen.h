@@ -82,18 +82,18 @@ struct InitReport {
   bool uniform_fallback = false;  // the class had no mass: cells were drawn uniformly
 };
 
-// The initialisation (Fig. 7.5) as a DATAFLOW region: n samples (≤ kMaxParticles) of class
-// cls, importance-sampled from the post-processed prior (prob, class_sum of cls), placed by
-// the heuristics. cdf_mem is the sampling memory (BRAM, kNumCells × 18 bits). P = threshold
-// bits (the thesis's 5).
+// The initialisation (Fig. 7.5) as a DATAFLOW region: n samples (0 … kMaxParticles, the
+// caller clamps) of class cls, importance-sampled from the post-processed prior (prob,
+// class_sum of cls), placed by the heuristics. cdf_mem is the sampling memory (BRAM,
+// kNumCells × 18 bits). P = threshold bits (the thesis's 5). Each generator and each report
+// field is its own argument, so that every channel has one producer and one consumer.
 template <int NC, int P = kThrBits>
-void InitSamples(const prob_t prob[kNumCells][NC], int cls, class_sum_t class_sum,
-                 const HeuristicVolume heuristics[kNumCells], cdf_t cdf_mem[kNumCells], InitGenerators& gen,
-                 const InitOptions& opt, Sample samples[kMaxParticles], int n, InitReport& report
-                     HW_TRACE_PARAM) {
+void InitSamplesRegion(const prob_t prob[kNumCells][NC], int cls, class_sum_t class_sum,
+                       const HeuristicVolume heuristics[kNumCells], cdf_t cdf_mem[kNumCells], Lfsr18& sampling_rng,
+                       Lfsr18& z_rng, Lfsr15& roll_rng, Lfsr15& pitch_rng, Lfsr15& yaw_rng, bool use_tracker, bool leap,
+                       Sample samples[kMaxParticles], int n, SamplingCounters& counters,
+                       bool& uniform_fallback HW_TRACE_PARAM) {
 #pragma HLS DATAFLOW
-  if (n > kMaxParticles) n = kMaxParticles;
-  if (n < 0) n = 0;
   constexpr int IB = 13;
   hls::stream<cdf_t> cdf_s, cdf_copy;
   hls::stream<ap_uint<P + IB> > thr_s;
@@ -101,19 +101,29 @@ void InitSamples(const prob_t prob[kNumCells][NC], int cls, class_sum_t class_su
   hls::stream<SampleBounds<IB, 18> > bounds_s;
   hls::stream<cell_index_t> idx_s;
   hls::stream<angle_t> roll_s, pitch_s, yaw_s;
-  bool fallback = false;
-  CdfNormalise<NC>(prob, cls, class_sum, cdf_s, fallback HW_TRACE_ARG);
+  CdfNormalise<NC>(prob, cls, class_sum, cdf_s, uniform_fallback HW_TRACE_ARG);
   ThresholdTracker<kNumCells, P, IB, 18>(cdf_s, cdf_copy, thr_s, kNumCells HW_TRACE_ARG);
-  UniformGenerate(gen.sampling, u_s, n, opt.leap HW_TRACE_ARG);
-  BoundGenerate<kNumCells, P, IB, 18>(thr_s, u_s, bounds_s, kNumCells, n, opt.use_tracker HW_TRACE_ARG);
-  SampleIndices<kNumCells, IB, 18>(cdf_copy, bounds_s, cdf_mem, idx_s, kNumCells, n, report.counters
-                                       HW_TRACE_ARG);
-  UniformGenerate(gen.z, z_s, n, opt.leap HW_TRACE_ARG);
-  AngleGenerate(gen.roll, roll_s, n HW_TRACE_ARG);
-  AngleGenerate(gen.pitch, pitch_s, n HW_TRACE_ARG);
-  AngleGenerate(gen.yaw, yaw_s, n HW_TRACE_ARG);
+  UniformGenerate(sampling_rng, u_s, n, leap HW_TRACE_ARG);
+  BoundGenerate<kNumCells, P, IB, 18>(thr_s, u_s, bounds_s, kNumCells, n, use_tracker HW_TRACE_ARG);
+  SampleIndices<kNumCells, IB, 18>(cdf_copy, bounds_s, cdf_mem, idx_s, kNumCells, n, counters HW_TRACE_ARG);
+  UniformGenerate(z_rng, z_s, n, leap HW_TRACE_ARG);
+  AngleGenerate(roll_rng, roll_s, n HW_TRACE_ARG);
+  AngleGenerate(pitch_rng, pitch_s, n HW_TRACE_ARG);
+  AngleGenerate(yaw_rng, yaw_s, n HW_TRACE_ARG);
   GenSample(idx_s, z_s, roll_s, pitch_s, yaw_s, heuristics, samples, n HW_TRACE_ARG);
-  report.uniform_fallback = fallback;
+}
+
+// The initialisation chain for n samples (clamped to [0, kMaxParticles]) with the generators
+// and options of the caller: InitSamplesRegion on the fields of gen, opt and report.
+template <int NC, int P = kThrBits>
+void InitSamples(const prob_t prob[kNumCells][NC], int cls, class_sum_t class_sum,
+                 const HeuristicVolume heuristics[kNumCells], cdf_t cdf_mem[kNumCells], InitGenerators& gen,
+                 const InitOptions& opt, Sample samples[kMaxParticles], int n, InitReport& report
+                     HW_TRACE_PARAM) {
+  if (n > kMaxParticles) n = kMaxParticles;
+  if (n < 0) n = 0;
+  InitSamplesRegion<NC, P>(prob, cls, class_sum, heuristics, cdf_mem, gen.sampling, gen.z, gen.roll, gen.pitch, gen.yaw,
+                           opt.use_tracker, opt.leap, samples, n, report.counters, report.uniform_fallback HW_TRACE_ARG);
 }
 
 }  // namespace posefilter::hw

@@ -20,6 +20,8 @@
 //                      ours, optional (WeighConfig::grow_window = 1; 0 = the thesis): the
 //                      window grown to contain the projection of the model's bounding box at
 //                      the particle's pose (the reference's grow_window, ParticleWindowHw);
+//                      it is the one reader of the sample memory in the region and forwards
+//                      each sample to the FT chain (a local array);
 //   SplitWeights     — the merger's (weight, index) words → the sorter's weight stream (the
 //                      sorter numbers arrivals itself, which equals the merger's index);
 //   CollectStats     — the merger's forwarded core outputs → a memory the host reads, and
@@ -27,10 +29,28 @@
 //                      depth_diff_count → the sample memory's side-band (depth_off_t), which
 //                      the diffusion's align-depth move reads at the next update.
 //
+// Interfaces (Ch. 7 does not list them; as the thesis's §4.4.3, Listing 4.1 and the second-stage
+// code's Init_Crt_Distr: m_axi with depth, offset = slave and a bundle, s_axilite return):
+// every memory argument is an AXI4 master (m_axi, offset = slave, one bundle per dataflow
+// process that reads or writes it, depth = the compile-time bound for co-simulation); scalars,
+// the configuration structs and `return` are AXI4-Lite registers (s_axilite, bundle control).
+// Tops are the non-template functions named Hw…Top[N] (scripts/hls names them with set_top):
+// HwInitTop, HwWeighTop5, HwWeighTop10 (HwWeighTop<M> for M = 5, 10 raster cores: a template
+// cannot be an HLS top) and HwUpdateTop. docs/HARDWARE.md §3 and scripts/hls/README.md list
+// every argument's interface.
+//
+// Canonical dataflow (each region: HwWeighTop<M>, HwUpdateTop, sample_gen.h's
+// InitSamplesRegion): every channel — a stream, a local array, a memory argument — has one
+// producer and one consumer; the processes are called unconditionally (the M raster cores by
+// a loop over the template parameter M); no scalar statement stands between the processes.
+// tests/hw/hwtop_lint_test.cc checks these rules and the INTERFACE pragmas.
+//
 // Raster cores in C simulation: HLS would run the M core instances concurrently; the C model
 // runs them one after another, or in parallel host threads (OpenMP, ignored by HLS) since each
 // core owns its streams, memories and trace — results are identical either way. Their loop
-// records are appended to the caller's trace in core order afterwards.
+// records are appended to the caller's trace in core order afterwards. A core's memories
+// (fragment + z-buffer, ≈ 0.3 MB) are a local array of the top in synthesis and a heap block
+// per call in C simulation (too large for a thread's stack; estimates run on several threads).
 #pragma once
 
 #include "hw/diffusion.h"
@@ -43,6 +63,12 @@
 #include "hw/transform.h"
 #include "hw/weight_merger.h"
 
+#ifndef __SYNTHESIS__
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#endif
+
 // HLS loop labels are for the synthesis reports; g++ sees them as unused labels.
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
@@ -51,19 +77,10 @@
 
 namespace posefilter::hw {
 
-// One raster core's private memories (depth fragment, window z-buffer) and, in C simulation,
-// its own cycle trace (so cores can be simulated in parallel). The caller owns an array of
-// kMaxRasterCores of them (≈ 0.3 MB each: heap in C simulation).
-struct RasterCoreBank {
-  RasterCoreMemory mem;
-#ifndef __SYNTHESIS__
-  CycleTrace trace;
-#endif
-};
-
 // Everything HwWeighTop needs that stays fixed during a run (loaded once by the host).
 struct WeighConfig {
-  int num_cores;      // M active raster cores, 1 … kMaxRasterCores
+  int num_cores;      // host side: M of the HwWeighTop<M> that HwWeighTopCores runs, 1 … 10
+                      // (the synthesized tops take M as a template parameter, not this field)
   int num_faces;      // model faces, 1 … kMaxFaces
   int img_width;      // depth image width, pixels (≤ kImageWidth); height·width ≤ the buffer
   CameraParams cam;   // P and C (eq. 6.9), host-quantized
@@ -142,10 +159,11 @@ GROW_AXES:
 
 // ---- Glue kernels (ours) ----
 
-// Sample info (§7.5.3): the window of each particle's cell and the cell itself.
+// Sample info (§7.5.3): the window of each particle's cell and the cell itself; each sample is
+// forwarded to samples_fwd (the FT chain's copy) so the sample memory has one reader.
 inline void GatherSampleInfo(int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
                              const Window cell_windows[kNumCells], Window windows[kMaxParticles],
-                             cell_index_t cells[kMaxParticles] HW_TRACE_PARAM) {
+                             cell_index_t cells[kMaxParticles], Sample samples_fwd[kMaxParticles] HW_TRACE_PARAM) {
   ft_t pc[kFtElements];
 #pragma HLS ARRAY_PARTITION variable = pc complete
   ProjectionTimesCamera(cfg.cam, pc);
@@ -153,9 +171,11 @@ GATHER_INFO:
   for (int p = 0; p < n; ++p) {
 #pragma HLS PIPELINE II = 8
 #pragma HLS LOOP_TRIPCOUNT min = 1 max = 510
-    const cell_index_t c = samples[p].cell;
-    windows[p] = ParticleWindowHw(samples[p], cell_windows[c.to_int()], cfg, pc);
+    const Sample s = samples[p];
+    const cell_index_t c = s.cell;
+    windows[p] = ParticleWindowHw(s, cell_windows[c.to_int()], cfg, pc);
     cells[p] = c;
+    samples_fwd[p] = s;
   }
   // Without growing: II 1, depth = sample read (2) + window memory read (2) + write (1).
   // Growing (ours): one projection unit, 8 corners per particle → II 8; depth = sample read
@@ -209,35 +229,83 @@ COLLECT_STATS:
 
 // ---- Tops ----
 
+// Linkage of the tops: external in synthesis (the HLS flow compiles top.h in one translation
+// unit, scripts/hls/tops.cc, and names the functions with set_top), inline in C simulation
+// (top.h is included by several translation units of the library and the tests).
+#ifdef __SYNTHESIS__
+#define HW_TOP
+#else
+#define HW_TOP inline
+#endif
+// The tops' trace parameter (C simulation) defaults to none, so that a test bench calls a top
+// with its synthesized arguments only.
+#ifndef __SYNTHESIS__
+#define HW_TOP_TRACE_PARAM , ::posefilter::hw::CycleTrace* trace = nullptr
+#else
+#define HW_TOP_TRACE_PARAM
+#endif
+
 // Initialisation (§7.4, Fig. 7.5): n samples of the class whose post-processed probabilities
-// are prob[·][0] (one class loaded, NC = 1) and whose sum is class_sum.
-inline void HwInitTop(const prob_t prob[kNumCells][1], class_sum_t class_sum, const HeuristicVolume volumes[kNumCells],
-                      cdf_t cdf_mem[kNumCells], InitGenerators& gen, const InitOptions& opt,
-                      Sample samples[kMaxParticles], int n, InitReport& report HW_TRACE_PARAM) {
+// are prob[·][0] (one class loaded, NC = 1) and whose sum is class_sum. The sampling memory
+// (the CDF, kNumCells × 18 bits, BRAM) is local to the design.
+HW_TOP void HwInitTop(const prob_t prob[kNumCells][1], class_sum_t class_sum, const HeuristicVolume volumes[kNumCells],
+                      InitGenerators& gen, const InitOptions& opt, Sample samples[kMaxParticles], int n,
+                      InitReport& report HW_TOP_TRACE_PARAM) {
+#pragma HLS INTERFACE m_axi port = prob offset = slave bundle = gmem_prob depth = 6300
+#pragma HLS INTERFACE m_axi port = volumes offset = slave bundle = gmem_vol depth = 6300
+#pragma HLS INTERFACE m_axi port = samples offset = slave bundle = gmem_smp depth = 510
+#pragma HLS INTERFACE s_axilite port = class_sum bundle = control
+#pragma HLS INTERFACE s_axilite port = gen bundle = control
+#pragma HLS INTERFACE s_axilite port = opt bundle = control
+#pragma HLS INTERFACE s_axilite port = n bundle = control
+#pragma HLS INTERFACE s_axilite port = report bundle = control
+#pragma HLS INTERFACE s_axilite port = return bundle = control
+  cdf_t cdf_mem[kNumCells];
   InitSamples<1>(prob, 0, class_sum, volumes, cdf_mem, gen, opt, samples, n, report HW_TRACE_ARG);
 }
 
-// Weighing and sorting of n particles (one DATAFLOW region). Outputs: the weights sorted
-// descending with their relative indices, each particle's core counters (stats, particle
-// order), each particle's depth offset (the sample memory's side-band, particle order) and the
-// depth distributor's read counts.
-inline void HwWeighTop(int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
-                       const Window cell_windows[kNumCells], const prob_t class_prob[kNumCells],
-                       const depth_t depth[kImageHeight * kImageWidth], const xyz_t vmem[3][kMaxVertices],
-                       const face_t tri_mem[kMaxFaces], RasterCoreBank banks[kMaxRasterCores],
-                       weight_t sorted_w[kMaxParticles], particle_index_t sorted_idx[kMaxParticles],
-                       RasterCoreOutput stats[kMaxParticles], depth_off_t offsets[kMaxParticles],
-                       DepthDistributionCounts* dd_counts HW_TRACE_PARAM) {
+#ifndef __SYNTHESIS__
+// C simulation only: the raster cores' memories and cycle traces of one HwWeighTop<M> call.
+template <int M>
+struct RasterCoresSim {
+  RasterCoreMemory mem[M];
+  CycleTrace trace[M];
+};
+#endif
+
+// Weighing and sorting of n particles with M raster cores (1 … kMaxRasterCores), one DATAFLOW
+// region. Outputs: the weights sorted descending with their relative indices, each particle's
+// core counters (stats, particle order), each particle's depth offset (the sample memory's
+// side-band, particle order) and the depth distributor's read counts. Particle p is rendered
+// by core p mod M; results do not depend on M. Not a top itself (a template): the tops are
+// HwWeighTop5 and HwWeighTop10 below.
+template <int M>
+void HwWeighTop(int n, const WeighConfig& cfg, const Sample samples[kMaxParticles], const Window cell_windows[kNumCells],
+                const prob_t class_prob[kNumCells], const depth_t depth[kImageHeight * kImageWidth],
+                const xyz_t vmem[3][kMaxVertices], const face_t tri_mem[kMaxFaces], weight_t sorted_w[kMaxParticles],
+                particle_index_t sorted_idx[kMaxParticles], RasterCoreOutput stats[kMaxParticles],
+                depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts HW_TRACE_PARAM) {
+  static_assert(M >= 1 && M <= kMaxRasterCores, "HwWeighTop: M must be in [1, kMaxRasterCores]");
 #pragma HLS DATAFLOW
-  const int M = cfg.num_cores;
+#ifdef __SYNTHESIS__
+  RasterCoreMemory core_mem[M];  // per core: depth fragment + window z-buffer (BRAM)
+#pragma HLS ARRAY_PARTITION variable = core_mem complete dim = 1
+#else
+  std::unique_ptr<RasterCoresSim<M> > sim(new RasterCoresSim<M>);
+  RasterCoreMemory* const core_mem = sim->mem;
+#endif
   Window windows[kMaxParticles];
   cell_index_t cells[kMaxParticles];
+  // The FT chain's copy of the samples (GatherSampleInfo forwards them). A ping-pong array, not
+  // a FIFO: the cores wait for the windows, which GatherSampleInfo completes only after its last
+  // particle, so a short FIFO here would fill and stall the region.
+  Sample samples_ft[kMaxParticles];
   hls::stream<ft_t> ft_chain("ft_chain");
-  hls::stream<ft_t> ft_core[kMaxRasterCores];
-  hls::stream<Vertex> vert_core[kMaxRasterCores];
-  hls::stream<Window> info_core[kMaxRasterCores];
-  hls::stream<depth_t> depth_core[kMaxRasterCores];
-  hls::stream<RasterCoreOutput> out_core[kMaxRasterCores];
+  hls::stream<ft_t> ft_core[M];
+  hls::stream<Vertex> vert_core[M];
+  hls::stream<Window> info_core[M];
+  hls::stream<depth_t> depth_core[M];
+  hls::stream<RasterCoreOutput> out_core[M];
   hls::stream<WeightOut> merged("merged");
   hls::stream<RasterCoreOutput> merged_stats("merged_stats");
   hls::stream<weight_t> to_sorter("to_sorter");
@@ -245,8 +313,8 @@ inline void HwWeighTop(int n, const WeighConfig& cfg, const Sample samples[kMaxP
 #pragma HLS STREAM variable = vert_core depth = 8
 #pragma HLS STREAM variable = depth_core depth = 8
 
-  GatherSampleInfo(n, cfg, samples, cell_windows, windows, cells HW_TRACE_ARG);
-  FullTransformChain(n, samples, cfg.cam, ft_chain HW_TRACE_ARG);
+  GatherSampleInfo(n, cfg, samples, cell_windows, windows, cells, samples_ft HW_TRACE_ARG);
+  FullTransformChain(n, samples_ft, cfg.cam, ft_chain HW_TRACE_ARG);
   DistributeFT(n, M, ft_chain, ft_core HW_TRACE_ARG);
   VertexMultiplier(n, M, cfg.num_faces, vmem, tri_mem, vert_core HW_TRACE_ARG);
   DistributeDepth(n, M, windows, depth, cfg.img_width, info_core, depth_core, dd_counts HW_TRACE_ARG);
@@ -254,25 +322,20 @@ RASTER_CORES:
 #ifndef __SYNTHESIS__
 #pragma omp parallel for schedule(dynamic, 1)
 #endif
-  for (int c = 0; c < kMaxRasterCores; ++c) {
+  for (int c = 0; c < M; ++c) {
 #pragma HLS UNROLL
-    if (c < M) {
+    RasterCore((n - c + M - 1) / M, cfg.num_faces, cfg.raster, info_core[c], depth_core[c], ft_core[c], vert_core[c],
+               out_core[c], core_mem[c]
 #ifndef __SYNTHESIS__
-      banks[c].trace.Clear();
+               , trace ? &sim->trace[c] : nullptr
 #endif
-      RasterCore((n - c + M - 1) / M, cfg.num_faces, cfg.raster, info_core[c], depth_core[c], ft_core[c], vert_core[c],
-                 out_core[c], banks[c].mem
-#ifndef __SYNTHESIS__
-                 , trace ? &banks[c].trace : nullptr
-#endif
-      );
-    }
+    );
   }
 #ifndef __SYNTHESIS__
   if (trace) {  // the cores' records, in core order (C-simulation bookkeeping)
     for (int c = 0; c < M; ++c)
-      for (int r = 0; r < banks[c].trace.count; ++r) {
-        const LoopRecord& rec = banks[c].trace.records[r];
+      for (int r = 0; r < sim->trace[c].count; ++r) {
+        const LoopRecord& rec = sim->trace[c].records[r];
         trace->Add(rec.module, rec.loop, rec.trips, rec.ii, rec.depth);
       }
   }
@@ -283,18 +346,117 @@ RASTER_CORES:
   SortWeights(to_sorter, n, sorted_w, sorted_idx HW_TRACE_ARG);
 }
 
-// Resampling (elitism, pool, threshold tracker) and diffusion into samples_out; the best
-// weight that sets the diffusion spread is the sorter's first output (§7.6).
-inline void HwUpdateTop(const weight_t sorted_w[kMaxParticles], const particle_index_t sorted_idx[kMaxParticles],
-                        const Sample samples_in[kMaxParticles], const depth_off_t offsets_in[kMaxParticles],
-                        const hypothesis_t hypothesis[kNumCells],
-                        const ResampleParams& rprm, Lfsr18& resample_rng, const DiffusionParams& dprm,
-                        const HeuristicVolume volumes[kNumCells], DiffusionRng& diffusion_rng,
-                        Sample samples_out[kMaxParticles], ResampleCounters* counters HW_TRACE_PARAM) {
+// The weigh tops' interfaces: one m_axi bundle per process that touches memory
+// (GatherSampleInfo: samples + cell windows; DistributeDepth: depth; VertexMultiplier: the
+// model; MergeWeights: ρ; SortWeights: the sorted set; CollectStats: stats + side-band).
+#define HW_WEIGH_TOP_INTERFACE                                                                               \
+  _Pragma("HLS INTERFACE m_axi port = samples offset = slave bundle = gmem_info depth = 510")               \
+  _Pragma("HLS INTERFACE m_axi port = cell_windows offset = slave bundle = gmem_info depth = 6300")         \
+  _Pragma("HLS INTERFACE m_axi port = class_prob offset = slave bundle = gmem_prob depth = 6300")           \
+  _Pragma("HLS INTERFACE m_axi port = depth offset = slave bundle = gmem_depth depth = 307200")             \
+  _Pragma("HLS INTERFACE m_axi port = vmem offset = slave bundle = gmem_model depth = 3072")                \
+  _Pragma("HLS INTERFACE m_axi port = tri_mem offset = slave bundle = gmem_model depth = 2048")             \
+  _Pragma("HLS INTERFACE m_axi port = sorted_w offset = slave bundle = gmem_sort depth = 510")              \
+  _Pragma("HLS INTERFACE m_axi port = sorted_idx offset = slave bundle = gmem_sort depth = 510")            \
+  _Pragma("HLS INTERFACE m_axi port = stats offset = slave bundle = gmem_stats depth = 510")                \
+  _Pragma("HLS INTERFACE m_axi port = offsets offset = slave bundle = gmem_stats depth = 510")              \
+  _Pragma("HLS INTERFACE s_axilite port = n bundle = control")                                              \
+  _Pragma("HLS INTERFACE s_axilite port = cfg bundle = control")                                            \
+  _Pragma("HLS INTERFACE s_axilite port = dd_counts bundle = control")                                      \
+  _Pragma("HLS INTERFACE s_axilite port = return bundle = control")
+
+// The thesis's two designs (§7.7: five and ten raster cores) as HLS tops.
+HW_TOP void HwWeighTop5(int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
+                        const Window cell_windows[kNumCells], const prob_t class_prob[kNumCells],
+                        const depth_t depth[kImageHeight * kImageWidth], const xyz_t vmem[3][kMaxVertices],
+                        const face_t tri_mem[kMaxFaces], weight_t sorted_w[kMaxParticles],
+                        particle_index_t sorted_idx[kMaxParticles], RasterCoreOutput stats[kMaxParticles],
+                        depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts HW_TOP_TRACE_PARAM) {
+  HW_WEIGH_TOP_INTERFACE
+  HwWeighTop<5>(n, cfg, samples, cell_windows, class_prob, depth, vmem, tri_mem, sorted_w, sorted_idx, stats, offsets,
+                dd_counts HW_TRACE_ARG);
+}
+
+HW_TOP void HwWeighTop10(int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
+                         const Window cell_windows[kNumCells], const prob_t class_prob[kNumCells],
+                         const depth_t depth[kImageHeight * kImageWidth], const xyz_t vmem[3][kMaxVertices],
+                         const face_t tri_mem[kMaxFaces], weight_t sorted_w[kMaxParticles],
+                         particle_index_t sorted_idx[kMaxParticles], RasterCoreOutput stats[kMaxParticles],
+                         depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts HW_TOP_TRACE_PARAM) {
+  HW_WEIGH_TOP_INTERFACE
+  HwWeighTop<10>(n, cfg, samples, cell_windows, class_prob, depth, vmem, tri_mem, sorted_w, sorted_idx, stats, offsets,
+                 dd_counts HW_TRACE_ARG);
+}
+
+#ifndef __SYNTHESIS__
+// Host side (C simulation): HwWeighTop<M> for a runtime core count M = cores ∈ [1, 10] (the
+// driver and ProfileHw choose M at run time; each M is its own hardware design).
+inline void HwWeighTopCores(int cores, int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
+                            const Window cell_windows[kNumCells], const prob_t class_prob[kNumCells],
+                            const depth_t depth[kImageHeight * kImageWidth], const xyz_t vmem[3][kMaxVertices],
+                            const face_t tri_mem[kMaxFaces], weight_t sorted_w[kMaxParticles],
+                            particle_index_t sorted_idx[kMaxParticles], RasterCoreOutput stats[kMaxParticles],
+                            depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts HW_TRACE_PARAM) {
+#define HW_WEIGH_CASE(m)                                                                                           \
+  case m:                                                                                                          \
+    HwWeighTop<m>(n, cfg, samples, cell_windows, class_prob, depth, vmem, tri_mem, sorted_w, sorted_idx, stats,    \
+                  offsets, dd_counts HW_TRACE_ARG);                                                                \
+    return;
+  switch (cores) {
+    HW_WEIGH_CASE(1)
+    HW_WEIGH_CASE(2)
+    HW_WEIGH_CASE(3)
+    HW_WEIGH_CASE(4)
+    HW_WEIGH_CASE(5)
+    HW_WEIGH_CASE(6)
+    HW_WEIGH_CASE(7)
+    HW_WEIGH_CASE(8)
+    HW_WEIGH_CASE(9)
+    HW_WEIGH_CASE(10)
+    default:
+      break;
+  }
+#undef HW_WEIGH_CASE
+  std::fprintf(stderr, "HwWeighTopCores: %d raster cores is outside [1, %d]\n", cores, kMaxRasterCores);
+  std::abort();  // the callers validate the core count
+}
+#endif
+
+// Resampling (elitism, pool, threshold tracker) and diffusion into samples_out. w_best, the
+// best weight that sets the diffusion spread, is the sorter's first output (§7.6): the host
+// reads sorted_w[0] for its convergence test anyway and passes it as a register, so sorted_w
+// has one reader (Resample). The current sample memory is bound to two read ports,
+// samples_in (Diffuse: the samples to move) and samples_in_cells (Resample: the cells of the
+// region and rotation caps) — the same buffer, read-only, so each process owns its port (the
+// thesis's "copy for the dataflow" of the index memory, §7.1, without the copy). The host
+// passes the same memory to both.
+HW_TOP void HwUpdateTop(const weight_t sorted_w[kMaxParticles], const particle_index_t sorted_idx[kMaxParticles],
+                        weight_t w_best, const Sample samples_in[kMaxParticles],
+                        const Sample samples_in_cells[kMaxParticles], const depth_off_t offsets_in[kMaxParticles],
+                        const hypothesis_t hypothesis[kNumCells], const ResampleParams& rprm, Lfsr18& resample_rng,
+                        const DiffusionParams& dprm, const HeuristicVolume volumes[kNumCells],
+                        DiffusionRng& diffusion_rng, Sample samples_out[kMaxParticles],
+                        ResampleCounters* counters HW_TOP_TRACE_PARAM) {
+#pragma HLS INTERFACE m_axi port = sorted_w offset = slave bundle = gmem_sort depth = 510
+#pragma HLS INTERFACE m_axi port = sorted_idx offset = slave bundle = gmem_sort depth = 510
+#pragma HLS INTERFACE m_axi port = samples_in_cells offset = slave bundle = gmem_caps depth = 510
+#pragma HLS INTERFACE m_axi port = hypothesis offset = slave bundle = gmem_caps depth = 6300
+#pragma HLS INTERFACE m_axi port = samples_in offset = slave bundle = gmem_smp depth = 510
+#pragma HLS INTERFACE m_axi port = offsets_in offset = slave bundle = gmem_smp depth = 510
+#pragma HLS INTERFACE m_axi port = volumes offset = slave bundle = gmem_vol depth = 6300
+#pragma HLS INTERFACE m_axi port = samples_out offset = slave bundle = gmem_out depth = 510
+#pragma HLS INTERFACE s_axilite port = w_best bundle = control
+#pragma HLS INTERFACE s_axilite port = rprm bundle = control
+#pragma HLS INTERFACE s_axilite port = resample_rng bundle = control
+#pragma HLS INTERFACE s_axilite port = dprm bundle = control
+#pragma HLS INTERFACE s_axilite port = diffusion_rng bundle = control
+#pragma HLS INTERFACE s_axilite port = counters bundle = control
+#pragma HLS INTERFACE s_axilite port = return bundle = control
 #pragma HLS DATAFLOW
   particle_index_t selected[kMaxParticles];
-  Resample(sorted_w, sorted_idx, samples_in, hypothesis, rprm, resample_rng, selected, counters, nullptr HW_TRACE_ARG);
-  Diffuse(samples_in, offsets_in, selected, rprm.num_particles, rprm.num_elite, sorted_w[0], dprm, volumes, diffusion_rng,
+  Resample(sorted_w, sorted_idx, samples_in_cells, hypothesis, rprm, resample_rng, selected, counters,
+           nullptr HW_TRACE_ARG);
+  Diffuse(samples_in, offsets_in, selected, rprm.num_particles, rprm.num_elite, w_best, dprm, volumes, diffusion_rng,
           samples_out HW_TRACE_ARG);
 }
 

@@ -54,7 +54,6 @@ struct SmallProblem {
   Window cell_windows[kNumCells];
   prob_t class_prob[kNumCells];
   Sample samples[kMaxParticles];
-  std::unique_ptr<RasterCoreBank[]> banks{new RasterCoreBank[kMaxRasterCores]};
   WeighConfig cfg{};
   int n = 0;
 };
@@ -120,8 +119,8 @@ void Weigh(SmallProblem& sp, int cores, WeighOutput* out) {
   particle_index_t idx[kMaxParticles];
   RasterCoreOutput stats[kMaxParticles];
   depth_off_t offsets[kMaxParticles];
-  HwWeighTop(sp.n, sp.cfg, sp.samples, sp.cell_windows, sp.class_prob, sp.depth.get(), sp.vmem, sp.tri_mem,
-             sp.banks.get(), w, idx, stats, offsets, &out->dd, out->trace.get());
+  HwWeighTopCores(cores, sp.n, sp.cfg, sp.samples, sp.cell_windows, sp.class_prob, sp.depth.get(), sp.vmem, sp.tri_mem, w,
+                  idx, stats, offsets, &out->dd, out->trace.get());
   for (int p = 0; p < sp.n; ++p) {
     // The side-band: each particle's mean z_s − z_r, to depth_off_t's LSB (2^-15 m) + rounding.
     const long cnt = long(stats[p].depth_diff_count.to_uint64());
