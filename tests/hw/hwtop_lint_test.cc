@@ -5,13 +5,38 @@
 // (Debian clang-tools) runs AST matchers over one translation unit that includes every kernel
 // header, compiled with -D__SYNTHESIS__ (so the host-only parts under #ifndef __SYNTHESIS__
 // drop out, as in HLS). Skipped when clang-query is not installed. Suite HwTopLint.
+//
+// Top and dataflow lint (pragmas are not in the clang AST, so this part is source level): the
+// same translation unit is preprocessed (c++ -E -D__SYNTHESIS__; `#pragma` lines and
+// _Pragma(...) from macros survive as `#pragma` lines, host-only code is gone) and the code of
+// src/hw/*.h is tokenized. Rules:
+//   (a) a top — a non-template function definition named Hw<letters>Top[<digits>], the
+//       functions scripts/hls names with set_top — has `#pragma HLS INTERFACE … port = p` for
+//       every parameter p and for `return`;
+//   (b) in a DATAFLOW region — a function whose body holds `#pragma HLS DATAFLOW` — a memory
+//       argument (array, pointer, non-const reference, hls::stream) is used by at most one
+//       process call and a local channel (any local declared in the region) by at most two
+//       (one producer, one consumer);
+//   (c) the region's statements are channel declarations (without initialisers other than a
+//       stream's name), constexpr declarations, static_asserts, process calls and `for` loops
+//       of process calls whose bound is compile-time (a literal, a template parameter, a
+//       constexpr name): a process under `if`, a loop with a runtime bound (the `c < M` of a
+//       runtime M) or any other statement (a scalar assignment, an initialised scalar) is
+//       rejected.
+// Suites: HwTopLint.TopsHaveInterfacesAndRegionsAreCanonical (the real src/hw) and
+// HwTopLint.EachTopRuleCatchesABadFixture (one fixture per rule, and good fixtures).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+#include <tuple>
 #include <regex>
 #include <string>
 #include <vector>
@@ -130,6 +155,616 @@ TEST(HwTopLint, KernelHeadersStayInTheSynthesizableSubset) {
     ran += r.output.compare(p, 7, "matches") == 0 || r.output.compare(p, 6, "match.") == 0;
   EXPECT_EQ(int(ran), CountQueries()) << r.output;
   EXPECT_EQ(r.matches, 0) << "kernel lint violations:\n" << r.output;
+  fs::remove_all(dir);
+}
+
+// ---- Top and dataflow lint (source level, on the preprocessed translation unit) ----
+
+struct Tok {
+  enum Kind { kIdent, kNumber, kString, kPunct, kPragma } kind;
+  std::string text;  // for kPragma: the pragma line after "#pragma"
+  std::string file;
+  int line = 0;
+};
+
+// Tokens of the preprocessed text that come from files whose path matches `keep` (line
+// markers `# N "file"` say where each line comes from).
+std::vector<Tok> Tokenize(const std::string& pp, const std::regex& keep) {
+  std::vector<Tok> out;
+  std::string file;
+  int line = 0;
+  bool kept = false;
+  std::istringstream in(pp);
+  std::string text;
+  static const std::regex marker_re(R"(^#\s*(\d+)\s+"([^"]*)\".*)");
+  const char* const kPunct3[] = {"<<=", ">>=", "...", "->*"};
+  const char* const kPunct2[] = {"::", "->", "<<", "<=", ">=", "==", "!=", "&&", "||", "++", "--", "+=", "-=",
+                                 "*=", "/=", "%=", "&=", "|=", "^="};
+  while (std::getline(in, text)) {
+    std::size_t b = text.find_first_not_of(" \t");
+    if (b != std::string::npos && text[b] == '#') {
+      std::smatch m;
+      const std::string rest = text.substr(b);
+      if (std::regex_match(rest, m, marker_re)) {
+        line = std::stoi(m[1]) - 1;  // the next line has number N
+        file = m[2];
+        kept = std::regex_search(file, keep);
+      } else if (kept && rest.compare(0, 7, "#pragma") == 0) {
+        out.push_back({Tok::kPragma, rest.substr(7), file, line + 1});
+      }
+      ++line;
+      continue;
+    }
+    ++line;
+    if (!kept) continue;
+    for (std::size_t i = 0; i < text.size();) {
+      const char c = text[i];
+      if (std::isspace(static_cast<unsigned char>(c))) {
+        ++i;
+      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+        std::size_t j = i;
+        while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_')) ++j;
+        out.push_back({Tok::kIdent, text.substr(i, j - i), file, line});
+        i = j;
+      } else if (std::isdigit(static_cast<unsigned char>(c))) {
+        std::size_t j = i;
+        while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '.' || text[j] == '\''))
+          ++j;
+        out.push_back({Tok::kNumber, text.substr(i, j - i), file, line});
+        i = j;
+      } else if (c == '"' || c == '\'') {
+        std::size_t j = i + 1;
+        while (j < text.size() && text[j] != c) j += text[j] == '\\' ? 2 : 1;
+        out.push_back({Tok::kString, text.substr(i, j + 1 - i), file, line});
+        i = j + 1;
+      } else {
+        std::string p(1, c);
+        for (const char* q : kPunct3)
+          if (text.compare(i, 3, q) == 0) p = q;
+        if (p.size() == 1)
+          for (const char* q : kPunct2)
+            if (text.compare(i, 2, q) == 0) p = q;
+        out.push_back({Tok::kPunct, p, file, line});
+        i += p.size();
+      }
+    }
+  }
+  return out;
+}
+
+struct Function {
+  std::string name;
+  std::vector<std::string> template_params;  // names; empty for a non-template
+  bool is_template = false;
+  std::size_t params_begin = 0, params_end = 0;  // tokens inside the parameter list's ( )
+  std::size_t body_begin = 0, body_end = 0;      // tokens inside the body's { }
+};
+
+bool Is(const Tok& t, const char* s) { return t.kind != Tok::kString && t.kind != Tok::kPragma && t.text == s; }
+
+// Index of the token that closes the bracket opened at `open` ("(", "[", "{"; "<" counts
+// only "<" and ">" inside, for template argument lists).
+std::size_t MatchClose(const std::vector<Tok>& t, std::size_t open) {
+  const std::string o = t[open].text;
+  const std::string c = o == "(" ? ")" : o == "[" ? "]" : o == "{" ? "}" : ">";
+  int depth = 0;
+  for (std::size_t i = open; i < t.size(); ++i) {
+    if (t[i].kind != Tok::kPunct) continue;
+    if (t[i].text == o) ++depth;
+    if (t[i].text == c && --depth == 0) return i;
+    if (o == "<" && (t[i].text == ";" || t[i].text == "{")) break;
+  }
+  return t.size();
+}
+
+// Function definitions at namespace or class scope.
+std::vector<Function> FindFunctions(const std::vector<Tok>& t) {
+  std::vector<Function> fns;
+  std::size_t stmt_start = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (Is(t[i], ";") || Is(t[i], "}")) {
+      stmt_start = i + 1;
+      continue;
+    }
+    if (t[i].kind == Tok::kPragma) {
+      stmt_start = i + 1;
+      continue;
+    }
+    if (!Is(t[i], "{")) continue;
+    // `) {`, `) const {`, `) noexcept {`: a function body; anything else (namespace, class,
+    // initialiser) is entered.
+    std::size_t k = i;
+    while (k > stmt_start && (Is(t[k - 1], "const") || Is(t[k - 1], "noexcept") || Is(t[k - 1], "override"))) --k;
+    if (k == stmt_start || !Is(t[k - 1], ")")) {
+      stmt_start = i + 1;
+      continue;
+    }
+    // The parameter list: the "(" matching t[k - 1].
+    int depth = 0;
+    std::size_t open = k - 1;
+    for (std::size_t j = k - 1;; --j) {
+      if (Is(t[j], ")")) ++depth;
+      if (Is(t[j], "(") && --depth == 0) {
+        open = j;
+        break;
+      }
+      if (j == stmt_start) break;
+    }
+    const std::size_t close_body = MatchClose(t, i);
+    if (open > stmt_start && t[open - 1].kind == Tok::kIdent) {
+      Function f;
+      f.name = t[open - 1].text;
+      f.params_begin = open + 1;
+      f.params_end = k - 1;
+      f.body_begin = i + 1;
+      f.body_end = close_body;
+      if (Is(t[stmt_start], "template") && stmt_start + 1 < t.size() && Is(t[stmt_start + 1], "<")) {
+        f.is_template = true;
+        const std::size_t tclose = MatchClose(t, stmt_start + 1);
+        // Parameter names: the identifier before each top-level "," or the closing ">".
+        for (std::size_t j = stmt_start + 2; j < tclose; ++j)
+          if ((Is(t[j + 1], ",") || j + 1 == tclose || Is(t[j + 1], "=")) && t[j].kind == Tok::kIdent)
+            f.template_params.push_back(t[j].text);
+      }
+      fns.push_back(f);
+    }
+    i = close_body;  // skip the body (lambdas and local classes inside are not functions)
+    stmt_start = i + 1;
+  }
+  return fns;
+}
+
+struct Param {
+  std::string name;
+  bool channel = false;  // array, pointer, non-const reference or stream
+};
+
+std::vector<Param> Params(const std::vector<Tok>& t, const Function& f) {
+  std::vector<Param> out;
+  std::vector<std::pair<std::size_t, std::size_t>> pieces;
+  int depth = 0;
+  std::size_t start = f.params_begin;
+  for (std::size_t i = f.params_begin; i <= f.params_end; ++i) {
+    if (i == f.params_end || (depth == 0 && Is(t[i], ","))) {
+      if (i > start) pieces.push_back({start, i});
+      start = i + 1;
+      continue;
+    }
+    if (Is(t[i], "(") || Is(t[i], "[") || Is(t[i], "<") || Is(t[i], "{")) ++depth;
+    if (Is(t[i], ")") || Is(t[i], "]") || Is(t[i], ">") || Is(t[i], "}")) --depth;
+  }
+  for (const auto& [b, e] : pieces) {
+    Param p;
+    bool is_const = false, ref = false, ptr = false, array = false, stream = false;
+    int d = 0;
+    for (std::size_t i = b; i < e; ++i) {
+      if (d == 0 && Is(t[i], "=")) break;  // default argument
+      if (Is(t[i], "<") || Is(t[i], "(")) ++d;
+      if (Is(t[i], ">") || Is(t[i], ")")) --d;
+      if (d == 0 && Is(t[i], "[")) {
+        array = true;
+        break;
+      }
+      if (d == 0 && Is(t[i], "const")) is_const = true;
+      if (d == 0 && (Is(t[i], "&") || Is(t[i], "&&"))) ref = true;
+      if (d == 0 && Is(t[i], "*")) ptr = true;
+      if (Is(t[i], "stream")) stream = true;
+      if (d == 0 && t[i].kind == Tok::kIdent && !Is(t[i], "const")) p.name = t[i].text;
+    }
+    p.channel = array || ptr || stream || (ref && !is_const);
+    if (!p.name.empty()) out.push_back(p);
+  }
+  return out;
+}
+
+bool IsTopName(const std::string& name) {
+  static const std::regex top_re("^Hw[A-Za-z]*Top[0-9]*$");
+  return std::regex_match(name, top_re);
+}
+
+std::string Where(const Tok& t) { return t.file + ":" + std::to_string(t.line) + ": "; }
+
+// Rule (a): the tops' INTERFACE pragmas.
+void CheckTop(const std::vector<Tok>& t, const Function& f, std::vector<std::string>* bad, std::set<std::string>* tops) {
+  if (f.is_template || !IsTopName(f.name)) return;
+  tops->insert(f.name);
+  std::set<std::string> ports;
+  static const std::regex iface_re(R"(^\s*HLS\s+INTERFACE\b.*)", std::regex::icase);
+  static const std::regex port_re(R"(\bport\s*=\s*(\w+))", std::regex::icase);
+  for (std::size_t i = f.body_begin; i < f.body_end; ++i) {
+    if (t[i].kind != Tok::kPragma || !std::regex_match(t[i].text, iface_re)) continue;
+    std::smatch m;
+    if (std::regex_search(t[i].text, m, port_re)) ports.insert(m[1]);
+  }
+  std::vector<Param> params = Params(t, f);
+  params.push_back({"return", false});
+  for (const Param& p : params)
+    if (!ports.count(p.name))
+      bad->push_back(Where(t[f.body_begin - 1]) + "top " + f.name + ": no #pragma HLS INTERFACE for '" + p.name + "'");
+}
+
+// Rules (b) and (c) on one DATAFLOW region.
+struct Region {
+  const std::vector<Tok>& t;
+  const Function& f;
+  const std::set<std::string>& constexpr_names;
+  std::vector<std::string>* bad;
+  std::set<std::string> locals;
+  std::vector<std::set<std::string>> calls;  // per process call: the names in its arguments
+
+  void Bad(std::size_t i, const std::string& what) {
+    bad->push_back(Where(t[i]) + "DATAFLOW region " + f.name + ": " + what);
+  }
+  bool CompileTime(const Tok& b) const {
+    if (b.kind == Tok::kNumber) return true;
+    if (b.kind != Tok::kIdent) return false;
+    return std::find(f.template_params.begin(), f.template_params.end(), b.text) != f.template_params.end() ||
+           constexpr_names.count(b.text) > 0;
+  }
+  // End of the statement that starts at i (exclusive): after its ";" or its "}".
+  std::size_t StatementEnd(std::size_t i, std::size_t end) const {
+    for (std::size_t j = i; j < end; ++j) {
+      if (Is(t[j], "(") || Is(t[j], "[")) j = MatchClose(t, j);
+      else if (Is(t[j], "{")) return MatchClose(t, j) + 1;
+      else if (Is(t[j], ";")) return j + 1;
+    }
+    return end;
+  }
+  // Whether [b, e) is `Name[::Name…][<…>](…);` — a process call.
+  bool IsCall(std::size_t b, std::size_t e, std::size_t* open) const {
+    std::size_t i = b;
+    if (t[i].kind != Tok::kIdent) return false;
+    ++i;
+    while (i + 1 < e && Is(t[i], "::") && t[i + 1].kind == Tok::kIdent) i += 2;
+    if (i < e && Is(t[i], "<")) i = MatchClose(t, i) + 1;
+    if (i >= e || !Is(t[i], "(")) return false;
+    *open = i;
+    return MatchClose(t, i) + 2 == e && Is(t[e - 1], ";");
+  }
+  void RecordCall(std::size_t open, std::size_t close) {
+    std::set<std::string> names;
+    for (std::size_t i = open + 1; i < close; ++i)
+      if (t[i].kind == Tok::kIdent && !(Is(t[i - 1], ".") || Is(t[i - 1], "->") || Is(t[i - 1], "::")))
+        names.insert(t[i].text);
+    calls.push_back(names);
+  }
+  bool ContainsCall(std::size_t b, std::size_t e) const {
+    for (std::size_t i = b; i + 1 < e; ++i)
+      if (t[i].kind == Tok::kIdent && Is(t[i + 1], "(") && !Is(t[i], "if") && !Is(t[i], "for") && !Is(t[i], "while") &&
+          !Is(t[i], "switch") && !Is(t[i], "sizeof"))
+        return true;
+    return false;
+  }
+  // A declaration `[constexpr|const|static…] Type name[…][("name")], …;`; false if [b, e) is
+  // not a declaration. Channel names go to `locals`.
+  bool Declaration(std::size_t b, std::size_t e) {
+    std::size_t i = b;
+    bool is_constexpr = false;
+    while (i < e && (Is(t[i], "constexpr") || Is(t[i], "const") || Is(t[i], "static") || Is(t[i], "volatile"))) {
+      is_constexpr |= Is(t[i], "constexpr");
+      ++i;
+    }
+    if (i < e && Is(t[i], "::")) ++i;
+    if (i >= e || t[i].kind != Tok::kIdent) return false;
+    ++i;
+    while (i + 1 < e && Is(t[i], "::") && t[i + 1].kind == Tok::kIdent) i += 2;
+    if (i < e && Is(t[i], "<")) i = MatchClose(t, i) + 1;
+    while (i < e && (Is(t[i], "*") || Is(t[i], "&") || Is(t[i], "const"))) ++i;
+    if (i >= e || t[i].kind != Tok::kIdent) return false;  // not `Type name`
+    // Declarators.
+    while (i < e) {
+      if (t[i].kind != Tok::kIdent) return false;
+      const std::string name = t[i].text;
+      ++i;
+      while (i < e && Is(t[i], "[")) i = MatchClose(t, i) + 1;
+      if (i < e && (Is(t[i], "(") || Is(t[i], "{"))) {  // constructor arguments: a name only
+        const std::size_t c = MatchClose(t, i);
+        const bool name_only = c == i + 1 || (c == i + 2 && t[i + 1].kind == Tok::kString);
+        if (!name_only && !is_constexpr) Bad(i, "initialised declaration of '" + name + "' (a scalar statement)");
+        i = c + 1;
+      } else if (i < e && Is(t[i], "=")) {
+        if (!is_constexpr) Bad(i, "initialised declaration of '" + name + "' (a scalar statement)");
+        int d = 0;
+        for (; i < e; ++i) {
+          if (Is(t[i], "(") || Is(t[i], "{") || Is(t[i], "[") || Is(t[i], "<")) ++d;
+          if (Is(t[i], ")") || Is(t[i], "}") || Is(t[i], "]") || Is(t[i], ">")) --d;
+          if (d == 0 && (Is(t[i], ",") || Is(t[i], ";"))) break;
+        }
+      }
+      if (!is_constexpr) locals.insert(name);
+      if (i < e && Is(t[i], ",")) {
+        ++i;
+        continue;
+      }
+      return i < e && Is(t[i], ";");
+    }
+    return false;
+  }
+  // The statements of [b, e); in_loop: inside a process loop's body.
+  void Statements(std::size_t b, std::size_t e, bool in_loop) {
+    for (std::size_t i = b; i < e;) {
+      if (t[i].kind == Tok::kPragma) {
+        ++i;
+        continue;
+      }
+      if (t[i].kind == Tok::kIdent && i + 1 < e && Is(t[i + 1], ":")) {  // a loop label
+        i += 2;
+        continue;
+      }
+      if (Is(t[i], ";")) {
+        ++i;
+        continue;
+      }
+      const std::size_t end = StatementEnd(i, e);
+      std::size_t open = 0;
+      if (Is(t[i], "static_assert")) {  // compile time
+        i = end;
+        continue;
+      }
+      if (Is(t[i], "for") && i + 1 < e && Is(t[i + 1], "(")) {
+        const std::size_t hclose = MatchClose(t, i + 1);
+        // The condition: the tokens between the header's two top-level ";".
+        std::vector<std::size_t> semis;
+        for (std::size_t j = i + 2; j < hclose; ++j) {
+          if (Is(t[j], "(") || Is(t[j], "[")) j = MatchClose(t, j);
+          else if (Is(t[j], ";")) semis.push_back(j);
+        }
+        const bool bounded = semis.size() == 2 && semis[1] == semis[0] + 4 && t[semis[0] + 1].kind == Tok::kIdent &&
+                             (Is(t[semis[0] + 2], "<") || Is(t[semis[0] + 2], "<=")) && CompileTime(t[semis[0] + 3]);
+        if (!bounded) Bad(i, "a process loop whose bound is not a compile-time constant");
+        std::size_t body_b = hclose + 1, body_e = end;
+        if (body_b < e && Is(t[body_b], "{")) {
+          body_e = MatchClose(t, body_b);
+          ++body_b;
+        }
+        Statements(body_b, body_e, true);
+      } else if (Is(t[i], "if") || Is(t[i], "switch") || Is(t[i], "while") || Is(t[i], "do")) {
+        std::size_t stmt_e = end;
+        if (Is(t[i], "if")) {  // with its else branches
+          while (stmt_e < e && Is(t[stmt_e], "else")) stmt_e = StatementEnd(stmt_e + 1, e);
+        }
+        if (ContainsCall(i + 1, stmt_e)) Bad(i, "a process called under '" + t[i].text + "'");
+        else Bad(i, "a scalar '" + t[i].text + "' statement between the processes");
+        i = stmt_e;
+        continue;
+      } else if (IsCall(i, end, &open)) {
+        RecordCall(open, MatchClose(t, open));
+      } else if (in_loop || !Declaration(i, end)) {
+        Bad(i, "a scalar statement between the processes");
+      }
+      i = end;
+    }
+  }
+  void Check() {
+    Statements(f.body_begin, f.body_end, false);
+    std::map<std::string, int> uses;
+    for (const auto& names : calls)
+      for (const std::string& n : names) ++uses[n];
+    for (const Param& p : Params(t, f))
+      if (p.channel && uses[p.name] > 1)
+        Bad(f.body_begin - 1, "argument '" + p.name + "' is used by " + std::to_string(uses[p.name]) +
+                                  " processes (one reader or one writer)");
+    for (const std::string& l : locals)
+      if (uses[l] > 2)
+        Bad(f.body_begin - 1, "channel '" + l + "' is used by " + std::to_string(uses[l]) +
+                                  " processes (one producer, one consumer)");
+  }
+};
+
+struct TopLintResult {
+  std::vector<std::string> violations;
+  std::set<std::string> tops, regions;
+  std::string error;  // the preprocessor's complaint, if any
+};
+
+// Preprocesses `tu` (-D__SYNTHESIS__) and applies rules (a)–(c) to the code of files whose
+// path matches `keep`.
+TopLintResult RunTopLint(const fs::path& dir, const fs::path& tu, const std::vector<fs::path>& includes,
+                         const std::string& keep = "src/hw/[^/]+[.]h$") {
+  TopLintResult r;
+  std::string cmd = "c++ -E -std=c++20 -D__SYNTHESIS__ '" + tu.string() + "'";
+  for (const fs::path& inc : includes) cmd += " -I'" + inc.string() + "'";
+  cmd += " >'" + (dir / "pp.out").string() + "' 2>'" + (dir / "pp.err").string() + "'";
+  if (std::system(cmd.c_str()) != 0) {
+    r.error = ReadFile(dir / "pp.err");
+    return r;
+  }
+  const std::vector<Tok> t = Tokenize(ReadFile(dir / "pp.out"), std::regex(keep));
+  std::set<std::string> constexpr_names;
+  for (std::size_t i = 0; i + 1 < t.size(); ++i) {
+    if (!Is(t[i], "constexpr")) continue;
+    for (std::size_t j = i + 1; j < t.size() && j < i + 12; ++j)
+      if (t[j].kind == Tok::kIdent && (Is(t[j + 1], "=") || Is(t[j + 1], "{") || Is(t[j + 1], "["))) {
+        constexpr_names.insert(t[j].text);
+        break;
+      }
+  }
+  static const std::regex dataflow_re(R"(^\s*HLS\s+DATAFLOW\b.*)", std::regex::icase);
+  for (const Function& f : FindFunctions(t)) {
+    CheckTop(t, f, &r.violations, &r.tops);
+    bool dataflow = false;
+    for (std::size_t i = f.body_begin; i < f.body_end; ++i)
+      dataflow |= t[i].kind == Tok::kPragma && std::regex_match(t[i].text, dataflow_re);
+    if (!dataflow) continue;
+    r.regions.insert(f.name);
+    Region region{t, f, constexpr_names, &r.violations, {}, {}};
+    region.Check();
+  }
+  return r;
+}
+
+std::string Joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += x + "\n";
+  return s;
+}
+
+TEST(HwTopLint, TopsHaveInterfacesAndRegionsAreCanonical) {
+  if (std::system("c++ --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no c++ preprocessor";
+  const fs::path root = RepoRoot();
+  ASSERT_FALSE(root.empty()) << "cannot find the repository (src/hw/hw_types.h)";
+  const fs::path dir = FreshTempPath("hwtop_toplint");
+  fs::create_directories(dir);
+  std::string tu;
+  for (const auto& e : fs::directory_iterator(root / "src/hw")) {
+    const std::string name = e.path().filename().string();
+    if (e.path().extension() != ".h") continue;
+    if (std::find(std::begin(kHostHeaders), std::end(kHostHeaders), name) != std::end(kHostHeaders)) continue;
+    tu += "#include \"hw/" + name + "\"\n";
+  }
+  WriteFile(dir / "kernels.cc", tu);
+  const TopLintResult r = RunTopLint(dir, dir / "kernels.cc", {root / "src", root / "src/hw/hls_types", root / "include"});
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  EXPECT_TRUE(r.violations.empty()) << Joined(r.violations);
+  // The lint saw what it checks: the four tops and the three regions.
+  for (const char* top : {"HwInitTop", "HwWeighTop5", "HwWeighTop10", "HwUpdateTop"}) EXPECT_TRUE(r.tops.count(top)) << top;
+  for (const char* region : {"HwWeighTop", "HwUpdateTop", "InitSamplesRegion"})
+    EXPECT_TRUE(r.regions.count(region)) << region;
+  fs::remove_all(dir);
+}
+
+// Each rule rejects a small header under <tmp>/src/hw/ that breaks it; the good headers pass.
+TEST(HwTopLint, EachTopRuleCatchesABadFixture) {
+  if (std::system("c++ --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no c++ preprocessor";
+  const fs::path dir = FreshTempPath("hwtop_toplint_bad");
+  fs::create_directories(dir / "src/hw");
+  WriteFile(dir / "tu.cc", "#include \"hw/kernel.h\"\n");
+  // Shared by the fixtures: a stream type and three processes.
+  const std::string prelude = R"(#pragma once
+namespace hls { template <typename T> struct stream { stream() {} explicit stream(const char*) {} }; }
+inline void Produce(int n, const int in[64], hls::stream<int>& out) { (void)n; (void)in; (void)out; }
+inline void Consume(int n, hls::stream<int>& in, int out[64]) { (void)n; (void)in; (void)out; }
+inline void Pass(int n, hls::stream<int>& in, hls::stream<int>& out) { (void)n; (void)in; (void)out; }
+constexpr int kLanes = 4;
+)";
+  const std::string good_top = R"(
+inline void HwGoodTop(int n, const int in[64], int out[64]) {
+#pragma HLS INTERFACE m_axi port = in offset = slave bundle = gmem_in depth = 64
+#pragma HLS INTERFACE m_axi port = out offset = slave bundle = gmem_out depth = 64
+#pragma HLS INTERFACE s_axilite port = n bundle = control
+#pragma HLS INTERFACE s_axilite port = return bundle = control
+#pragma HLS DATAFLOW
+  hls::stream<int> s("s");
+  Produce(n, in, s);
+  Consume(n, s, out);
+}
+#define IFACE _Pragma("HLS INTERFACE m_axi port = in offset = slave bundle = gmem depth = 64") \
+  _Pragma("HLS INTERFACE s_axilite port = return bundle = control")
+inline void HwMacroTop2(const int in[64]) {
+  IFACE
+  (void)in;
+}
+template <int M>
+void Lanes(int n, const int in[64], int out[64]) {
+#pragma HLS DATAFLOW
+  constexpr int kDepth = 2;
+  hls::stream<int> a, b[M];
+  hls::stream<int> c[kLanes];
+  Produce(n, in, a);
+LANES:
+  for (int k = 0; k < M; ++k) {
+#pragma HLS UNROLL
+    Pass(n, a, b[k]);
+  }
+  for (int k = 0; k < kLanes; ++k) Pass(n + kDepth, b[k], c[k]);
+  Consume(n, c[0], out);
+}
+)";
+  const std::vector<fs::path> includes = {dir / "src"};
+  // The good fixture passes.
+  WriteFile(dir / "src/hw/kernel.h", prelude + good_top);
+  const TopLintResult ok = RunTopLint(dir, dir / "tu.cc", includes);
+  ASSERT_TRUE(ok.error.empty()) << ok.error;
+  EXPECT_TRUE(ok.violations.empty()) << Joined(ok.violations);
+  EXPECT_EQ(ok.tops, (std::set<std::string>{"HwGoodTop", "HwMacroTop2"}));
+  EXPECT_EQ(ok.regions, (std::set<std::string>{"HwGoodTop", "Lanes"}));
+
+  const std::vector<std::tuple<std::string, std::string, std::string>> bad = {
+      {"(a) a top without INTERFACE pragmas", "inline void HwBareTop(int n, int out[64]) { (void)n; (void)out; }",
+       "no #pragma HLS INTERFACE for 'n'"},
+      {"(a) a top without `return`", R"(inline void HwNoReturnTop(int out[64]) {
+#pragma HLS INTERFACE m_axi port = out offset = slave bundle = gmem depth = 64
+  (void)out;
+})", "no #pragma HLS INTERFACE for 'return'"},
+      {"(a) an argument missing", R"(inline void HwHalfTop(int n, int out[64]) {
+#pragma HLS INTERFACE m_axi port = out offset = slave bundle = gmem depth = 64
+#pragma HLS INTERFACE s_axilite port = return bundle = control
+  (void)n; (void)out;
+})", "no #pragma HLS INTERFACE for 'n'"},
+      {"(b) an argument read by two processes", R"(inline void Region(int n, const int in[64], int out[64]) {
+#pragma HLS DATAFLOW
+  hls::stream<int> s, t;
+  Produce(n, in, s);
+  Produce(n, in, t);
+  Pass(n, t, s);
+  Consume(n, s, out);
+})", "argument 'in' is used by 2 processes"},
+      {"(b) a local stream read by two processes", R"(inline void Region(int n, const int in[64], int out[64]) {
+#pragma HLS DATAFLOW
+  hls::stream<int> s, t;
+  Produce(n, in, s);
+  Pass(n, s, t);
+  Pass(n, s, t);
+})", "channel 's' is used by 3 processes"},
+      {"(c) a process under if", R"(inline void Region(int n, const int in[64], int out[64]) {
+#pragma HLS DATAFLOW
+  hls::stream<int> s;
+  Produce(n, in, s);
+  if (n > 0) Consume(n, s, out);
+})", "a process called under 'if'"},
+      {"(c) the runtime-bounded core loop", R"(inline void Region(int n, int m, const int in[64], int out[64]) {
+#pragma HLS DATAFLOW
+  hls::stream<int> s, t[kLanes];
+  Produce(n, in, s);
+  for (int c = 0; c < kLanes; ++c) {
+#pragma HLS UNROLL
+    if (c < m) Pass(n, s, t[c]);
+  }
+  Consume(n, t[0], out);
+})", "a process called under 'if'"},
+      {"(c) a runtime loop bound", R"(inline void Region(int n, int m, const int in[64], int out[64]) {
+#pragma HLS DATAFLOW
+  hls::stream<int> s, t[kLanes];
+  Produce(n, in, s);
+  for (int c = 0; c < m; ++c) Pass(n, s, t[c]);
+  Consume(n, t[0], out);
+})", "bound is not a compile-time constant"},
+      {"(c) a scalar statement", R"(inline void Region(int n, const int in[64], int out[64]) {
+#pragma HLS DATAFLOW
+  hls::stream<int> s;
+  if (n > 64) n = 64;
+  Produce(n, in, s);
+  Consume(n, s, out);
+})", "a scalar 'if' statement"},
+      {"(c) an assignment", R"(inline void Region(int n, const int in[64], int out[64], int& count) {
+#pragma HLS DATAFLOW
+  hls::stream<int> s;
+  Produce(n, in, s);
+  Consume(n, s, out);
+  count = n;
+})", "a scalar statement between the processes"},
+      {"(c) an initialised scalar", R"(inline void Region(int n, const int in[64], int out[64]) {
+#pragma HLS DATAFLOW
+  const int m = n / 2;
+  hls::stream<int> s;
+  Produce(m, in, s);
+  Consume(m, s, out);
+})", "initialised declaration of 'm'"},
+  };
+  for (const auto& [what, code, expect] : bad) {
+    WriteFile(dir / "src/hw/kernel.h", prelude + code + "\n");
+    const TopLintResult r = RunTopLint(dir, dir / "tu.cc", includes);
+    ASSERT_TRUE(r.error.empty()) << what << "\n" << r.error;
+    EXPECT_NE(Joined(r.violations).find(expect), std::string::npos)
+        << "the lint missed: " << what << "\nexpected: " << expect << "\ngot:\n" << Joined(r.violations);
+  }
+  // The rules are about src/hw/*.h only: the same top elsewhere is not reported.
+  fs::create_directories(dir / "other");
+  WriteFile(dir / "other/host.h", "#pragma once\ninline void HwBareTop(int n) { (void)n; }\n");
+  WriteFile(dir / "tu2.cc", "#include \"host.h\"\n");
+  const TopLintResult other = RunTopLint(dir, dir / "tu2.cc", {dir / "other"});
+  EXPECT_TRUE(other.violations.empty()) << Joined(other.violations);
+  EXPECT_TRUE(other.tops.empty());
   fs::remove_all(dir);
 }
 
