@@ -28,7 +28,7 @@ stat, secs, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 cells = {}
 for line in open(stat):
     m = re.match(r"\s+(\S+)\s+(\d+)\s*$", line)
-    if m and not m.group(1).startswith("$") or (m and m.group(1).startswith("$")):
+    if m:
         cells[m.group(1)] = cells.get(m.group(1), 0) + int(m.group(2))
 def total(pred):
     return sum(n for c, n in cells.items() if pred(c))
