@@ -2,13 +2,10 @@
 // (src/hw/rtl/raster_core.sv, verilated) against the C model posefilter::hw::RasterCore
 // (src/hw/raster_core.h) on the same random particles: every field of RasterCoreOutput must be
 // bit-identical. It also counts the RTL's cycles per particle (from accepting the window word
-// to emitting the output word) and compares them with the per-particle cycle model
-//   total = 1 + (w·h + D_FILL) + 12 + faces + zpass + D_OUT
-//   faces = max(3F + D_VERTEX, Σ_forwarded npix + D_VERTEX + D_PIXEL)   (3F + D_VERTEX if none)
-//   zpass = w·(h + 1) + D_ZPASS (zbuffer = 1)
-// where npix is a forwarded (front, non-empty clipped box) triangle's clipped box area,
-// replayed here from the face setup. Fails on any mismatch or when Σ RTL cycles is more than
-// 10 % away from Σ model cycles in a mode.
+// to emitting the output word) and compares them with the project's cycle model of the same
+// particle: the C model's loop records (trips, II, depths of hw/latency.h) composed by
+// ParticleWorkFromTrace(...).Total() (src/hw/cycle_model.h). Fails on any mismatch or when
+// Σ RTL cycles is more than 10 % away from Σ model cycles in a mode.
 //
 // Usage: raster_core_cosim [particles_per_mode (default 1000)] [seed]
 #include <algorithm>
@@ -22,6 +19,7 @@
 #include <vector>
 
 #include "Vraster_core.h"
+#include "hw/cycle_model.h"
 #include "hw/fx_math.h"
 #include "hw/raster_core.h"
 #include "verilated.h"
@@ -29,13 +27,6 @@
 namespace {
 
 using namespace posefilter::hw;
-
-// Pipeline depths of the RTL (src/hw/rtl/README.md, "Cycle model").
-constexpr int64_t D_FILL = 0;
-constexpr int64_t D_VERTEX = 42;
-constexpr int64_t D_PIXEL = 35;
-constexpr int64_t D_ZPASS = 5;
-constexpr int64_t D_OUT = 1;
 
 struct Particle {
   int u0, v0, w, h;
@@ -73,7 +64,8 @@ int64_t SignExtend(uint64_t v, int bits) {
 }
 
 // ---- The C model ----
-Out RunModel(const Particle& p, RasterCoreMemory& mem) {
+// The C model's outputs and *model_cycles, the cycle model of the particle.
+Out RunModel(const Particle& p, RasterCoreMemory& mem, CycleTrace& trace, int64_t* model_cycles) {
   RasterParams prm;
   prm.zbuffer = p.zbuffer;
   prm.hard = p.hard;
@@ -106,7 +98,9 @@ Out RunModel(const Particle& p, RasterCoreMemory& mem) {
     v.z = FixedFromRaw<13, 3>(ap_int<13>(p.vert[i + 2]));
     vert.write(v);
   }
-  RasterCore(1, p.num_faces, prm, info, depth, ft, vert, out, mem, nullptr);
+  trace.Clear();
+  RasterCore(1, p.num_faces, prm, info, depth, ft, vert, out, mem, &trace);
+  *model_cycles = int64_t(ParticleWorkFromTrace(trace).Total());
   const RasterCoreOutput o = out.read();
   Out r;
   r.inlier = RawUnsigned(o.inlier_sum).to_uint64();
@@ -215,73 +209,6 @@ struct Rtl {
     }
   }
 };
-
-// ---- Face-setup replay for the cycle model (independent integer arithmetic) ----
-struct Sv {
-  int64_t x, y;
-  bool ok;
-};
-Sv Project(const int64_t ft[12], const int16_t* v, int64_t near_w) {
-  int64_t h[3];
-  for (int r = 0; r < 3; ++r) {
-    h[r] = ft[4 * r + 3] * 1024;
-    for (int j = 0; j < 3; ++j) h[r] += ft[4 * r + j] * int64_t(v[j]);
-  }
-  Sv s{0, 0, false};
-  if (h[2] < near_w) return s;
-  if (h[2] == 0 || (int64_t(1) << 26) >= h[2]) return s;  // 1/W overflow
-  int64_t q[2];
-  for (int c = 0; c < 2; ++c) {
-    const unsigned __int128 mag = h[c] < 0 ? -h[c] : h[c];
-    const unsigned __int128 n2 = (mag << 9) + h[2], d2 = (unsigned __int128)h[2] << 1;
-    if ((n2 >> 22) >= d2) return s;
-    const int64_t qq = int64_t(n2 / d2);
-    if (qq >= (1 << 21)) return s;
-    q[c] = h[c] < 0 ? -qq : qq;
-  }
-  s.x = q[0];
-  s.y = q[1];
-  s.ok = true;
-  return s;
-}
-// Σ npix over forwarded triangles; *front = faces that passed near/guard and culling;
-// *forwarded = triangles pushed to the FIFO.
-int64_t ReplayPixels(const Particle& p, int64_t* front, int64_t* forwarded) {
-  const int64_t near_w = int64_t(p.near_plane) << 12;
-  int64_t npix = 0;
-  *front = *forwarded = 0;
-  for (int f = 0; f < p.num_faces; ++f) {
-    Sv s[3];
-    bool ok = true;
-    for (int k = 0; k < 3; ++k) {
-      s[k] = Project(p.ft, &p.vert[9 * f + 3 * k], near_w);
-      ok = ok && s[k].ok;
-    }
-    if (!ok) continue;
-    const int64_t area2 = (s[2].x - s[0].x) * (s[1].y - s[0].y) - (s[2].y - s[0].y) * (s[1].x - s[0].x);
-    if (area2 <= 0) continue;
-    ++*front;
-    const int64_t mnx = std::min({s[0].x, s[1].x, s[2].x}), mxx = std::max({s[0].x, s[1].x, s[2].x});
-    const int64_t mny = std::min({s[0].y, s[1].y, s[2].y}), mxy = std::max({s[0].y, s[1].y, s[2].y});
-    int64_t ulo = -((-mnx) >> 8), uhi = mxx >> 8, vlo = -((-mny) >> 8), vhi = mxy >> 8;
-    ulo = std::max<int64_t>(ulo, p.u0);
-    vlo = std::max<int64_t>(vlo, p.v0);
-    uhi = std::min<int64_t>(uhi, p.u0 + p.w - 1);
-    vhi = std::min<int64_t>(vhi, p.v0 + p.h - 1);
-    if (ulo > uhi || vlo > vhi) continue;
-    ++*forwarded;
-    npix += (uhi - ulo + 1) * (vhi - vlo + 1);
-  }
-  return npix;
-}
-
-int64_t ModelCycles(const Particle& p, int64_t npix, int64_t forwarded) {
-  const int64_t fill = int64_t(p.w) * p.h + D_FILL;
-  const int64_t vert = 3 * int64_t(p.num_faces) + D_VERTEX;
-  const int64_t faces = forwarded ? std::max(vert, npix + D_VERTEX + D_PIXEL) : vert;
-  const int64_t zpass = p.zbuffer ? int64_t(p.w) * (p.h + 1) + D_ZPASS : 0;
-  return 1 + fill + 12 + faces + zpass + D_OUT;
-}
 
 // ---- Random particles ----
 struct Gen {
@@ -439,6 +366,7 @@ int main(int argc, char** argv) {
   const uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 12345;
   Verilated::commandArgs(1, argv);
   auto mem = std::make_unique<RasterCoreMemory>();
+  auto trace = std::make_unique<CycleTrace>();
   Rtl rtl;
   Gen gen(seed);
   int failures = 0;
@@ -446,16 +374,13 @@ int main(int argc, char** argv) {
     int ok = 0, total = 0, soft = 0, hard = 0;
     int64_t sum_rtl = 0, sum_model = 0;
     double worst = 0, best = 1e9;
-    uint64_t ramp = 0, occl = 0, band = 0, edges = 0, front_mismatch = 0;
+    uint64_t ramp = 0, occl = 0, band = 0, edges = 0;
     for (int i = 0; i < n + 4; ++i) {
       const Particle p = i < n ? gen.Small(zbuffer) : gen.Torus(zbuffer);
-      const Out m = RunModel(p, *mem);
+      int64_t model = 0;
+      const Out m = RunModel(p, *mem, *trace, &model);
       uint64_t cyc = 0;
       const Out r = rtl.Run(p, &cyc);
-      int64_t front = 0, fwd = 0;
-      const int64_t npix = ReplayPixels(p, &front, &fwd);
-      if (uint64_t(front) != m.front) ++front_mismatch;
-      const int64_t model = ModelCycles(p, npix, fwd);
       sum_rtl += int64_t(cyc);
       sum_model += model;
       const double ratio = double(cyc) / double(model);
@@ -468,8 +393,8 @@ int main(int argc, char** argv) {
       band += m.diff_count != 0;
       edges += m.n_cont != 0;
       if (std::getenv("RC_COSIM_VERBOSE"))
-        std::printf("p%d F=%d w=%d h=%d npix=%" PRId64 " fwd=%" PRId64 " rtl=%" PRIu64 " model=%" PRId64 " (%+" PRId64 ")\n",
-                    i, p.num_faces, p.w, p.h, npix, fwd, cyc, model, int64_t(cyc) - model);
+        std::printf("p%d F=%d w=%d h=%d rtl=%" PRIu64 " model=%" PRId64 " (%+" PRId64 ")\n", i, p.num_faces, p.w, p.h,
+                    cyc, model, int64_t(cyc) - model);
       if (m == r) {
         ++ok;
       } else if (++failures <= 5) {
@@ -486,8 +411,7 @@ int main(int argc, char** argv) {
                 zbuffer, ok, total, soft, hard, ramp, occl, band, edges);
     std::printf("zbuffer=%d: cycles RTL %" PRId64 " vs model %" PRId64 " (ratio %.4f), per particle %.4f .. %.4f\n",
                 zbuffer, sum_rtl, sum_model, sratio, best, worst);
-    if (front_mismatch) std::printf("zbuffer=%d: %" PRIu64 " particles where the face-setup replay's faces_front differs from the C model\n", zbuffer, front_mismatch);
-    if (ok != total || sratio < 0.9 || sratio > 1.1 || front_mismatch) failures += 1;
+    if (ok != total || sratio < 0.9 || sratio > 1.1) failures += 1;
   }
   std::printf(failures ? "FAILED\n" : "PASSED\n");
   return failures ? 1 : 0;
