@@ -328,11 +328,11 @@ struct Gen {
     return p;
   }
 
-  // A torus of nu × nv quads (2·nu·nv faces, consistent winding), 200 × 200 window.
-  Particle Torus(int zbuffer) {
+  // A torus of nu × nv quads (2·nu·nv faces, consistent winding) in a 200 × 200 window; 32 × 32
+  // is the size of hw-report's torus (2048 faces).
+  Particle Torus(int zbuffer, int nu, int nv) {
     Particle p;
     Params(p, zbuffer);
-    const int nu = 16, nv = 12;
     const double R = U(0.06, 0.1), r = U(0.02, 0.04);
     const double tz = U(0.3, 0.7);
     double fx, fy, cx, cy;
@@ -376,7 +376,7 @@ int main(int argc, char** argv) {
     double worst = 0, best = 1e9;
     uint64_t ramp = 0, occl = 0, band = 0, edges = 0;
     for (int i = 0; i < n + 4; ++i) {
-      const Particle p = i < n ? gen.Small(zbuffer) : gen.Torus(zbuffer);
+      const Particle p = i < n ? gen.Small(zbuffer) : (i % 2 ? gen.Torus(zbuffer, 32, 32) : gen.Torus(zbuffer, 16, 12));
       int64_t model = 0;
       const Out m = RunModel(p, *mem, *trace, &model);
       uint64_t cyc = 0;
