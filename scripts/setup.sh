@@ -3,9 +3,12 @@
 # Idempotent: packages already installed are not touched, and apt-get runs only when
 # something is missing. Needs root (or sudo) on a Debian 12 machine.
 #
-# usage: scripts/setup.sh [peers]
+# usage: scripts/setup.sh [peers|hw]
 #   peers: also the peer methods the benchmarks compare with (python3-open3d and
 #          python3-opencv for scripts/peers.py); not needed to build or test.
+#   hw:    also Yosys, for the RTL raster core's synthesis (scripts/rtl/synth_raster_core.sh);
+#          not needed to build or test (Verilator, for the RTL co-simulation test, is always
+#          installed).
 set -euo pipefail
 
 PACKAGES=(
@@ -16,12 +19,14 @@ PACKAGES=(
   python3-pip python3-venv python3-setuptools python3-wheel python3-distributed
   libsystemc-dev libmeshoptimizer-dev libqhull-dev clang-tools clang libclang-rt-dev libomp-dev
   libvulkan-dev glslang-tools mesa-vulkan-drivers vulkan-validationlayers
+  verilator
 )
 
 case "${1:-}" in
   "") ;;
   peers) PACKAGES+=(python3-open3d python3-opencv python3-scipy) ;;
-  *) echo "setup: unknown argument '$1' (usage: scripts/setup.sh [peers])" >&2; exit 2 ;;
+  hw) PACKAGES+=(yosys) ;;
+  *) echo "setup: unknown argument '$1' (usage: scripts/setup.sh [peers|hw])" >&2; exit 2 ;;
 esac
 
 missing=()
