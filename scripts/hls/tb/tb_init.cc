@@ -18,7 +18,7 @@ inline int TbInit(const std::string& dir) {
   int bad = CompareVector(VecPath(dir, "init_samples"), samples, kCaseParticles);
   bad += CompareVector(VecPath(dir, "init_report"), words, 4);
   std::printf("HwInitTop: %s\n", bad ? "MISMATCH" : "PASS");
-  return bad ? 1 : 0;
+  return TbStatus(bad);
 }
 
 }  // namespace hls_case

@@ -19,7 +19,7 @@ inline int TbUpdate(const std::string& dir) {
   depth_off_t offsets[kMaxParticles];
   if (!ReadVector(VecPath(dir, "init_samples"), samples_in, n) || !ReadVector(VecPath(dir, "weigh_sorted_w"), sorted_w, n) ||
       !ReadVector(VecPath(dir, "weigh_sorted_idx"), sorted_idx, n) || !ReadVector(VecPath(dir, "weigh_offsets"), offsets, n))
-    return 1;
+    return kTbMissingInput;
   Lfsr18 resample_rng(c->resample_seed);
   DiffusionRng diffusion_rng(c->diffusion_seed);
   Sample samples_out[kMaxParticles];
@@ -30,7 +30,7 @@ inline int TbUpdate(const std::string& dir) {
   int bad = CompareVector(VecPath(dir, "update_samples"), samples_out, n);
   bad += CompareVector(VecPath(dir, "update_counters"), counters, 4);
   std::printf("HwUpdateTop: %s\n", bad ? "MISMATCH" : "PASS");
-  return bad ? 1 : 0;
+  return TbStatus(bad);
 }
 
 }  // namespace hls_case

@@ -19,7 +19,7 @@ inline int TbWeigh(const std::string& dir, int cores) {
   MakeCase(c.get());
   const int n = kCaseParticles;
   Sample samples[kMaxParticles];
-  if (!ReadVector(VecPath(dir, "init_samples"), samples, n)) return 1;
+  if (!ReadVector(VecPath(dir, "init_samples"), samples, n)) return kTbMissingInput;
   weight_t sorted_w[kMaxParticles];
   particle_index_t sorted_idx[kMaxParticles];
   RasterCoreOutput stats[kMaxParticles];
@@ -39,7 +39,7 @@ inline int TbWeigh(const std::string& dir, int cores) {
   bad += CompareVector(VecPath(dir, "weigh_dd"), dd_words, 1);
   if (dd.reads_shared > dd.reads_unshared) ++bad, std::fprintf(stderr, "shared depth reads exceed the unshared\n");
   std::printf("HwWeighTop%d: %s\n", cores, bad ? "MISMATCH" : "PASS");
-  return bad ? 1 : 0;
+  return TbStatus(bad);
 }
 
 }  // namespace hls_case
