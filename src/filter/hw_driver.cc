@@ -34,6 +34,7 @@
 #include "filter/host_setup.h"
 #include "filter/scene_prep.h"
 #include "hw/cycle_model.h"
+#include "hw/latency.h"
 #include "hw/postprocess.h"
 #include "hw/top.h"
 #include "posefilter/error.h"
@@ -581,7 +582,7 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
                                ModuleDepth(*weigh, "ft_distributor"));
     // Tail after the last round: the merger's last particle (II 3 + depth), the sorter chain's
     // latency and its drain, the glue kernels' depths.
-    const double tail = double(3 + ModuleDepth(*weigh, "weight_merger") + ModuleDepth(*weigh, "weight_split") +
+    const double tail = double(kWmParticlesII + ModuleDepth(*weigh, "weight_merger") + ModuleDepth(*weigh, "weight_split") +
                                ModuleDepth(*weigh, "stats") + kSortCells) +
                         double(ModuleTotal(*weigh, "sorter")) - double(LoopTrips(*weigh, "sorter", "SORT_INSERT"));
     const double update_cycles = update ? double(ModuleTotal(*update, "resample") + ModuleTotal(*update, "diffusion")) : 0.0;

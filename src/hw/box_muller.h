@@ -19,6 +19,7 @@
 
 #include "hw/fx_math.h"
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/lfsr.h"
 
 // HLS loop labels are for the synthesis reports; g++ sees them as unused labels.
@@ -31,10 +32,6 @@ namespace posefilter::hw {
 
 // ours (not in Table 7.1): one N(0, 1) sample, fixed<18,4> (−8 … 8, LSB 2^-14).
 typedef ap_fixed<18, 4> gauss_t;
-
-// Latency of one pair in the pipeline: Log (6) → −2·ln (0, a wire shift) → Sqrt of a 31-bit
-// radicand (16 stages) → multiply by sin/cos (2) → round (1); SinCos runs in parallel.
-constexpr int kBoxMullerDepth = kLogDepth + SqrtDepth(31) + 3;
 
 // One Box–Muller pair from two uniform words (U₁ 18 bits, U₂ 15 bits, as described above).
 inline void BoxMullerPair(ap_uint<18> u1_bits, ap_uint<15> u2_bits, bool cos_from_sqrt, gauss_t* z1,
@@ -97,7 +94,7 @@ BOX_MULLER_PAIRS:
     z2_out.write(z2);
     ++trips;
   }
-  HW_TRACE("box_muller", "BOX_MULLER_PAIRS", trips, 1, kBoxMullerDepth);
+  HW_TRACE("box_muller", "BOX_MULLER_PAIRS", trips, 1, kBoxMullerDepth);  // latency.h
 }
 
 }  // namespace posefilter::hw

@@ -19,13 +19,10 @@
 #pragma once
 
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/postprocess.h"
 
 namespace posefilter::hw {
-
-// Pipeline of CDF_NORM: memory read (1), accumulate (1), 57×32 multiply (2), shift and
-// truncate/saturate (1), stream write (1).
-constexpr int kCdfNormDepth = 6;
 
 // The one-class CDF (eq. 7.3) of prob[·][cls], Σ = class_sum (the post-process's class sum of
 // `cls`). Writes kNumCells values to `out`. cls must be in [0, NC).

@@ -48,6 +48,7 @@
 
 #include "hw/box_muller.h"
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/lfsr.h"
 
 // HLS loop labels are for the synthesis reports; g++ sees them as unused labels.
@@ -443,14 +444,6 @@ inline Sample ApplyMove(const Sample& s, const MoveDraw& d, weight_t w_best, con
   return o;
 }
 
-// Pipeline depth of one particle (cycles): sample BRAM read (2), move decode + target cell
-// (2), volume reads (2), σ multiply (2), noise multiply (2), add/saturate/wrap (1), write (1);
-// the Box–Muller units run ahead (free-running) and add their latency once at the start.
-// Ours: the align-depth path runs in parallel with the σ/noise path and is longer — v and c_z
-// (3), a pipelined 48/40-bit divider (≈ 1 cycle per quotient bit: 33 for |k| < 2^13 at 2^-20),
-// k·v (2) — so it sets the depth: 2 + 2 + 3 + 33 + 2 + 1 + 1 = 44 (II stays 1).
-constexpr int kDiffusionDepth = 44 + kBoxMullerDepth;
-
 // The module: out_mem[j] = move(in_mem[selected[j]]) for j ≥ num_elite, a plain copy for
 // j < num_elite; n ≤ kMaxParticles particles, II = 1. w_best: the best weight of the set
 // just weighed (sorter output [0]). in_off: the sample memory's side-band (per-particle
@@ -472,6 +465,7 @@ DIFFUSION_SAMPLES:
     out_mem[j] = (j < num_elite) ? s : ApplyMove(s, d, w_best, params, volumes, off);
     ++trips;
   }
+  // Depth: the align-depth path + the Box–Muller units' latency (latency.h).
   HW_TRACE("diffusion", "DIFFUSION_SAMPLES", trips, 1, kDiffusionDepth);
 }
 

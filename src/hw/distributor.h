@@ -7,6 +7,7 @@
 #pragma once
 
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/transform.h"
 
 #ifndef __SYNTHESIS__
@@ -72,8 +73,8 @@ FTD_ELEMENTS:
     const int core = (i / kFtElements) % num_cores;
     ft_out[core].write(ft_in.read());
   }
-  // Depth: stream read (1) + demultiplexer (1) + stream write (1).
-  HW_TRACE("ft_distributor", "FTD_ELEMENTS", uint64_t(num_particles) * kFtElements, 1, 3);
+  // Depth: stream read (1) + demultiplexer (1) + stream write (1) (latency.h).
+  HW_TRACE("ft_distributor", "FTD_ELEMENTS", uint64_t(num_particles) * kFtElements, 1, kFtdElementsDepth);
 }
 
 // Depth-read counts of one call, for hw-report (Table 7.2, Fig. 7.19a).
@@ -191,11 +192,12 @@ DD_ROUNDS:
   counts->reads_shared = reads;
   counts->reads_unshared = requested;
   // Setup: one comparison/shift of the insertion sorts and the merge per cycle.
-  HW_TRACE("depth_distributor", "DD_SETUP", setup_ops, 1, 2);
+  HW_TRACE("depth_distributor", "DD_SETUP", setup_ops, 1, kDdSetupDepth);
   // Each (row, column interval) segment restarts the pixel pipeline: address (1) + BRAM
-  // read (2) + window compare and stream write (1) = 4 cycles of fill per segment.
-  HW_TRACE("depth_distributor", "DD_SEGMENTS", segments, 4, 0);
-  HW_TRACE("depth_distributor", "DD_PIXELS", reads, 1, 4);
+  // read (2) + window compare and stream write (1) = 4 cycles of fill per segment, recorded
+  // as DD_SEGMENTS' II (latency.h).
+  HW_TRACE("depth_distributor", "DD_SEGMENTS", segments, kDdSegmentOverhead, kDdSegmentsDepth);
+  HW_TRACE("depth_distributor", "DD_PIXELS", reads, 1, kDdPixelsDepth);
 }
 
 }  // namespace posefilter::hw

@@ -19,12 +19,14 @@
 //
 // These are inline building blocks called inside the pipelined loops of the kernels (they are
 // not kernels: no loops that iterate over data, no HW_TRACE). Their latency in a pipeline is
-// given by the k*Depth constants below; a kernel adds them to its loop's depth estimate.
+// given by the k*Depth constants of hw/latency.h (kSinCosDepth, kLogDepth, SqrtDepth(N),
+// kReciprocalDepth, DivideDepth(N), …); a kernel adds them to its loop's depth estimate.
 // ROM contents were generated once by a script (round(f(k)·2^20), listed in docs/HARDWARE.md)
 // and are literal constants here.
 #pragma once
 
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 
 // HLS loop labels are for the synthesis reports; g++ sees them as unused labels.
 #if defined(__GNUC__)
@@ -33,22 +35,6 @@
 #endif
 
 namespace posefilter::hw {
-
-// ---- Pipeline latencies (cycles at 200 MHz), estimates for the cycle model ----
-// SinCos: radian→turn multiply (1 DSP, 2 stages), dual-port ROM read (1), interpolation
-// multiply (2), add/round/negate (1).
-constexpr int kSinCosDepth = 6;
-constexpr int kSinCosTurnsDepth = 4;
-// Log: leading-one detector (1), normalising shift (1), ROM read (1), interpolation multiply
-// (2), k·ln2 subtract and round (1).
-constexpr int kLogDepth = 6;
-// Sqrt of an N-bit radicand: one stage per result bit (N/2), each a compare-subtract.
-constexpr int SqrtDepth(int radicand_bits) { return (radicand_bits + 1) / 2; }
-// Reciprocal: leading-one (1), shift (1), ROM (1), three NR steps of two 3-stage wide
-// multiplies (18), output shift/round (1), correction multiply + compare (4).
-constexpr int kReciprocalDepth = 26;
-// Divide: one compare-subtract stage per quotient bit.
-constexpr int DivideDepth(int quotient_bits) { return quotient_bits; }
 
 // ---- Raw-word access ----
 template <int W, int I>

@@ -21,6 +21,7 @@
 #pragma once
 
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 
 // HLS loop labels are for the synthesis reports; g++ sees them as unused labels.
 #if defined(__GNUC__)
@@ -99,8 +100,8 @@ LFSR18_GEN:
     out.write(gen.Next());
     ++trips;
   }
-  // Depth 1: the register update and the stream write happen in the same cycle.
-  HW_TRACE("lfsr18", "LFSR18_GEN", trips, 1, 1);
+  // Depth 1: the register update and the stream write happen in the same cycle (latency.h).
+  HW_TRACE("lfsr18", "LFSR18_GEN", trips, 1, kLfsr18GenDepth);
 }
 
 // Listing 7.6 style angle source: n uniform angles in [−π, π) from an LFSR15 (its 15 bits read
@@ -128,8 +129,8 @@ ANGLE_GEN:
     out.write(LfsrToAngle(gen.Next()));
     ++trips;
   }
-  // Depth 3: LFSR step, one DSP multiply (2 stages for 15×18 bits), the write.
-  HW_TRACE("angle_gen", "ANGLE_GEN", trips, 1, 3);
+  // Depth 3: LFSR step, one DSP multiply (2 stages for 15×18 bits), the write (latency.h).
+  HW_TRACE("angle_gen", "ANGLE_GEN", trips, 1, kAngleGenDepth);
 }
 
 }  // namespace posefilter::hw

@@ -50,6 +50,7 @@
 #include "hw/distributor.h"
 #include "hw/fx_math.h"
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 
 #ifndef __SYNTHESIS__
 #include <cmath>
@@ -109,8 +110,8 @@ inline constexpr ExpRomTable kExpRom = MakeExpRom();
 
 // e^x for x clamped to [−16, 16 − 2^-12] (§7.3 ROM range): ROM entry at round(8x), corrected
 // by (1 + r + r²/2), r = x − round(8x)/8, when `interpolate` (ours); the plain ROM read
-// otherwise (thesis). Pipeline: clamp/round (1), ROM (1), r² and the poly (2), product (2).
-constexpr int kExpDepth = 6;
+// otherwise (thesis). Pipeline: clamp/round (1), ROM (1), r² and the poly (2), product (2):
+// kExpDepth (latency.h).
 inline exp_t ExpRom(exp_arg_t x, bool interpolate) {
 #pragma HLS INLINE
   const exp_arg_t lo = -16;
@@ -139,8 +140,8 @@ inline exp_t ExpRom(exp_arg_t x, bool interpolate) {
 // m ∈ [0.5, 1) (leading-one detector), so 1/x = inv_m·2^-s, inv_m = 1/m ∈ (1, 2] from
 // fx_math.h Reciprocal (≤ 1 ulp = 2^-30). Needed because Reciprocal's 32-bit output cannot hold
 // 1/x over the dynamic ranges here (D ∈ [1, 2^28), Σ prob ∈ [2^-8, 6300]) at the precision
-// eq. 7.3 needs. x = 0 gives inv_m = max, s = 0 (callers avoid it).
-constexpr int kWideRecipDepth = kReciprocalDepth + 2;  // + leading-one and normalising shift
+// eq. 7.3 needs. x = 0 gives inv_m = max, s = 0 (callers avoid it). Latency: kWideRecipDepth
+// (latency.h: Reciprocal + leading-one and normalising shift).
 template <int W, int I>
 inline void WideReciprocal(ap_ufixed<W, I> x, recip_mant_t* inv_m, int* s) {
 #pragma HLS INLINE
@@ -209,18 +210,6 @@ inline PostProcessParams ThesisPostProcessParams() {
   return p;
 }
 
-// ---- Pipeline depths (cycles, estimates for the cycle model) ----
-// PP_READ: stream read, compare-and-select of the running max (2).
-// PP_EXP: subtract (1) + ExpRom (kExpDepth) + accumulate (1).
-// PP_SCALE: multiply (2), round/saturate (1), store + class-sum add (1).
-// Per cell outside the loops: (1 + e^c)·Σ (2) then WideReciprocal; the box decode (two
-// multiplies, an ExpRom, clamps: ≈ 12) runs beside the softmax and is hidden by it; loop
-// entry/exit ≈ 3.
-constexpr int kPpReadDepth = 2;
-constexpr int kPpExpDepth = kExpDepth + 2;
-constexpr int kPpScaleDepth = 4;
-constexpr int kPpCellOverhead = 2 + kWideRecipDepth + 3;
-
 // The post-process kernel (Fig. 7.3). Reads kNumCells·(NC + 5) raw values in the raw pyramid
 // layout (prior.h: per cell NC logits, tx, ty, tw, th, c), writes prob[cell][j], boxes[cell],
 // windows[cell] and class_sum[j]. NC ≤ kNumClasses (21 in the thesis).
@@ -246,7 +235,7 @@ PP_CLEAR:
 #pragma HLS PIPELINE II = 1
     class_sum[j] = 0;
   }
-  HW_TRACE("postprocess", "PP_CLEAR", NC, 1, 1);
+  HW_TRACE("postprocess", "PP_CLEAR", NC, 1, kPpClearDepth);
 
   uint64_t read_trips = 0, exp_trips = 0, scale_trips = 0, cell_trips = 0;
   int level = 0, row = 0, col = 0;
@@ -358,13 +347,13 @@ PP_CELLS:
       }
     }
   }
+  // Pipeline depths (estimates for the cycle model): latency.h, "Post-process".
   HW_TRACE("postprocess", "PP_READ", read_trips, 1, kPpReadDepth);
   HW_TRACE("postprocess", "PP_EXP", exp_trips, 1, kPpExpDepth);
   HW_TRACE("postprocess", "PP_SCALE", scale_trips, 1, kPpScaleDepth);
   // The cell loop's own cost: per cell, the three inner pipelines' fill (their depths) and
-  // the reciprocal/loop overhead — recorded as the outer loop's II.
-  HW_TRACE("postprocess", "PP_CELLS", cell_trips,
-           kPpReadDepth + kPpExpDepth + kPpScaleDepth + kPpCellOverhead, 1);
+  // the reciprocal/loop overhead — recorded as the outer loop's II (kPpCellII).
+  HW_TRACE("postprocess", "PP_CELLS", cell_trips, kPpCellII, kPpCellsDepth);
 }
 
 #ifndef __SYNTHESIS__

@@ -40,6 +40,7 @@
 
 #include "hw/fx_math.h"
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/lfsr.h"
 
 // HLS loop labels are for the synthesis reports; g++ sees them as unused labels.
@@ -151,7 +152,7 @@ inline void Resample(const weight_t sorted_w[kMaxParticles], const particle_inde
         per_niche[b][h] = 0;
       }
     }
-    HW_TRACE("resample", "RESAMPLE_CAP_CLEAR", kMaxHypotheses, 1, 1);
+    HW_TRACE("resample", "RESAMPLE_CAP_CLEAR", kMaxHypotheses, 1, kResampleCapClearDepth);
   }
   int examined = 0;
 RESAMPLE_POOL:
@@ -180,9 +181,9 @@ RESAMPLE_POOL:
   // II: 1 without the cap; with it the counter read-modify-write needs 2 clocks (BRAM read
   // latency 1, no forwarding), depth 4 (index read, sample read, label read, counter). The
   // rotation bin (ours) runs beside the label read: SinCos (kSinCosDepth) + 2 multiply stages
-  // (col2's triple product) + compares/encode (2) before the counter stage.
-  HW_TRACE("resample", "RESAMPLE_POOL", examined, capped ? 2 : 1,
-           rot_capped ? 4 + kSinCosDepth + 4 : (capped ? 4 : 2));
+  // (col2's triple product) + compares/encode (2) before the counter stage. (latency.h.)
+  HW_TRACE("resample", "RESAMPLE_POOL", examined, capped ? kResamplePoolCappedII : 1,
+           rot_capped ? kResamplePoolRotDepth : (capped ? kResamplePoolCappedDepth : kResamplePoolDepth));
 
   // ---- 2. Elite ----
   const int elite = params.num_elite < pool ? params.num_elite : pool;
@@ -194,7 +195,7 @@ RESAMPLE_ELITE:
     out_idx[j] = pool_idx[j];
     ++elite_trips;
   }
-  HW_TRACE("resample", "RESAMPLE_ELITE", elite_trips, 1, 2);
+  HW_TRACE("resample", "RESAMPLE_ELITE", elite_trips, 1, kResampleEliteDepth);
 
   // ---- 3. CDF: exact sum, one reciprocal, normalise ----
   // Σ of ≤ 510 weights < 2: ufixed<29,11> raw at 2^-17 (weight_t's LSB), exact.
@@ -207,7 +208,7 @@ RESAMPLE_SUM:
     sum = sum + ap_uint<29>(RawOf(pool_w[i]));
     partial[i] = sum;
   }
-  HW_TRACE("resample", "RESAMPLE_SUM", pool, 1, 2);
+  HW_TRACE("resample", "RESAMPLE_SUM", pool, 1, kResampleSumDepth);
   const bool uniform = (sum == 0);
   if (uniform) {
     // Nothing matched: every pool entry counts 1 (raw 1 → the same normalisation below).
@@ -218,7 +219,7 @@ RESAMPLE_SUM:
       partial[i] = i + 1;
     }
     sum = pool;
-    HW_TRACE("resample", "RESAMPLE_UNIFORM", pool, 1, 1);
+    HW_TRACE("resample", "RESAMPLE_UNIFORM", pool, 1, kResampleUniformDepth);
   }
   // 1/sum: sum = 2^e·m (m ∈ [1, 2)); inv = 1/m ∈ (1/2, 1] in ufixed<32,1> (≤ 1 ulp = 2^-31).
   // c_i = partial_i / sum = partial_i·inv·2^-e: raw (2^-18) = partial_i·inv_raw >> (31 + e − 18).
@@ -252,8 +253,8 @@ RESAMPLE_NORM:
     if (curr > past) past = curr;
   }
   // Depth: partial-sum read (1), 29×32 multiply (3 DSP stages), shift/saturate (1), CDF BRAM
-  // write + tracker compare (1); the reciprocal before it adds kReciprocalDepth once.
-  HW_TRACE("resample", "RESAMPLE_NORM", pool, 1, 6 + kReciprocalDepth);
+  // write + tracker compare (1); the reciprocal before it adds kReciprocalDepth once (latency.h).
+  HW_TRACE("resample", "RESAMPLE_NORM", pool, 1, kResampleNormDepth);
 #ifndef __SYNTHESIS__
   if (cdf_out) {
     for (int i = 0; i < pool; ++i) cdf_out[i] = cdf[i];  // verification view, not hardware
@@ -282,9 +283,10 @@ RESAMPLE_DRAW:
     ++draws;
   }
   // One CDF read per clock while scanning (the scan loop is the pipelined inner loop), plus
-  // per draw: LFSR + tracker lookup (1), the BRAM read latency (2), the index write (1).
-  HW_TRACE("resample", "RESAMPLE_SCAN", reads, 1, 2);
-  HW_TRACE("resample", "RESAMPLE_DRAW", draws, 4, 0);
+  // per draw: LFSR + tracker lookup (1), the BRAM read latency (2), the index write (1),
+  // recorded as the draw loop's II (latency.h).
+  HW_TRACE("resample", "RESAMPLE_SCAN", reads, 1, kResampleScanDepth);
+  HW_TRACE("resample", "RESAMPLE_DRAW", draws, kResampleDrawOverhead, kResampleDrawDepth);
   if (counters) {
     counters->draws += uint32_t(draws);
     counters->cdf_reads += reads;

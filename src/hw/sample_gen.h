@@ -17,15 +17,12 @@
 
 #include "hw/cdf.h"
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/lfsr.h"
 #include "hw/sampling.h"
 #include "hw/threshold_tracker.h"
 
 namespace posefilter::hw {
-
-// Pipeline of GEN_SAMPLE: index read (1), heuristic memory read (1), (z_max − z_min)·u
-// multiply (2), add/truncate and the sample memory write (1).
-constexpr int kGenSampleDepth = 5;
 
 // Writes samples[0 … n−1] (n clamped to [0, kMaxParticles]) from n indices, n z draws and n
 // angles per axis.
@@ -58,7 +55,7 @@ GEN_SAMPLE:
     samples[i] = s;
     ++trips;
   }
-  HW_TRACE("sample_gen", "GEN_SAMPLE", trips, 1, kGenSampleDepth);
+  HW_TRACE("sample_gen", "GEN_SAMPLE", trips, 1, kGenSampleDepth);  // depth: latency.h
 }
 
 // The generators of the initialisation (each module owns its LFSR, §7.4 "random number

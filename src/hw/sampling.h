@@ -26,6 +26,7 @@
 #include <stdint.h>
 
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/lfsr.h"
 #include "hw/threshold_tracker.h"
 
@@ -53,7 +54,6 @@ struct SamplingCounters {
 // bits, u[t+1] ≈ u[t]/2 + bit/2); leap = true (ours, default of our kernels): kLfsr18Leap
 // shifts per draw (lfsr.h), nearly independent consecutive draws. Never 0 (the LFSR state is
 // never 0), so u ∈ [2^-18, 1 − 2^-18].
-constexpr int kUniformDepth = 1;
 inline void UniformGenerate(Lfsr18& gen, hls::stream<unif18_t>& out, int n, bool leap HW_TRACE_PARAM) {
   int trips = 0;
 UNIFORM_GEN:
@@ -72,9 +72,7 @@ UNIFORM_GEN:
 
 // ---- Bound generator (Listing 7.3) ----
 // Pipelines: BOUND_LOAD read+store (1); BOUND_GEN read, 2^P parallel compares and two priority
-// encoders (2), write (1).
-constexpr int kBoundLoadDepth = 1;
-constexpr int kBoundGenDepth = 3;
+// encoders (2), write (1). (Depths: latency.h.)
 
 // Reads 2^P threshold words, then n_draws draws from rand_in; writes n_draws bounds. n is the
 // CDF length (top = n − 1 above the last level).
@@ -133,10 +131,8 @@ BOUND_GEN:
 // ---- Sampling (Listing 7.4) ----
 // Pipelines: SAMPLE_STORE read+store (1). SAMPLE_SCAN: memory read (1), compare (1), index
 // write (1): depth 3. Each draw re-enters SAMPLE_SCAN: the draw loop (SAMPLE_DRAWS) costs
-// the scan's fill (3) + reading the bounds and writing the index (2) per draw.
-constexpr int kSampleStoreDepth = 1;
-constexpr int kSampleScanDepth = 3;
-constexpr int kSampleDrawOverhead = kSampleScanDepth + 2;
+// the scan's fill (3) + reading the bounds and writing the index (2) per draw. (Depths and
+// the per-draw overhead: latency.h.)
 
 // Stores n CDF values from cdf_in into cdf_mem (the sampling memory), then for each of n_draws
 // bounds writes the sampled index to idx_out. Counters are reset at the start.
@@ -180,8 +176,8 @@ SAMPLE_DRAWS:
     reads_linear += ap_uint<32>(pick + 1);
     ++draws;
   }
-  HW_TRACE("sampling", "SAMPLE_SCAN", scan_trips, 1, 0);  // fill counted in SAMPLE_DRAWS' II
-  HW_TRACE("sampling", "SAMPLE_DRAWS", uint64_t(n_draws < 0 ? 0 : n_draws), kSampleDrawOverhead, 1);
+  HW_TRACE("sampling", "SAMPLE_SCAN", scan_trips, 1, kSampleScanTraceDepth);  // fill counted in SAMPLE_DRAWS' II
+  HW_TRACE("sampling", "SAMPLE_DRAWS", uint64_t(n_draws < 0 ? 0 : n_draws), kSampleDrawOverhead, kSampleDrawsDepth);
   counters.reads = reads;
   counters.reads_linear = reads_linear;
   counters.draws = draws;

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 
 // HLS loop labels are for the synthesis reports; g++ sees them as unused labels.
 #if defined(__GNUC__)
@@ -114,6 +115,8 @@ SORT_INSERT:
     ++trips;
   }
   // Depth: one clock per macro cell of the chain (compare + conditional shift in one cycle).
+  // The one depth of the cycle model that is not in latency.h: it is the structural size
+  // kSortCells (see latency.h, "Sorter").
   HW_TRACE("sorter", "SORT_INSERT", trips, 1, kSortCells);
   int drained = 0;
 SORT_DRAIN:
@@ -125,8 +128,8 @@ SORT_DRAIN:
     sorted_idx[k] = e.idx;
     ++drained;
   }
-  // Depth 2: register mux + BRAM write.
-  HW_TRACE("sorter", "SORT_DRAIN", drained, 1, 2);
+  // Depth 2: register mux + BRAM write (latency.h).
+  HW_TRACE("sorter", "SORT_DRAIN", drained, 1, kSortDrainDepth);
 }
 
 }  // namespace posefilter::hw

@@ -23,6 +23,7 @@
 #pragma once
 
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 
 namespace posefilter::hw {
 
@@ -45,9 +46,6 @@ inline ap_uint<IB> ThrIndex(const ap_uint<P + IB>& w) {
   ap_uint<IB> i = w.range(IB - 1, 0);
   return i;
 }
-
-// Pipeline of THR_TRACK: read (1), compare with the last level (1), write both streams (1).
-constexpr int kThrTrackDepth = 3;
 
 // Listing 7.2 (corrected): copies `n` CDF values from cdf_in to cdf_out and writes exactly
 // 2^P threshold words to thr_out. n ≤ N (runtime length: the resampling CDF is shorter
@@ -77,7 +75,7 @@ THR_TRACK:
     }
     ++trips;
   }
-  HW_TRACE("threshold_tracker", "THR_TRACK", trips, 1, kThrTrackDepth);
+  HW_TRACE("threshold_tracker", "THR_TRACK", trips, 1, kThrTrackDepth);  // depths: latency.h
   int pads = 0;
 THR_PAD:
   for (; sent < (1 << P); ++sent) {
@@ -86,7 +84,7 @@ THR_PAD:
     thr_out.write(0);
     ++pads;
   }
-  HW_TRACE("threshold_tracker", "THR_PAD", pads, 1, 1);
+  HW_TRACE("threshold_tracker", "THR_PAD", pads, 1, kThrPadDepth);
 }
 
 }  // namespace posefilter::hw

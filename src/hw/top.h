@@ -56,6 +56,7 @@
 #include "hw/diffusion.h"
 #include "hw/distributor.h"
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/raster_core.h"
 #include "hw/resample.h"
 #include "hw/sample_gen.h"
@@ -180,9 +181,9 @@ GATHER_INFO:
   // Without growing: II 1, depth = sample read (2) + window memory read (2) + write (1).
   // Growing (ours): one projection unit, 8 corners per particle → II 8; depth = sample read
   // (2) + SampleTransform (≈ 18, as the FT chain) + corner MACs (3) + a 2^-8 px divider (≈ 40
-  // stages for the 48-bit quotient) + min/max (1) + grow/clip (3) + write (1) = 68.
-  if (cfg.grow_window) HW_TRACE("sample_info", "GATHER_INFO", uint64_t(n), 8, 68);
-  else HW_TRACE("sample_info", "GATHER_INFO", uint64_t(n), 1, 5);
+  // stages for the 48-bit quotient) + min/max (1) + grow/clip (3) + write (1) = 68. (latency.h.)
+  if (cfg.grow_window) HW_TRACE("sample_info", "GATHER_INFO", uint64_t(n), kGatherInfoGrowII, kGatherInfoGrowDepth);
+  else HW_TRACE("sample_info", "GATHER_INFO", uint64_t(n), 1, kGatherInfoDepth);
 }
 
 // The merger's (weight, relative index) stream → the sorter's weight stream. The merger emits
@@ -194,7 +195,7 @@ SPLIT_WEIGHTS:
 #pragma HLS LOOP_TRIPCOUNT min = 1 max = 510
     out.write(in.read().weight);
   }
-  HW_TRACE("weight_split", "SPLIT_WEIGHTS", uint64_t(n), 1, 1);
+  HW_TRACE("weight_split", "SPLIT_WEIGHTS", uint64_t(n), 1, kSplitWeightsDepth);  // latency.h
 }
 
 // Mean depth difference of one particle, Δ = Σ(z_s − z_r) / count (0 when count = 0), in
@@ -223,8 +224,9 @@ COLLECT_STATS:
     offsets[p] = MeanDepthOffset(o);
   }
   // Depth: read (1) + a pipelined 56/32-bit divider (≈ one stage per quotient bit that can be
-  // non-zero: 2^17·2^5 / 1 → 24 bits, rounded up to 26) + round/saturate (1) + write (1).
-  HW_TRACE("stats", "COLLECT_STATS", uint64_t(n), 1, 29);
+  // non-zero: 2^17·2^5 / 1 → 24 bits, rounded up to 26) + round/saturate (1) + write (1) = 29
+  // (latency.h).
+  HW_TRACE("stats", "COLLECT_STATS", uint64_t(n), 1, kCollectStatsDepth);
 }
 
 // ---- Tops ----

@@ -24,6 +24,7 @@
 
 #include "hw/fx_math.h"
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 
 namespace posefilter::hw {
 
@@ -143,8 +144,8 @@ inline void FullTransformChain(int num_samples, const Sample samples[kMaxParticl
   ft_t pc[kFtElements];
 #pragma HLS ARRAY_PARTITION variable = pc complete
   ProjectionTimesCamera(cam, pc);
-  // 36 MACs once per call: modelled as 12 cycles of 3 MACs.
-  HW_TRACE("ft_chain", "PC_ROWS", kFtElements, 1, 6);
+  // 36 MACs once per call: modelled as 12 cycles of 3 MACs (depth: latency.h).
+  HW_TRACE("ft_chain", "PC_ROWS", kFtElements, 1, kPcRowsDepth);
 FT_SAMPLES:
   for (int i = 0; i < num_samples; ++i) {
 #pragma HLS LOOP_TRIPCOUNT min = 1 max = 510
@@ -158,8 +159,8 @@ FT_SAMPLES:
     }
   }
   // Depth: sample read (2) + SinCos (fx_math, ~6) + trig product (3) + PC·TrRz (4) +
-  // ·RyRx (4) + output register (1) ≈ 20 cycles from sample read to first element.
-  HW_TRACE("ft_chain", "FT_ELEMENTS", uint64_t(num_samples) * kFtElements, 1, 20);
+  // ·RyRx (4) + output register (1) ≈ 20 cycles from sample read to first element (latency.h).
+  HW_TRACE("ft_chain", "FT_ELEMENTS", uint64_t(num_samples) * kFtElements, 1, kFtElementsDepth);
 }
 
 // ---- Vertex multiplier (§7.5.3, Listing 7.1) ----
@@ -206,8 +207,8 @@ VM_ROUNDS:
     }
     trips += uint64_t(3) * num_faces;
   }
-  // Depth: face word read (2) + vertex BRAM read (2) + stream write (1).
-  HW_TRACE("vertex_multiplier", "VM_VERTICES", trips, 1, 5);
+  // Depth: face word read (2) + vertex BRAM read (2) + stream write (1) (latency.h).
+  HW_TRACE("vertex_multiplier", "VM_VERTICES", trips, 1, kVmVerticesDepth);
 }
 
 }  // namespace posefilter::hw

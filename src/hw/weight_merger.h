@@ -14,6 +14,7 @@
 
 #include "hw/fx_math.h"
 #include "hw/hw_types.h"
+#include "hw/latency.h"
 #include "hw/raster_core.h"
 
 #ifndef __SYNTHESIS__
@@ -116,8 +117,8 @@ WM_PARTICLES:
     stats_out.write(o);
   }
   // Depth: stream read (1) + divider (NQ = 50 stages, fx_math DivideDepth) + 3 MACs (3) +
-  // clamp and write (2); the loop issues one particle every 3 cycles.
-  HW_TRACE("weight_merger", "WM_PARTICLES", uint64_t(num_particles), 3, 1 + DivideDepth(50) + 5);
+  // clamp and write (2); the loop issues one particle every 3 cycles (latency.h).
+  HW_TRACE("weight_merger", "WM_PARTICLES", uint64_t(num_particles), kWmParticlesII, kWmParticlesDepth);
 }
 
 }  // namespace posefilter::hw
