@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Configures and builds the release preset (library, CLI, tests, benchmarks).
+# POSEFILTER_BUILD_BENCH=OFF leaves the Google Benchmark programs out (scripts/test.sh: no test
+# runs them); every other run builds them again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake --preset release >/dev/null
+cmake --preset release -DPOSEFILTER_BUILD_BENCH="${POSEFILTER_BUILD_BENCH:-ON}" >/dev/null
 cmake --build --preset release
 
 # `import posefilter` without pip: a posefilter.pth in the user site-packages of each Python 3
