@@ -2,7 +2,7 @@
 # Install dependencies, build, and run the whole test suite: the tests of the release build
 # (ctest, Python included), then the unit and CLI tests under AddressSanitizer + UBSan
 # (scripts/sanitize.sh) and a bounded fuzz run of every file reader (scripts/fuzz.sh,
-# POSEFILTER_FUZZ_SECONDS per target, default 12). Arguments go to the release ctest.
+# POSEFILTER_FUZZ_SECONDS per target, default 5). Arguments go to the release ctest.
 # POSEFILTER_QUICK=1 stops after the release tests. docs/RELIABILITY.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,4 +14,4 @@ if [ "${POSEFILTER_QUICK:-0}" = 1 ]; then
   exit 0
 fi
 scripts/sanitize.sh
-scripts/fuzz.sh "${POSEFILTER_FUZZ_SECONDS:-12}" 2
+scripts/fuzz.sh "${POSEFILTER_FUZZ_SECONDS:-5}" 2
