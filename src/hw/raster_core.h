@@ -358,8 +358,9 @@ RC_VERTICES:
 // zbuffer = 0: the soft inlier of the fragment (§7.5.1); zbuffer = 1: the z-buffer's
 // read-modify-write (min; in hardware a one-word forward covers back-to-back fragments on
 // the same address). Returns the number of box pixels visited (the loop's trips).
-inline uint64_t PixelStage(hls::stream<TriangleSetup>& tri_in, const RasterParams& prm, bool zbuffer,
-                           RasterCoreMemory& mem, Accumulators* acc) {
+inline uint64_t PixelStage(hls::stream<TriangleSetup>& tri_in, const RasterParams& prm, RasterCoreMemory& mem,
+                           Accumulators* acc) {
+  const bool zbuffer = prm.zbuffer == 1;
   TriangleSetup t;
 #pragma HLS ARRAY_PARTITION variable = t.A complete
   ap_int<50> e[3], row_e[3];
@@ -413,6 +414,12 @@ RC_RASTER:
   return trips;
 }
 
+// One window pixel in the z pass: its z-buffer word and its scene depth.
+struct ZPixel {
+  zbuf_word_t z;
+  depth_t d;
+};
+
 // z pass (z-buffer mode, ours): compares the nearest fragment of each covered pixel and counts
 // the silhouette edge samples (a covered pixel and an uncovered 4-neighbour inside the window
 // with valid scene depth; continued when |z_s(neighbour) − z_r| ≤ edge_band). The window is
@@ -421,11 +428,6 @@ RC_RASTER:
 // the clock that reads word i (its lower neighbour); delay line 1 (width − 1 words) yields word
 // i − width + 1 (its right neighbour), shifted on into `cen` and `lft`; delay line 2 (width
 // words) yields word i − 2·width (its upper neighbour). width·(height + 1) clocks.
-struct ZPixel {
-  zbuf_word_t z;
-  depth_t d;
-};
-
 inline void ZPass(const Window& win, const RasterParams& prm, const RasterCoreMemory& mem, Accumulators* acc) {
   const int ww = win.width.to_int(), wh = win.height.to_int();
   const ap_uint<24> band = RawUnsigned(prm.edge_band);
@@ -550,7 +552,7 @@ RC_PARTICLES:
     hls::stream<TriangleSetup> tri("triangles");
 #pragma HLS STREAM variable = tri depth = kTriangleFifoDepth
     acc.faces_front = VertexStage(num_faces, ft, near_w, win, vert_in, tri);
-    pixel_trips += PixelStage(tri, prm, zbuffer, mem, &acc);
+    pixel_trips += PixelStage(tri, prm, mem, &acc);
     vertex_trips += uint64_t(3) * num_faces;
 
     // 4. z-buffer mode: the z pass over the window.
