@@ -50,6 +50,15 @@ std::string Num(double v, int digits) {
   return b;
 }
 
+// A CSV field as RFC 4180 writes it: quoted, with quotes doubled, where it holds a comma, a
+// quote or a line break (an object name from a mesh file's stem may).
+std::string CsvField(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 }  // namespace
 
 int RunTrack(int argc, char** argv) {
@@ -275,7 +284,7 @@ int RunTrack(int argc, char** argv) {
           std::string rs, ts;
           for (int k = 0; k < 9; ++k) rs += (k ? " " : "") + Num(R(k / 3, k % 3), 9);
           for (int k = 0; k < 3; ++k) ts += (k ? " " : "") + Num(tr[k], 6);
-          std::fprintf(csv, "%zu,%d,%d,%s,%s,%.6f,%.3f,%.3f,%s,%s,%s,%s\n", i, f.scene_id, f.im_id, r.obj.c_str(),
+          std::fprintf(csv, "%zu,%d,%d,%s,%s,%.6f,%.3f,%.3f,%s,%s,%s,%s\n", i, f.scene_id, f.im_id, CsvField(r.obj).c_str(),
                        TrackStatusName(r.status), r.weight, r.time_ms, frame_ms, rs.c_str(), ts.c_str(), adds.c_str(),
                        found.c_str());
         }

@@ -52,6 +52,26 @@ std::vector<std::string> Split(const std::string& s, char sep) {
   return out;
 }
 
+// One CSV line's fields, with RFC 4180 quoting undone.
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+      out.back() += '"';
+      ++i;
+    } else if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      out.emplace_back();
+    } else {
+      out.back() += c;
+    }
+  }
+  return out;
+}
+
 // The rows of a track CSV; checks the header and that every row has every column.
 std::vector<Row> ReadTrackCsv(const std::string& path) {
   const std::vector<std::string> lines = Lines(ReadFile(path));
@@ -61,7 +81,7 @@ std::vector<Row> ReadTrackCsv(const std::string& path) {
   const std::vector<std::string> names = Split(kCsvHeader, ',');
   std::vector<Row> rows;
   for (std::size_t i = 1; i < lines.size(); ++i) {
-    const std::vector<std::string> cells = Split(lines[i], ',');
+    const std::vector<std::string> cells = SplitCsvLine(lines[i]);
     EXPECT_EQ(cells.size(), names.size()) << lines[i];
     Row r;
     for (std::size_t c = 0; c < names.size() && c < cells.size(); ++c) r[names[c]] = cells[c];
@@ -314,17 +334,20 @@ TEST_F(TrackCliTest, AFolderOfDepthPngsStartsFromAUniformStage1) {
   }
   testing_util::WriteFile(frames / "notes.txt", "not a frame\n");
   const std::string camera = (fs::path(Seq()) / "scenes" / "synth_0000_000001" / "camera.json").string();
-  const std::string mesh = "lshape=" + (fs::path(Seq()) / "models" / "lshape.ply").string();
+  // A name with a comma and a quote: the CSV quotes it.
+  const std::string mesh = "l,\"shape\"=" + (fs::path(Seq()) / "models" / "lshape.ply").string();
   const std::string csv = Path("frames.csv");
   const RunResult r = Run({"track", "--frames", frames.string(), "--camera", camera, "--mesh", mesh, "--prior", "none",
                            "--refresh-weight", "0", "--csv", csv});
   ASSERT_EQ(r.code, 0) << r.err;
-  const auto table = TableRows(r.out, "lshape");
+  const auto table = TableRows(r.out, "l,\"shape\"");
   ASSERT_EQ(table.size(), 3u) << r.out;
   EXPECT_TRUE(Has(table[0], "f1")) << r.out;  // rows named by the PNG's stem, in name order
   EXPECT_TRUE(Has(table[2], "f3")) << r.out;
+  EXPECT_NE(ReadFile(csv).find(",\"l,\"\"shape\"\"\","), std::string::npos) << ReadFile(csv);
   const std::vector<Row> rows = ReadTrackCsv(csv);
   ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].at("obj"), "l,\"shape\"");
   EXPECT_EQ(rows[0].at("status"), "initialised") << r.out;
   EXPECT_EQ(rows[1].at("status"), "tracked") << r.out;
   EXPECT_EQ(rows[2].at("status"), "tracked") << r.out;
