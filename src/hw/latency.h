@@ -111,7 +111,8 @@ constexpr int kSampleDrawsDepth = 1;
 constexpr int kGenSampleDepth = 5;
 
 // ---- Sample info (top.h, GatherSampleInfo) ----
-// GATHER_INFO without growing (II 1): sample read (2) + window memory read (2) + write (1).
+// GATHER_INFO without growing (II 1, a design without the projection unit, as the thesis's):
+// sample read (2) + window memory read (2) + write (1).
 constexpr int kGatherInfoDepth = 5;
 // Growing (ours): one projection unit, 8 corners per particle → II 8 …
 constexpr int kGatherInfoGrowII = 8;
