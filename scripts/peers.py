@@ -17,8 +17,13 @@ Peers (`--peers`, default both; `scripts/setup.sh peers` installs their packages
               vote): the model is 500 points (--opencv-model-points) sampled on the mesh with
               the mesh's normals (OpenCV's training time grows steeply: 1200 take a minute); the
               scene is the same cloud as open3d's, voxel-downsampled to 1/20 of the diameter
-              with normals facing the camera; match (every 5th scene point a reference, distance
-              step 0.05), the 5 best poses refined by OpenCV's ICP, the lowest residual wins.
+              with normals facing the camera; match (every 5th scene point a reference), the 5
+              best poses refined by OpenCV's ICP, the lowest residual wins. OpenCV re-samples
+              the scene on a grid relative to the scene's bounding box (relativeSceneDistance).
+              --opencv-scene-sampling model (default) keeps the 1/20-diameter voxels, the
+              model's own step, as Drost et al. sample model and scene (posefilter does too);
+              `scene` passes OpenCV's usual 0.05, cells of 5 % of the whole scene's extent
+              (about 3-5 cm on a table top: fast, but coarser than small objects).
               Training is model preparation and is not counted in the time per object.
 Where a class has several boxes (a false box of the same class), every box is tried and the
 registration with the highest fitness (open3d) or the lowest residual (opencv-ppf) wins.
@@ -28,7 +33,8 @@ prints per-class recall (ADD-S < 10 % of the diameter), AUC of ADD-S and time pe
 side by side.
 
 usage: scripts/peers.py [--count N] [--first-seed S] [--prior boxes|masks|auto]
-                        [--peers open3d,opencv-ppf] [--opencv-model-points N] [--models DIR]
+                        [--peers open3d,opencv-ppf] [--opencv-model-points N]
+                        [--opencv-scene-sampling model|scene] [--models DIR]
                         [--out DIR] [--json FILE]
                         [-- SUITE OPTIONS...]
 Options after `--` go to `posefilter suite` (e.g. filter options).
@@ -156,7 +162,7 @@ class Peer:
 class OpenCvPpfPeer:
     """OpenCV's PPF detector + ICP, one trained detector per class (millimetres)."""
 
-    def __init__(self, models_dir, model_points=500):
+    def __init__(self, models_dir, model_points=500, scene_sampling="model"):
         try:
             import cv2
         except ImportError as e:  # pragma: no cover - depends on the machine
@@ -164,6 +170,7 @@ class OpenCvPpfPeer:
         self.cv2 = cv2
         self.models_dir = models_dir
         self.model_points = model_points
+        self.scene_sampling = scene_sampling
         self.cache = {}
         self.train_s = {}
 
@@ -191,7 +198,14 @@ class OpenCvPpfPeer:
         pcd.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=diameter / 10, max_nn=30))
         pcd.orient_normals_towards_camera_location(np.zeros(3))
         scene = np.hstack([np.asarray(pcd.points) * 1000, np.asarray(pcd.normals)]).astype(np.float32)
-        results = detector.match(scene, 1.0 / 5.0, 0.05)
+        if self.scene_sampling == "model":
+            # OpenCV's grid cell on each axis is relativeSceneDistance × that axis's extent: half
+            # the voxel over the longest axis keeps (nearly) every voxel of side diameter / 20.
+            extent = float(np.max(scene[:, :3].max(axis=0) - scene[:, :3].min(axis=0)))
+            relative = min(1.0, 0.5 * 1000 * max(0.002, diameter / 20) / max(extent, 1e-9))
+        else:
+            relative = 0.05
+        results = detector.match(scene, 1.0 / 5.0, relative)
         if not results:
             return None, 0.0
         icp = self.cv2.ppf_match_3d_ICP(100)
@@ -273,6 +287,9 @@ def main():
     ap.add_argument("--peers", default="open3d,opencv-ppf", help="comma-separated: open3d, opencv-ppf")
     ap.add_argument("--opencv-model-points", type=int, default=500,
                     help="opencv-ppf: model points (default 500; its training time grows steeply: 1200 take a minute)")
+    ap.add_argument("--opencv-scene-sampling", choices=["model", "scene"], default="model",
+                    help="opencv-ppf: the scene's grid: the model's step, diameter/20 (default), or "
+                         "0.05 of the scene's extent (OpenCV's usual relativeSceneDistance)")
     ap.add_argument("--models", default=os.path.join(ROOT, "..", "shared", "data", "ycbv", "models"))
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "peers"), help="scenes and results folder")
     ap.add_argument("--posefilter", default=os.path.join(ROOT, "build", "release", "posefilter"))
@@ -309,7 +326,8 @@ def main():
     for name in peers:
         title, cls = PEERS[name]
         print("== peer: %s on the same %d scenes" % (title, len(dirs)), flush=True)
-        peer = cls(args.models, args.opencv_model_points) if name == "opencv-ppf" else cls(args.models)
+        peer = (cls(args.models, args.opencv_model_points, args.opencv_scene_sampling) if name == "opencv-ppf"
+                else cls(args.models))
         peer_rows[name] = run_peer(peer, dirs, args.prior)
         train_s[name] = getattr(peer, "train_s", {})
 
@@ -368,6 +386,9 @@ def main():
         line += " | %5.1f%% %6.1f %9.0f" % (100.0 * t["found"] / n_all, 100 * auc(t["errs"]), np.median(t["ms"]))
     print(line)
     ours_ms = np.median(totals["posefilter"]["ms"])
+    stage1 = [o["stage1_ms"] for o in ours["objects"] if "stage1_ms" in o]
+    if args.prior == "auto" and stage1:  # the share of the depth-only stage 1 in posefilter's time
+        print("posefilter's stage 1 (regions + point-pair features): mean %.0f ms per object" % np.mean(stage1))
     for m in peers:
         print("median time per object: posefilter %.0f ms, %s %.0f ms (%.1fx)" % (
             ours_ms, PEERS[m][0], np.median(totals[m]["ms"]), np.median(totals[m]["ms"]) / max(1e-9, ours_ms)))
@@ -376,12 +397,14 @@ def main():
                 PEERS[m][0], sum(train_s[m].values()) / len(train_s[m])))
     if args.json:
         out = {"prior": args.prior, "count": args.count, "first_seed": args.first_seed, "targets": n_all,
-               "classes": summary}
+               "opencv_scene_sampling": args.opencv_scene_sampling, "classes": summary}
         for m in methods:
             t = totals[m]
             out[m] = {"found": t["found"], "auc_adds": auc(t["errs"]), "median_time_ms": float(np.median(t["ms"]))}
             if m in train_s and train_s[m]:
                 out[m]["model_preparation_s"] = train_s[m]
+        if args.prior == "auto" and stage1:
+            out["posefilter"]["stage1_mean_ms"] = float(np.mean(stage1))
         with open(args.json, "w") as f:
             json.dump(out, f, indent=1)
 
