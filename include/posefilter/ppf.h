@@ -14,7 +14,9 @@
 //   step (position and normal; voxels whose normals disagree are dropped). Every
 //   reference_stride-th point s_r pairs with every scene point within the model's diameter;
 //   each model entry with the pair's key votes for (r, α = α_m − α_s) in s_r's accumulator
-//   (alpha_bins bins over 2π). Each accumulator's peak is a pose
+//   (alpha_bins bins over 2π; α_s is rounded to the entries' 2π / 65536 and the difference
+//   wraps on that 16-bit circle, so a vote is a subtract, a multiply and a shift). Each
+//   accumulator's peak is a pose
 //     T_cam_obj = T_s⁻¹ · R_x(−α) · T_m,
 //   and poses within cluster_translation · diameter and cluster_rotation_rad of a higher-voted
 //   one join its cluster; clusters are ranked by summed votes.

@@ -269,7 +269,6 @@ std::vector<PoseProposal> MatchPpf(const PpfModel& model, const std::vector<Orie
     Eigen::Isometry3d T;
     std::uint32_t votes;
   };
-  const float to_bin = float(A / (2 * kPi));
   std::vector<std::size_t> refs;
   for (std::size_t r = 0; r < scene.size(); r += stride) refs.push_back(r);
   std::vector<Vote> per_ref(refs.size(), Vote{Eigen::Isometry3d::Identity(), 0});
@@ -286,14 +285,14 @@ std::vector<PoseProposal> MatchPpf(const PpfModel& model, const std::vector<Orie
         if (i == r || (scene[i].p - scene[r].p).squaredNorm() > max_d2) continue;
         const int key = model.Key(scene[r], scene[i]);
         if (key < 0) continue;
+        // α = α_m − α_s on the 16-bit circle of the entries (2π / 65536 per unit): the entry holds
+        // α_m + π, so the wrapped difference is α + π in [0, 2π), and its bin is (diff · A) >> 16.
         const float alpha_s = AlphaOf(Ts * scene[i].p);
+        const std::uint16_t s16 = std::uint16_t(std::int32_t(std::lround(alpha_s * float(65536 / (2 * kPi)))));
         for (std::uint32_t k = model.offsets[std::size_t(key)]; k < model.offsets[std::size_t(key) + 1]; ++k) {
           const PpfEntry& e = model.entries[k];
-          float a = float(-kPi) + float(e.alpha) * float(2 * kPi / 65536) - alpha_s;  // (−2π, 2π)
-          if (a < -float(kPi)) a += float(2 * kPi);
-          if (a >= float(kPi)) a -= float(2 * kPi);
-          const int bin = std::min(A - 1, std::max(0, int((a + float(kPi)) * to_bin)));
-          ++acc[std::size_t(e.reference) * A + bin];
+          const std::uint32_t diff = std::uint16_t(e.alpha - s16);
+          ++acc[std::size_t(e.reference) * A + ((diff * std::uint32_t(A)) >> 16)];
         }
       }
       const auto peak = std::max_element(acc.begin(), acc.end());
