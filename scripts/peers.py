@@ -23,7 +23,8 @@ Peers (`--peers`, default both; `scripts/setup.sh peers` installs their packages
               --opencv-scene-sampling model (default) keeps the 1/20-diameter voxels, the
               model's own step, as Drost et al. sample model and scene (posefilter does too);
               `scene` passes OpenCV's usual 0.05, cells of 5 % of the whole scene's extent
-              (about 3-5 cm on a table top: fast, but coarser than small objects).
+              (a median 8 x 4 x 13 cm on the YCB table-top suite: fast, but coarser than every
+              object's own step).
               Training is model preparation and is not counted in the time per object.
 Where a class has several boxes (a false box of the same class), every box is tried and the
 registration with the highest fitness (open3d) or the lowest residual (opencv-ppf) wins.
