@@ -193,7 +193,8 @@ class OpenCvPpfPeer:
         detector, model, diameter = self.model(cls)
         if len(scene_pts) < 30:
             return None, 0.0
-        pcd = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(scene_pts)).voxel_down_sample(max(0.002, diameter / 20))
+        voxel = max(0.002, diameter / 20)  # metres: the model's step
+        pcd = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(scene_pts)).voxel_down_sample(voxel)
         if len(pcd.points) < 10:
             return None, 0.0
         pcd.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=diameter / 10, max_nn=30))
@@ -203,7 +204,7 @@ class OpenCvPpfPeer:
             # OpenCV's grid cell on each axis is relativeSceneDistance × that axis's extent: half
             # the voxel over the longest axis keeps (nearly) every voxel of side diameter / 20.
             extent = float(np.max(scene[:, :3].max(axis=0) - scene[:, :3].min(axis=0)))
-            relative = min(1.0, 0.5 * 1000 * max(0.002, diameter / 20) / max(extent, 1e-9))
+            relative = min(1.0, 0.5 * 1000 * voxel / max(extent, 1e-9))
         else:
             relative = 0.05
         results = detector.match(scene, 1.0 / 5.0, relative)
@@ -387,8 +388,9 @@ def main():
         line += " | %5.1f%% %6.1f %9.0f" % (100.0 * t["found"] / n_all, 100 * auc(t["errs"]), np.median(t["ms"]))
     print(line)
     ours_ms = np.median(totals["posefilter"]["ms"])
-    stage1 = [o["stage1_ms"] for o in ours["objects"] if "stage1_ms" in o]
-    if args.prior == "auto" and stage1:  # the share of the depth-only stage 1 in posefilter's time
+    # --prior auto: the share of the depth-only stage 1 in posefilter's time.
+    stage1 = [o["stage1_ms"] for o in ours["objects"] if "stage1_ms" in o] if args.prior == "auto" else []
+    if stage1:
         print("posefilter's stage 1 (regions + point-pair features): mean %.0f ms per object" % np.mean(stage1))
     for m in peers:
         print("median time per object: posefilter %.0f ms, %s %.0f ms (%.1fx)" % (
@@ -404,7 +406,7 @@ def main():
             out[m] = {"found": t["found"], "auc_adds": auc(t["errs"]), "median_time_ms": float(np.median(t["ms"]))}
             if m in train_s and train_s[m]:
                 out[m]["model_preparation_s"] = train_s[m]
-        if args.prior == "auto" and stage1:
+        if stage1:
             out["posefilter"]["stage1_mean_ms"] = float(np.mean(stage1))
         with open(args.json, "w") as f:
             json.dump(out, f, indent=1)

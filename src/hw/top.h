@@ -178,14 +178,11 @@ GATHER_INFO:
     cells[p] = c;
     samples_fwd[p] = s;
   }
-  // Without growing: II 1, depth = sample read (2) + window memory read (2) + write (1): the
-  // loop of a design without the projection unit (the thesis's), which the model's thesis
-  // configuration stands for. This top has the unit and is II 8 whatever grow_window says, so
-  // with grow_window off it takes up to 7·n clocks (≤ 3.6 k per iteration) more than recorded,
-  // hidden behind the raster cores. Growing (ours): one projection unit, 8 corners per particle
-  // → II 8; depth = sample read (2) + SampleTransform (≈ 18, as the FT chain) + corner MACs (3) +
-  // a 2^-8 px divider (≈ 40 stages for the 48-bit quotient) + min/max (1) + grow/clip (3) +
-  // write (1) = 68. (latency.h.)
+  // The recorded II and depths are latency.h's. Without growing, II 1 is the loop of a design
+  // without the projection unit (the thesis's), which the model's thesis configuration stands
+  // for. This top has the unit and is II 8 whatever grow_window says, so with grow_window off it
+  // takes up to 7·n clocks (≤ 3.6 k per iteration) more than recorded, hidden behind the
+  // raster cores.
   if (cfg.grow_window) HW_TRACE("sample_info", "GATHER_INFO", uint64_t(n), kGatherInfoGrowII, kGatherInfoGrowDepth);
   else HW_TRACE("sample_info", "GATHER_INFO", uint64_t(n), 1, kGatherInfoDepth);
 }
