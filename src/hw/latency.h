@@ -174,6 +174,12 @@ constexpr int kRcZpassDepth = 5;
 // Triangle FIFO between the vertex and the pixel stage: 16 entries of 446 bits in LUTRAM (the
 // vertex pipeline holds ≈ 14 faces; deeper FIFOs measured no faster in co-simulation).
 constexpr int kTriangleFifoDepth = 16;
+// z-buffer read-modify-write: clocks from a fragment's z-buffer read to the clock its write
+// lands (PixelStage's forward registers cover the writes in flight). The RTL twin reads a
+// registered, read-first BRAM and writes in the clock the next fragment's read is issued: 1.
+// An HLS schedule that puts the write later needs this raised to its distance (the C model
+// forwards exactly for any value; one more register of 34 bits and a comparator per clock).
+constexpr int kZbufWriteLag = 1;
 
 // ---- Weight merger (weight_merger.h) ----
 // WM_PARTICLES: the one divider takes I/N_raster, I/N_depth and the edge ratio in turn → II 3

@@ -32,8 +32,9 @@
 //   soft inlier χ          ap_uint<11> F10 (0 … 1)          Σχ             ap_ufixed<42,32>
 #pragma once
 
-#include "hw/hw_types.h"
+#include "hw/dataflow.h"
 #include "hw/distributor.h"
+#include "hw/hw_types.h"
 #include "hw/latency.h"
 #include "hw/transform.h"
 
@@ -273,9 +274,9 @@ struct TriangleSetup {
 // faces (flattened), projected (ProjectVertex); per face the near/guard-band test, back-face
 // culling (§6.2: 2·Area ≤ 0 is culled), the bounding box clipped to the window (ceil of min,
 // floor of max) and the edge setup. Front faces with a non-empty clipped box go to the pixel
-// stage; the stream ends with one `last` entry. Returns the number of front faces.
-inline face_count_t VertexStage(int num_faces, const ap_int<36> ft[kFtElements], const ap_int<52>& near_w,
-                                const Window& win, hls::stream<Vertex>& vert_in, hls::stream<TriangleSetup>& tri_out) {
+// stage; the stream ends with one `last` entry. front = the number of front faces.
+inline void VertexStage(int num_faces, const ap_int<36> ft[kFtElements], const ap_int<52>& near_w, const Window& win,
+                        hls::stream<Vertex>& vert_in, hls::stream<TriangleSetup>& tri_out, face_count_t& front_faces) {
   const int u0 = win.u0.to_int(), v0 = win.v0.to_int();
   const int ww = win.width.to_int(), wh = win.height.to_int();
   face_count_t front = 0;
@@ -348,7 +349,7 @@ RC_VERTICES:
   end.x0 = end.y0 = end.w = end.h = 0;
   end.last = 1;
   tri_out.write(end);
-  return front;
+  front_faces = front;
 }
 
 // Pixel stage (Fig. 7.20 "pixel"): every pixel of every triangle's clipped box, one pixel per
@@ -356,19 +357,37 @@ RC_VERTICES:
 // clock after the previous one's last pixel). Inside test on the incremental edge functions
 // (+A·256 per column, +B·256 per row, eq. 6.19–6.20), depth recovery (eq. 6.21–6.22), then
 // zbuffer = 0: the soft inlier of the fragment (§7.5.1); zbuffer = 1: the z-buffer's
-// read-modify-write (min; in hardware a one-word forward covers back-to-back fragments on
-// the same address). Returns the number of box pixels visited (the loop's trips).
-inline uint64_t PixelStage(hls::stream<TriangleSetup>& tri_in, const RasterParams& prm, RasterCoreMemory& mem,
-                           Accumulators* acc) {
+// read-modify-write (min). The z-buffer write of a fragment lands kZbufWriteLag clocks after
+// its read (latency.h; the RTL twin: one, a read-first BRAM written in the clock the next
+// fragment's read is issued), so a read sees the memory without the writes still in flight and
+// takes the newest matching one from the forward registers (the RTL's `lw`): that makes the
+// DEPENDENCE pragma's "no inter-iteration dependence through zbuf" true. The C keeps the writes
+// in flight too, so a missing forward changes the results (tests/hw/hwrender_raster_test.cc).
+// trips += the box pixels visited (the loop's trips).
+inline void PixelStage(hls::stream<TriangleSetup>& tri_in, const RasterParams& prm, RasterCoreMemory& mem,
+                       Accumulators& acc, uint64_t& trips) {
   const bool zbuffer = prm.zbuffer == 1;
   TriangleSetup t;
 #pragma HLS ARRAY_PARTITION variable = t.A complete
   ap_int<50> e[3], row_e[3];
 #pragma HLS ARRAY_PARTITION variable = e complete
 #pragma HLS ARRAY_PARTITION variable = row_e complete
+  // Writes in flight, oldest first: slot k lands k + 1 clocks from now.
+  bool fw_valid[kZbufWriteLag];
+  ap_uint<16> fw_addr[kZbufWriteLag];
+  zbuf_word_t fw_val[kZbufWriteLag];
+#pragma HLS ARRAY_PARTITION variable = fw_valid complete
+#pragma HLS ARRAY_PARTITION variable = fw_addr complete
+#pragma HLS ARRAY_PARTITION variable = fw_val complete
+  for (int k = 0; k < kZbufWriteLag; ++k) {
+#pragma HLS UNROLL
+    fw_valid[k] = false;
+    fw_addr[k] = 0;
+    fw_val[k] = 0;
+  }
   int x = 0, y = 0;
   bool need = true;  // read the next triangle in this clock
-  uint64_t trips = 0;
+  uint64_t visited = 0;
 RC_RASTER:
   for (;;) {
 #pragma HLS PIPELINE II = 1
@@ -382,22 +401,42 @@ RC_RASTER:
       y = 0;
       need = false;
     }
-    ++trips;
+    ++visited;
     bool inside = true;
     for (int k = 0; k < 3; ++k) inside = inside && (e[k] > 0 || (e[k] == 0 && t.own[k] == 1));
+    bool write = false;
+    int a = 0;
+    zbuf_word_t zq_word = 0;
     if (inside) {
       const ap_uint<24> z = RecoverDepth(e, t.sh.to_int(), t.iz);
-      const int a = (t.y0.to_int() + y) * kMaxWindow + t.x0.to_int() + x;
+      a = (t.y0.to_int() + y) * kMaxWindow + t.x0.to_int() + x;
       if (zbuffer) {
         // z-test on the window z-buffer (F16, rounded; the first of equal words wins).
         ap_uint<25> zq = (ap_uint<25>(z) + 8) >> 4;
         if (zq >= kZbufEmpty) zq = kZbufEmpty - 1;
-        if (zq < mem.zbuf[a]) mem.zbuf[a] = zbuf_word_t(zq);
+        zbuf_word_t cur = mem.zbuf[a];  // the memory, without the writes in flight
+        for (int k = 0; k < kZbufWriteLag; ++k) {
+#pragma HLS UNROLL
+          if (fw_valid[k] && fw_addr[k] == a) cur = fw_val[k];  // the newest match wins
+        }
+        write = zq < cur;
+        zq_word = zbuf_word_t(zq);
       } else {
-        ++acc->n_raster;
-        CompareFragment(z, DepthF20(mem.frag[a]), prm, acc);
+        ++acc.n_raster;
+        CompareFragment(z, DepthF20(mem.frag[a]), prm, &acc);
       }
     }
+    // The oldest write in flight lands; this clock's write enters the forward registers.
+    if (fw_valid[0]) mem.zbuf[fw_addr[0].to_int()] = fw_val[0];
+    for (int k = 0; k + 1 < kZbufWriteLag; ++k) {
+#pragma HLS UNROLL
+      fw_valid[k] = fw_valid[k + 1];
+      fw_addr[k] = fw_addr[k + 1];
+      fw_val[k] = fw_val[k + 1];
+    }
+    fw_valid[kZbufWriteLag - 1] = write;
+    fw_addr[kZbufWriteLag - 1] = a;
+    fw_val[kZbufWriteLag - 1] = zq_word;
     if (x + 1 < t.w.to_int()) {
       ++x;
       for (int k = 0; k < 3; ++k) e[k] += ap_int<50>(t.A[k]) << kSubpixelBits;
@@ -411,7 +450,29 @@ RC_RASTER:
       if (y == t.h.to_int()) need = true;
     }
   }
-  return trips;
+  // The pipeline drains: the writes in flight land.
+RC_RASTER_DRAIN:
+  for (int k = 0; k < kZbufWriteLag; ++k) {
+#pragma HLS UNROLL
+    if (fw_valid[k]) mem.zbuf[fw_addr[k].to_int()] = fw_val[k];
+  }
+  trips += visited;
+}
+
+// The face phase of one particle (Fig. 7.20): the vertex stage and the pixel stage as a
+// DATAFLOW region joined by the triangle FIFO, so the vertex stage runs ahead by up to
+// kTriangleFifoDepth front faces while the pixel stage rasterizes, and the slower of the two
+// sets the time (the cycle model's ParticleWork::Faces).
+inline void RasterFaces(int num_faces, const ap_int<36> ft[kFtElements], const ap_int<52>& near_w, const Window& win,
+                        const RasterParams& prm, hls::stream<Vertex>& vert_in, RasterCoreMemory& mem,
+                        face_count_t& front_faces, Accumulators& acc, uint64_t& pixel_trips) {
+#pragma HLS DATAFLOW
+  HW_DATAFLOW_BEGIN(df, nullptr);
+  hls::stream<TriangleSetup> triangles;
+  HW_STREAM(triangles, kTriangleFifoDepth);
+  HW_PROCESS(df, VertexStage(num_faces, ft, near_w, win, vert_in, triangles, front_faces));
+  HW_PROCESS(df, PixelStage(triangles, prm, mem, acc, pixel_trips));
+  HW_DATAFLOW_END(df);
 }
 
 // One window pixel in the z pass: its z-buffer word and its scene depth.
@@ -549,10 +610,9 @@ RC_PARTICLES:
     }
 
     // 3. Faces: vertex stage → triangle FIFO → pixel stage (the core's internal dataflow).
-    hls::stream<TriangleSetup> tri("triangles");
-#pragma HLS STREAM variable = tri depth = kTriangleFifoDepth
-    acc.faces_front = VertexStage(num_faces, ft, near_w, win, vert_in, tri);
-    pixel_trips += PixelStage(tri, prm, mem, &acc);
+    face_count_t front = 0;
+    RasterFaces(num_faces, ft, near_w, win, prm, vert_in, mem, front, acc, pixel_trips);
+    acc.faces_front = front;
     vertex_trips += uint64_t(3) * num_faces;
 
     // 4. z-buffer mode: the z pass over the window.

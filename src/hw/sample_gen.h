@@ -16,6 +16,7 @@
 #pragma once
 
 #include "hw/cdf.h"
+#include "hw/dataflow.h"
 #include "hw/hw_types.h"
 #include "hw/latency.h"
 #include "hw/lfsr.h"
@@ -91,6 +92,7 @@ void InitSamplesRegion(const prob_t prob[kNumCells][NC], int cls, class_sum_t cl
                        Sample samples[kMaxParticles], int n, SamplingCounters& counters,
                        bool& uniform_fallback HW_TRACE_PARAM) {
 #pragma HLS DATAFLOW
+  HW_DATAFLOW_BEGIN(df, trace);
   constexpr int IB = 13;
   hls::stream<cdf_t> cdf_s, cdf_copy;
   hls::stream<ap_uint<P + IB> > thr_s;
@@ -98,16 +100,27 @@ void InitSamplesRegion(const prob_t prob[kNumCells][NC], int cls, class_sum_t cl
   hls::stream<SampleBounds<IB, 18> > bounds_s;
   hls::stream<cell_index_t> idx_s;
   hls::stream<angle_t> roll_s, pitch_s, yaw_s;
-  CdfNormalise<NC>(prob, cls, class_sum, cdf_s, uniform_fallback HW_TRACE_ARG);
-  ThresholdTracker<kNumCells, P, IB, 18>(cdf_s, cdf_copy, thr_s, kNumCells HW_TRACE_ARG);
-  UniformGenerate(sampling_rng, u_s, n, leap HW_TRACE_ARG);
-  BoundGenerate<kNumCells, P, IB, 18>(thr_s, u_s, bounds_s, kNumCells, n, use_tracker HW_TRACE_ARG);
-  SampleIndices<kNumCells, IB, 18>(cdf_copy, bounds_s, cdf_mem, idx_s, kNumCells, n, counters HW_TRACE_ARG);
-  UniformGenerate(z_rng, z_s, n, leap HW_TRACE_ARG);
-  AngleGenerate(roll_rng, roll_s, n HW_TRACE_ARG);
-  AngleGenerate(pitch_rng, pitch_s, n HW_TRACE_ARG);
-  AngleGenerate(yaw_rng, yaw_s, n HW_TRACE_ARG);
-  GenSample(idx_s, z_s, roll_s, pitch_s, yaw_s, heuristics, samples, n HW_TRACE_ARG);
+  HW_STREAM(cdf_s, 2);
+  HW_STREAM(cdf_copy, 2);
+  HW_STREAM(thr_s, 2);
+  HW_STREAM(u_s, 2);
+  HW_STREAM(z_s, 2);
+  HW_STREAM(bounds_s, 2);
+  HW_STREAM(idx_s, 2);
+  HW_STREAM(roll_s, 2);
+  HW_STREAM(pitch_s, 2);
+  HW_STREAM(yaw_s, 2);
+  HW_PROCESS(df, CdfNormalise<NC>(prob, cls, class_sum, cdf_s, uniform_fallback HW_TRACE_ARG));
+  HW_PROCESS(df, ThresholdTracker<kNumCells, P, IB, 18>(cdf_s, cdf_copy, thr_s, kNumCells HW_TRACE_ARG));
+  HW_PROCESS(df, UniformGenerate(sampling_rng, u_s, n, leap HW_TRACE_ARG));
+  HW_PROCESS(df, BoundGenerate<kNumCells, P, IB, 18>(thr_s, u_s, bounds_s, kNumCells, n, use_tracker HW_TRACE_ARG));
+  HW_PROCESS(df, SampleIndices<kNumCells, IB, 18>(cdf_copy, bounds_s, cdf_mem, idx_s, kNumCells, n, counters HW_TRACE_ARG));
+  HW_PROCESS(df, UniformGenerate(z_rng, z_s, n, leap HW_TRACE_ARG));
+  HW_PROCESS(df, AngleGenerate(roll_rng, roll_s, n HW_TRACE_ARG));
+  HW_PROCESS(df, AngleGenerate(pitch_rng, pitch_s, n HW_TRACE_ARG));
+  HW_PROCESS(df, AngleGenerate(yaw_rng, yaw_s, n HW_TRACE_ARG));
+  HW_PROCESS(df, GenSample(idx_s, z_s, roll_s, pitch_s, yaw_s, heuristics, samples, n HW_TRACE_ARG));
+  HW_DATAFLOW_END(df);
 }
 
 // The initialisation chain for n samples (clamped to [0, kMaxParticles]) with the generators

@@ -45,14 +45,17 @@
 // a loop over the template parameter M); no scalar statement stands between the processes.
 // tests/hw/hwtop_lint_test.cc checks these rules and the INTERFACE pragmas.
 //
-// Raster cores in C simulation: HLS would run the M core instances concurrently; the C model
-// runs them one after another, or in parallel host threads (OpenMP, ignored by HLS) since each
-// core owns its streams, memories and trace — results are identical either way. Their loop
-// records are appended to the caller's trace in core order afterwards. A core's memories
-// (fragment + z-buffer, ≈ 0.3 MB) are a local array of the top in synthesis and a heap block
-// per call in C simulation (too large for a thread's stack; estimates run on several threads).
+// C simulation (dataflow.h): in the default sequential mode the processes of a region run in
+// statement order over unbounded streams (the vendor's model) and the M raster cores in
+// parallel host threads (OpenMP, ignored by HLS; each core owns its streams, memories and
+// trace, appended in core order). In bounded mode every stream holds its HW_STREAM depth and
+// every process runs concurrently, as synthesis builds them; the results are the same bit for
+// bit (tests/hw/hwbounded_test.cc). A core's memories (fragment + z-buffer, ≈ 0.3 MB) are a
+// local array of the top in synthesis and a heap block per call in C simulation (too large
+// for a thread's stack; estimates run on several threads).
 #pragma once
 
+#include "hw/dataflow.h"
 #include "hw/diffusion.h"
 #include "hw/distributor.h"
 #include "hw/hw_types.h"
@@ -267,15 +270,6 @@ HW_TOP void HwInitTop(const prob_t prob[kNumCells][1], class_sum_t class_sum, co
   InitSamples<1>(prob, 0, class_sum, volumes, cdf_mem, gen, opt, samples, n, report HW_TRACE_ARG);
 }
 
-#ifndef __SYNTHESIS__
-// C simulation only: the raster cores' memories and cycle traces of one HwWeighTop<M> call.
-template <int M>
-struct RasterCoresSim {
-  RasterCoreMemory mem[M];
-  CycleTrace trace[M];
-};
-#endif
-
 // Weighing and sorting of n particles with M raster cores (1 … kMaxRasterCores), one DATAFLOW
 // region. Outputs: the weights sorted descending with their relative indices, each particle's
 // core counters (stats, particle order), each particle's depth offset (the sample memory's
@@ -290,63 +284,56 @@ void HwWeighTop(int n, const WeighConfig& cfg, const Sample samples[kMaxParticle
                 depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts HW_TRACE_PARAM) {
   static_assert(M >= 1 && M <= kMaxRasterCores, "HwWeighTop: M must be in [1, kMaxRasterCores]");
 #pragma HLS DATAFLOW
+  HW_DATAFLOW_BEGIN(df, trace);
 #ifdef __SYNTHESIS__
   RasterCoreMemory core_mem[M];  // per core: depth fragment + window z-buffer (BRAM)
 #pragma HLS ARRAY_PARTITION variable = core_mem complete dim = 1
 #else
-  std::unique_ptr<RasterCoresSim<M> > sim(new RasterCoresSim<M>);
-  RasterCoreMemory* const core_mem = sim->mem;
+  std::unique_ptr<RasterCoreMemory[]> core_mem_heap(new RasterCoreMemory[M]);
+  RasterCoreMemory* const core_mem = core_mem_heap.get();
 #endif
+  // Ping-pong buffers of GatherSampleInfo: its readers start when it has returned.
   Window windows[kMaxParticles];
   cell_index_t cells[kMaxParticles];
   // The FT chain's copy of the samples (GatherSampleInfo forwards them). A ping-pong array, not
   // a FIFO: the cores wait for the windows, which GatherSampleInfo completes only after its last
   // particle, so a short FIFO here would fill and stall the region.
   Sample samples_ft[kMaxParticles];
-  hls::stream<ft_t> ft_chain("ft_chain");
+  hls::stream<ft_t> ft_chain;
   hls::stream<ft_t> ft_core[M];
   hls::stream<Vertex> vert_core[M];
   hls::stream<Window> info_core[M];
   hls::stream<depth_t> depth_core[M];
   hls::stream<RasterCoreOutput> out_core[M];
-  hls::stream<WeightOut> merged("merged");
-  hls::stream<RasterCoreOutput> merged_stats("merged_stats");
-  hls::stream<weight_t> to_sorter("to_sorter");
-#pragma HLS STREAM variable = ft_core depth = 24
-#pragma HLS STREAM variable = vert_core depth = 8
-#pragma HLS STREAM variable = depth_core depth = 8
+  hls::stream<WeightOut> merged;
+  hls::stream<RasterCoreOutput> merged_stats;
+  hls::stream<weight_t> to_sorter;
+  HW_STREAM(ft_chain, 2);
+  HW_STREAM(ft_core, 24);
+  HW_STREAM(vert_core, 8);
+  HW_STREAM(info_core, 2);
+  HW_STREAM(depth_core, 8);
+  HW_STREAM(out_core, 2);
+  HW_STREAM(merged, 2);
+  HW_STREAM(merged_stats, 2);
+  HW_STREAM(to_sorter, 2);
 
-  GatherSampleInfo(n, cfg, samples, cell_windows, windows, cells, samples_ft HW_TRACE_ARG);
-  FullTransformChain(n, samples_ft, cfg.cam, ft_chain HW_TRACE_ARG);
-  DistributeFT(n, M, ft_chain, ft_core HW_TRACE_ARG);
-  VertexMultiplier(n, M, cfg.num_faces, vmem, tri_mem, vert_core HW_TRACE_ARG);
-  DistributeDepth(n, M, windows, depth, cfg.img_width, info_core, depth_core, dd_counts HW_TRACE_ARG);
+  HW_PROCESS(df, GatherSampleInfo(n, cfg, samples, cell_windows, windows, cells, samples_ft HW_TRACE_ARG));
+  HW_PROCESS_AFTER(df, "GatherSampleInfo", FullTransformChain(n, samples_ft, cfg.cam, ft_chain HW_TRACE_ARG));
+  HW_PROCESS(df, DistributeFT(n, M, ft_chain, ft_core HW_TRACE_ARG));
+  HW_PROCESS(df, VertexMultiplier(n, M, cfg.num_faces, vmem, tri_mem, vert_core HW_TRACE_ARG));
+  HW_PROCESS_AFTER(df, "GatherSampleInfo",
+                   DistributeDepth(n, M, windows, depth, cfg.img_width, info_core, depth_core, dd_counts HW_TRACE_ARG));
 RASTER_CORES:
-#ifndef __SYNTHESIS__
-#pragma omp parallel for schedule(dynamic, 1)
-#endif
-  for (int c = 0; c < M; ++c) {
-#pragma HLS UNROLL
-    RasterCore((n - c + M - 1) / M, cfg.num_faces, cfg.raster, info_core[c], depth_core[c], ft_core[c], vert_core[c],
-               out_core[c], core_mem[c]
-#ifndef __SYNTHESIS__
-               , trace ? &sim->trace[c] : nullptr
-#endif
-    );
-  }
-#ifndef __SYNTHESIS__
-  if (trace) {  // the cores' records, in core order (C-simulation bookkeeping)
-    for (int c = 0; c < M; ++c)
-      for (int r = 0; r < sim->trace[c].count; ++r) {
-        const LoopRecord& rec = sim->trace[c].records[r];
-        trace->Add(rec.module, rec.loop, rec.trips, rec.ii, rec.depth);
-      }
-  }
-#endif
-  MergeWeights(n, M, cfg.weight, out_core, cells, class_prob, merged, merged_stats HW_TRACE_ARG);
-  SplitWeights(n, merged, to_sorter HW_TRACE_ARG);
-  CollectStats(n, merged_stats, stats, offsets HW_TRACE_ARG);
-  SortWeights(to_sorter, n, sorted_w, sorted_idx HW_TRACE_ARG);
+  HW_PROCESS_UNROLL(df, c, M,
+                    RasterCore((n - c + M - 1) / M, cfg.num_faces, cfg.raster, info_core[c], depth_core[c], ft_core[c],
+                               vert_core[c], out_core[c], core_mem[c] HW_TRACE_ARG));
+  HW_PROCESS_AFTER(df, "GatherSampleInfo",
+                   MergeWeights(n, M, cfg.weight, out_core, cells, class_prob, merged, merged_stats HW_TRACE_ARG));
+  HW_PROCESS(df, SplitWeights(n, merged, to_sorter HW_TRACE_ARG));
+  HW_PROCESS(df, CollectStats(n, merged_stats, stats, offsets HW_TRACE_ARG));
+  HW_PROCESS(df, SortWeights(to_sorter, n, sorted_w, sorted_idx HW_TRACE_ARG));
+  HW_DATAFLOW_END(df);
 }
 
 // The weigh tops' interfaces: one m_axi bundle per process that touches memory
@@ -456,11 +443,13 @@ HW_TOP void HwUpdateTop(const weight_t sorted_w[kMaxParticles], const particle_i
 #pragma HLS INTERFACE s_axilite port = counters bundle = control
 #pragma HLS INTERFACE s_axilite port = return bundle = control
 #pragma HLS DATAFLOW
-  particle_index_t selected[kMaxParticles];
-  Resample(sorted_w, sorted_idx, samples_in_cells, hypothesis, rprm, resample_rng, selected, counters,
-           nullptr HW_TRACE_ARG);
-  Diffuse(samples_in, offsets_in, selected, rprm.num_particles, rprm.num_elite, w_best, dprm, volumes, diffusion_rng,
-          samples_out HW_TRACE_ARG);
+  HW_DATAFLOW_BEGIN(df, trace);
+  particle_index_t selected[kMaxParticles];  // ping-pong buffer: Diffuse starts when Resample has returned
+  HW_PROCESS(df, Resample(sorted_w, sorted_idx, samples_in_cells, hypothesis, rprm, resample_rng, selected, counters,
+                          nullptr HW_TRACE_ARG));
+  HW_PROCESS_AFTER(df, "Resample", Diffuse(samples_in, offsets_in, selected, rprm.num_particles, rprm.num_elite, w_best,
+                                           dprm, volumes, diffusion_rng, samples_out HW_TRACE_ARG));
+  HW_DATAFLOW_END(df);
 }
 
 }  // namespace posefilter::hw

@@ -544,5 +544,53 @@ TEST(HwRenderPipeline, MultiCoreWeightsMatchTheReference) {
   EXPECT_EQ(counts.reads_shared.to_uint64(), union_pixels);
 }
 
+// The z-buffer read-modify-write with its write lag (latency.h kZbufWriteLag): two one-pixel
+// triangles back to back on the same pixel, the nearer first. The second fragment's read comes
+// before the first one's write has landed, so only the forward register gives it the first
+// one's depth; without it the farther fragment would overwrite the nearer one.
+TEST(HwRenderRasterCore, TheZBufferForwardCoversBackToBackFragmentsOnOnePixel) {
+  using raster_detail::Accumulators;
+  using raster_detail::PixelStage;
+  using raster_detail::TriangleSetup;
+  auto mem = std::make_unique<RasterCoreMemory>();
+  for (int a = 0; a < kWindowPixels; ++a) mem->zbuf[a] = kZbufEmpty;
+  // A triangle whose box is the single pixel (x0, y0), all three edge functions positive there,
+  // at depth W metres (1/W in F26 at every vertex: z_r = W).
+  auto one_pixel = [](int x0, int y0, double w) {
+    TriangleSetup t;
+    for (int k = 0; k < 3; ++k) {
+      t.A[k] = 0;
+      t.B[k] = 0;
+      t.e0[k] = ap_int<50>(1) << 16;
+      t.own[k] = 1;
+      t.iz[k] = ap_uint<32>(std::llround(std::ldexp(1.0 / w, 26)));
+    }
+    t.sh = 0;
+    t.x0 = x0;
+    t.y0 = y0;
+    t.w = 1;
+    t.h = 1;
+    t.last = 0;
+    return t;
+  };
+  hls::stream<TriangleSetup> tri;
+  tri.write(one_pixel(3, 2, 0.50));  // nearer, first
+  tri.write(one_pixel(3, 2, 0.75));  // farther, the very next clock, same address
+  tri.write(one_pixel(5, 2, 0.60));  // another pixel
+  TriangleSetup end = one_pixel(0, 0, 1.0);
+  end.last = 1;
+  tri.write(end);
+  RasterParams prm = DefaultRasterParams();
+  prm.zbuffer = 1;
+  Accumulators acc{};
+  uint64_t trips = 0;
+  PixelStage(tri, prm, *mem, acc, trips);
+  EXPECT_EQ(trips, 3u);
+  // F16 words: 0.5 m = 32768, 0.6 m = 39321.6 → 39322 (rounded).
+  EXPECT_EQ(mem->zbuf[2 * kMaxWindow + 3].to_int(), 32768) << "the farther fragment overwrote the nearer one";
+  EXPECT_EQ(mem->zbuf[2 * kMaxWindow + 5].to_int(), 39322) << "the last write did not land";
+  EXPECT_EQ(mem->zbuf[2 * kMaxWindow + 4].to_int(), kZbufEmpty);
+}
+
 }  // namespace
 }  // namespace posefilter::hw

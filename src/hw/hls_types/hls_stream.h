@@ -1,12 +1,19 @@
 // src/hw/hls_types/hls_stream.h — our own hls::stream<T> for C simulation (same file name and
 // API as the vendor header; a Vitis build swaps in the vendor's by include path).
 //
-// Model (SEMANTICS.md §2): an unbounded FIFO (std::deque), like the vendor's C-sim model —
-// full() is always false and write_nb() always succeeds; the DEPTH parameter is accepted and
-// ignored in C simulation. Stricter than the vendor's (which warns and returns T()):
-//   * a blocking read() of an empty stream prints the stream's name to stderr and aborts;
-//   * a stream destroyed with data left prints its name and the leftover count to stderr.
-// Not copyable: pass streams by reference.
+// Two models (hls_sim.h chooses; SEMANTICS.md §2):
+//   sequential (default) — an unbounded FIFO (std::deque), like the vendor's C-sim model:
+//     full() is always false and write_nb() always succeeds. Stricter than the vendor's
+//     (which warns and returns T()): a blocking read() of an empty stream prints the stream's
+//     name to stderr and aborts.
+//   bounded — a stream constructed inside a DATAFLOW region of a bounded simulation holds at
+//     most depth() elements (set_depth(), which HW_STREAM calls with the STREAM pragma's value;
+//     2, Vitis's default, when never set): a write to a full stream and a read of an empty one
+//     block the calling process until another process makes room or data (hls_sim.h), and
+//     full()/write_nb() see the depth. Streams constructed elsewhere (a test bench's) stay
+//     unbounded.
+// A stream destroyed with data left prints its name and the leftover count to stderr. Not
+// copyable: pass streams by reference.
 //
 // Cycle-model timestamps (simulation only, not in the vendor API): each element carries the
 // cycle at which it was written — write(v, cycle) stamps it, write(v) stamps 0 — and
@@ -26,6 +33,8 @@
 #ifndef __SYNTHESIS__
 #include <cstdio>
 #include <cstdlib>
+
+#include "hls_sim.h"
 #endif
 
 namespace hls {
@@ -33,9 +42,9 @@ namespace hls {
 template <typename T, int DEPTH = 0>
 class stream {
  public:
-  stream() : name_("hls::stream") {}
-  explicit stream(const char* name) : name_(name ? name : "hls::stream") {}
-  explicit stream(const std::string& name) : name_(name) {}
+  stream() : name_("hls::stream") { Attach(); }
+  explicit stream(const char* name) : name_(name ? name : "hls::stream") { Attach(); }
+  explicit stream(const std::string& name) : name_(name) { Attach(); }
   stream(const stream&) = delete;
   stream& operator=(const stream&) = delete;
 
@@ -49,10 +58,38 @@ class stream {
   }
 
   // ---- status ----
-  bool empty() const { return fifo_.empty(); }
-  bool full() const { return false; }  // unbounded in C simulation (as the vendor's)
+  // empty()/full(): in a bounded simulation a true answer is a failed poll (the process yields;
+  // hls_sim.h's livelock watchdog counts them).
+  bool empty() const {
+    const bool e = fifo_.empty();
+#ifndef __SYNTHESIS__
+    if (e && sched_) sched_->FailedPoll("empty() of '" + name_ + "'");
+#endif
+    return e;
+  }
+  bool full() const {
+#ifndef __SYNTHESIS__
+    if (sched_ && fifo_.size() >= Capacity()) {
+      sched_->FailedPoll("full() of '" + name_ + "'");
+      return true;
+    }
+#endif
+    return false;  // unbounded in sequential C simulation (as the vendor's)
+  }
   size_t size() const { return fifo_.size(); }
   const char* name() const { return name_.c_str(); }
+  // The FIFO depth the hardware has (the STREAM pragma's value); 2 when never set (Vitis).
+  int depth() const { return depth_ > 0 ? depth_ : (DEPTH > 0 ? DEPTH : 2); }
+  void set_depth(int d) { depth_ = d; }
+  void set_name(const std::string& n) { name_ = n; }
+  // true when a bounded simulation holds this stream to its depth.
+  bool bounded() const {
+#ifndef __SYNTHESIS__
+    return sched_ != nullptr;
+#else
+    return false;
+#endif
+  }
 
   // ---- blocking access ----
   void write(const T& v) { push(v, 0); }
@@ -62,9 +99,13 @@ class stream {
   void operator>>(T& out) { read(out); }
 
   // ---- non-blocking access ----
-  // read_nb: false (and `out` = T()) when empty; write_nb: always succeeds in C simulation.
+  // read_nb: false (and `out` = T()) when empty; write_nb: false when full (bounded), always
+  // succeeds in sequential C simulation.
   bool read_nb(T& out) {
     if (fifo_.empty()) {
+#ifndef __SYNTHESIS__
+      if (sched_) sched_->FailedPoll("read_nb() of '" + name_ + "'");
+#endif
       out = T();
       return false;
     }
@@ -72,6 +113,12 @@ class stream {
     return true;
   }
   bool write_nb(const T& v) {
+#ifndef __SYNTHESIS__
+    if (sched_ && fifo_.size() >= Capacity()) {
+      sched_->FailedPoll("write_nb() of '" + name_ + "'");
+      return false;
+    }
+#endif
     write(v);
     return true;
   }
@@ -92,11 +139,48 @@ class stream {
 #endif
 
  private:
+#ifndef __SYNTHESIS__
+  void Attach() { sched_ = ::hls::sim::BoundedScheduler(); }
+  size_t Capacity() const { return static_cast<size_t>(depth()); }
+  std::string Describe(const char* op, const char* state) const {
+    return std::string(op) + " '" + name_ + "', " + state + " (" + std::to_string(fifo_.size()) + " of " +
+           std::to_string(depth()) + ")";
+  }
+  // Blocks the running process until `ready` holds; `slot` is this stream's waiter of that side.
+  template <typename Pred>
+  void Await(Pred ready, ::hls::sim::Process** slot, const char* op, const char* state) {
+    while (!ready()) {
+      *slot = sched_->Running();
+      struct Clear {
+        ::hls::sim::Process** s;
+        ~Clear() { *s = nullptr; }
+      } clear{slot};
+      sched_->Block(Describe(op, state), true);
+    }
+  }
+#else
+  void Attach() {}
+#endif
   void push(const T& v, uint64_t cycle) {
+#ifndef __SYNTHESIS__
+    if (sched_) {
+      Await([this] { return fifo_.size() < Capacity(); }, &writer_waiting_, "write to", "full");
+      sched_->Progress();
+    }
+#endif
     fifo_.emplace_back(v, cycle);
     if (fifo_.size() > high_water_) high_water_ = fifo_.size();
+#ifndef __SYNTHESIS__
+    if (sched_ && reader_waiting_) sched_->Ready(reader_waiting_);
+#endif
   }
   T pop(uint64_t* cycle) {
+#ifndef __SYNTHESIS__
+    if (sched_) {
+      Await([this] { return !fifo_.empty(); }, &reader_waiting_, "read from", "empty");
+      sched_->Progress();
+    }
+#endif
     if (fifo_.empty()) {
 #ifndef __SYNTHESIS__
       die("read");
@@ -108,6 +192,9 @@ class stream {
     std::pair<T, uint64_t> e = std::move(fifo_.front());
     fifo_.pop_front();
     if (cycle) *cycle = e.second;
+#ifndef __SYNTHESIS__
+    if (sched_ && writer_waiting_) sched_->Ready(writer_waiting_);
+#endif
     return std::move(e.first);
   }
 #ifndef __SYNTHESIS__
@@ -122,6 +209,12 @@ class stream {
   std::string name_;
   std::deque<std::pair<T, uint64_t>> fifo_;
   size_t high_water_ = 0;
+  int depth_ = 0;  // set_depth(); 0 = DEPTH, else Vitis's default 2
+#ifndef __SYNTHESIS__
+  ::hls::sim::Scheduler* sched_ = nullptr;         // bounded simulation, else nullptr
+  ::hls::sim::Process* reader_waiting_ = nullptr;  // blocked on empty
+  ::hls::sim::Process* writer_waiting_ = nullptr;  // blocked on full
+#endif
 };
 
 }  // namespace hls
