@@ -5,6 +5,7 @@
 #include <string>
 
 #include "commands.h"
+#include "posefilter/version.h"
 
 namespace {
 
@@ -40,6 +41,7 @@ constexpr Command kCommands[] = {
 
 void PrintUsage(std::ostream& os) {
   os << "usage: posefilter <command> [options]   (posefilter <command> --help for options)\n"
+        "       posefilter --version\n"
         "commands:\n";
   std::size_t width = 0;
   for (const auto& c : kCommands) width = std::max(width, std::strlen(c.name));
@@ -52,6 +54,14 @@ int main(int argc, char** argv) {
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     PrintUsage(argc < 2 ? std::cerr : std::cout);
     return argc < 2 ? 2 : 0;
+  }
+  if (std::strcmp(argv[1], "--version") == 0) {
+    if (argc > 2) {
+      std::cerr << "posefilter: error: --version takes no arguments (got '" << argv[2] << "')\n";
+      return 2;
+    }
+    std::cout << "posefilter " << posefilter::Version() << "\n";
+    return 0;
   }
   for (const auto& c : kCommands) {
     if (std::strcmp(argv[1], c.name) == 0) return c.run(argc - 1, argv + 1);

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Quick start: install dependencies, build, then estimate a pose on a built-in synthetic scene.
+# Quick start: install dependencies, build the command-line tool (the library and the
+# `posefilter` CLI only: no test, benchmark or Python target), then estimate a pose on a
+# built-in synthetic scene. Arguments go to `posefilter demo`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-scripts/build.sh
+cmake --preset release >/dev/null
+cmake --build --preset release --target posefilter_bin
 build/release/posefilter demo --out build/demo "$@"

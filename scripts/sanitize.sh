@@ -4,14 +4,16 @@
 # scripts/fuzz.sh), builds what the tests need and runs them with ctest, without the tests
 # labelled `slow` (too slow under ASan) or `tsan` (scripts/tsan.sh).
 #
-#   scripts/sanitize.sh [--all] [ctest arguments...]
+#   scripts/sanitize.sh [--all] [--build-only | --test-only] [ctest arguments...]
 #
 # Default (CI): the library, the CLI and the tests of the file readers and the CLI: the ctest
 # labels core, prior, eval and cli (every test that parses input or runs the `posefilter`
 # binary). --all: every test binary (render, filter, synth and hw too; about twice the time).
 # Exits non-zero when a test fails or when any process, including a `posefilter` run started by
 # a CLI test, wrote a sanitizer report (reports go to build/asan/sanitizer-logs/ and are
-# printed). Extra arguments go to ctest (e.g. -R Mesh). See docs/RELIABILITY.md.
+# printed). --build-only stops after the build, --test-only runs the tests of an earlier build
+# (scripts/test.sh times the two apart). Extra arguments go to ctest (e.g. -R Mesh). See
+# docs/RELIABILITY.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -28,8 +30,17 @@ if [ "${1:-}" = --all ]; then
   labels=''
   targets=(all)
 fi
-cmake --preset asan >/dev/null
-cmake --build --preset asan --parallel "$jobs" --target "${targets[@]}"
+build=1
+tests=1
+case "${1:-}" in
+  --build-only) tests=0; shift ;;
+  --test-only) build=0; shift ;;
+esac
+if [ "$build" = 1 ]; then
+  cmake --preset asan >/dev/null
+  cmake --build --preset asan --parallel "$jobs" --target "${targets[@]}"
+fi
+[ "$tests" = 1 ] || exit 0
 
 logs=$root/build/asan/sanitizer-logs
 rm -rf "$logs"

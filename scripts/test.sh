@@ -3,15 +3,38 @@
 # (ctest, Python included), then the unit and CLI tests under AddressSanitizer + UBSan
 # (scripts/sanitize.sh) and a bounded fuzz run of every file reader (scripts/fuzz.sh,
 # POSEFILTER_FUZZ_SECONDS per target, default 5). Arguments go to the release ctest.
-# POSEFILTER_QUICK=1 stops after the release tests. docs/RELIABILITY.md.
+# POSEFILTER_QUICK=1 stops after the release tests. Ends with the wall time of each phase.
+# docs/RELIABILITY.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+
+phases=()
+started=$SECONDS
+# run NAME COMMAND...: one phase, timed; its time is printed at the end (also on failure).
+run() {
+  local name=$1 t0=$SECONDS rc=0
+  shift
+  "$@" || rc=$?
+  phases+=("$(printf '%-34s %5d s%s' "$name" $((SECONDS - t0)) "$([ "$rc" -ne 0 ] && echo "  (failed: exit $rc)")")")
+  return "$rc"
+}
+summary() {
+  local rc=$?
+  echo
+  echo "scripts/test.sh: time per phase"
+  for p in "${phases[@]}"; do echo "  $p"; done
+  printf '  %-34s %5d s\n' total $((SECONDS - started))
+  exit "$rc"
+}
+trap summary EXIT
+
+run "setup (apt packages)" scripts/setup.sh
 # The benchmark programs are not built here: no test runs them (scripts/build.sh builds them).
-POSEFILTER_BUILD_BENCH=OFF scripts/build.sh
-ctest --preset release "$@"
+run "release build" env POSEFILTER_BUILD_BENCH=OFF scripts/build.sh
+run "release tests (ctest)" ctest --preset release "$@"
 if [ "${POSEFILTER_QUICK:-0}" = 1 ]; then
   exit 0
 fi
-scripts/sanitize.sh
-scripts/fuzz.sh "${POSEFILTER_FUZZ_SECONDS:-5}" 2
+run "asan build" scripts/sanitize.sh --build-only
+run "asan tests" scripts/sanitize.sh --test-only
+run "fuzzing (fuzz.sh)" scripts/fuzz.sh "${POSEFILTER_FUZZ_SECONDS:-5}" 2

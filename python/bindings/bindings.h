@@ -50,6 +50,7 @@
 #include "posefilter/scene_io.h"
 #include "posefilter/synth.h"
 #include "posefilter/tracker.h"
+#include "posefilter/version.h"
 
 
 namespace py = pybind11;

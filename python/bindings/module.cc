@@ -9,6 +9,7 @@ PYBIND11_MODULE(_posefilter, m) {
 
   // posefilter::Error → posefilter.Error, a ValueError (bad input: files, arrays, options).
   py::register_exception<Error>(m, "Error", PyExc_ValueError);
+  m.attr("__version__") = Version();
 
   BindGeometry(m);
   BindIoAndMetrics(m);

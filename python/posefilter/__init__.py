@@ -66,6 +66,6 @@ from ._posefilter import (  # noqa: F401
     ycbv_class_names,
 )
 
-__version__ = "0.1.0"
+from ._posefilter import __version__  # the C++ build's version (posefilter/version.h)
 
 __all__ = [name for name in dir() if not name.startswith("_")]

@@ -132,3 +132,14 @@ if __name__ == "__main__":
     text = path.read_text()
     start, end = text.index(STUB_BEGIN), text.index(STUB_END) + len(STUB_END)
     path.write_text(text[:start] + estimator_init_stub() + text[end:])
+
+
+def test_version_is_the_clis():
+    import subprocess
+
+    assert pf.__version__.count(".") == 2
+    cli = os.environ.get("POSEFILTER_CLI_PATH")
+    if not cli:
+        pytest.skip("POSEFILTER_CLI_PATH is not set (ctest sets it)")
+    out = subprocess.run([cli, "--version"], capture_output=True, text=True, check=True).stdout
+    assert out == f"posefilter {pf.__version__}\n"

@@ -13,6 +13,7 @@
 
 #include "cli/cli_fixture.h"
 #include "posefilter/depth_image.h"
+#include "posefilter/version.h"
 #include "test_util.h"
 
 namespace posefilter {
@@ -35,6 +36,16 @@ std::vector<std::string> SmallBoxEstimate(const std::string& depth, const std::s
   std::vector<std::string> a = {"estimate", "--depth", depth, "--camera", camera, "--quiet"};
   a.insert(a.end(), e.begin(), e.end());
   return a;
+}
+
+TEST_F(CliTest, VersionIsTheLibrarysAndTakesNoArguments) {
+  const RunResult v = Run({"--version"});
+  EXPECT_EQ(v.code, 0) << v.err;
+  EXPECT_EQ(v.out, std::string("posefilter ") + Version() + "\n");
+  EXPECT_NE(std::string(Version()).find('.'), std::string::npos);
+  const RunResult extra = Run({"--version", "now"});
+  EXPECT_EQ(extra.code, 2);
+  EXPECT_NE(extra.err.find("--version takes no arguments (got 'now')"), std::string::npos) << extra.err;
 }
 
 TEST_F(CliTest, OutputNamingAnInputIsRefusedAndTheInputKept) {

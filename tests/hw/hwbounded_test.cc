@@ -330,6 +330,27 @@ TEST(HwBoundedTops, TheWeighTopOnTheTorusWith510ParticlesIsBitIdenticalToTheSequ
   }
 }
 
+// Every FIFO of the weigh region one deep: the region only stalls more, it cannot deadlock
+// (each process reads its streams in the order their producers write them), so the declared
+// depths are a matter of throughput, not of correctness.
+TEST(HwBoundedTops, WithEveryFifoOneDeepTheWeighTopsStillGiveTheSameResults) {
+  auto wp = std::make_unique<WeighProblem>();
+  MakeTorusProblem(wp.get(), 120);
+  for (int cores : {5, 10}) {
+    WeighWords seq, shallow;
+    {
+      const ScopedMode mode(Mode::kSequential);
+      WeighTop(*wp, cores, &seq);
+    }
+    {
+      const ScopedMode mode(Mode::kBounded);
+      const hls::sim::ScopedDepthLimit one(1);
+      WeighTop(*wp, cores, &shallow);
+    }
+    EXPECT_TRUE(seq.words == shallow.words) << cores << " cores";
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The whole hw engine: every top, every iteration.
 
@@ -378,6 +399,20 @@ TEST(HwBoundedTops, EveryTopOfTheEngineOnTheTorusIsBitIdenticalToTheSequentialMo
   const EstimateResult bounded = RunIn(Mode::kBounded, in, scene.target, prior, cls);
   EXPECT_EQ(seq.stats.weighings, 2 * kHwMaxParticles);
   ExpectSameRun(seq, bounded);
+  // The initialisation and update regions with every FIFO one deep (fewer particles).
+  FilterOptions small = BoundedRunOptions();
+  small.num_particles = 64;
+  EstimateResult small_seq, small_shallow;
+  {
+    const ScopedMode m(Mode::kSequential);
+    small_seq = EstimatePose(in, scene.target, prior, cls, small);
+  }
+  {
+    const ScopedMode m(Mode::kBounded);
+    const hls::sim::ScopedDepthLimit one(1);
+    small_shallow = EstimatePose(in, scene.target, prior, cls, small);
+  }
+  ExpectSameRun(small_seq, small_shallow);
 }
 
 // A real YCB-Video frame: its depth, camera, one object's mesh (reduced by the engine to its

@@ -141,12 +141,15 @@ TEST(PpfTest, ProposalsDoNotDependOnThreads) {
 TEST(PpfTest, TheCacheIsReusedAndABadFileIsRebuilt) {
   const fs::path dir = FreshTempPath("ppf_cache");
   const Mesh mesh = MakeBox(0.1, 0.06, 0.04);
+  // A coarse model (a tenth of the diameter per voxel): the cache does not depend on its size.
+  PpfOptions base;
+  base.distance_step = 0.1;
   std::string status;
-  const PpfModel built = LoadOrBuildPpfModel(mesh, {}, dir.string(), &status);
+  const PpfModel built = LoadOrBuildPpfModel(mesh, base, dir.string(), &status);
   EXPECT_EQ(status, "built");
-  const fs::path file = PpfCachePath(mesh, {}, dir.string());
+  const fs::path file = PpfCachePath(mesh, base, dir.string());
   ASSERT_TRUE(fs::exists(file));
-  const PpfModel loaded = LoadOrBuildPpfModel(mesh, {}, dir.string(), &status);
+  const PpfModel loaded = LoadOrBuildPpfModel(mesh, base, dir.string(), &status);
   EXPECT_EQ(status, "loaded");
   ASSERT_EQ(loaded.points.size(), built.points.size());
   ASSERT_EQ(loaded.entries.size(), built.entries.size());
@@ -159,7 +162,7 @@ TEST(PpfTest, TheCacheIsReusedAndABadFileIsRebuilt) {
 
   auto expect_rebuilt = [&](const std::string& bytes, const std::string& why) {
     testing_util::WriteFile(file, bytes);
-    const PpfModel m = LoadOrBuildPpfModel(mesh, {}, dir.string(), &status);
+    const PpfModel m = LoadOrBuildPpfModel(mesh, base, dir.string(), &status);
     EXPECT_NE(status.find("rebuilt"), std::string::npos) << why << ": " << status;
     EXPECT_NE(status.find(why), std::string::npos) << status;
     EXPECT_EQ(m.entries.size(), built.entries.size());
@@ -173,11 +176,11 @@ TEST(PpfTest, TheCacheIsReusedAndABadFileIsRebuilt) {
 
   // A file of another mesh under this mesh's name (a stale cache after an edit in place).
   const Mesh other = MakeBox(0.1, 0.06, 0.05);
-  LoadOrBuildPpfModel(other, {}, dir.string(), &status);
-  expect_rebuilt(testing_util::ReadFile(PpfCachePath(other, {}, dir.string())), "another mesh");
+  LoadOrBuildPpfModel(other, base, dir.string(), &status);
+  expect_rebuilt(testing_util::ReadFile(PpfCachePath(other, base, dir.string())), "another mesh");
 
   // Other options give another file; a file of other options under this name is rebuilt.
-  PpfOptions coarse;
+  PpfOptions coarse = base;
   coarse.angle_bins = 10;
   EXPECT_NE(PpfCachePath(mesh, coarse, dir.string()), file.string());
   LoadOrBuildPpfModel(mesh, coarse, dir.string(), &status);

@@ -95,6 +95,23 @@ class ScopedMode {
   Mode previous_;
 };
 
+// An upper bound on every bounded stream's depth (0 = none): a test that a design still runs,
+// only slower, when its FIFOs are shallower than declared (ScopedDepthLimit).
+inline std::atomic<int>& DepthLimit() {
+  static std::atomic<int> limit{0};
+  return limit;
+}
+class ScopedDepthLimit {
+ public:
+  explicit ScopedDepthLimit(int limit) : previous_(DepthLimit().load()) { DepthLimit().store(limit); }
+  ~ScopedDepthLimit() { DepthLimit().store(previous_); }
+  ScopedDepthLimit(const ScopedDepthLimit&) = delete;
+  ScopedDepthLimit& operator=(const ScopedDepthLimit&) = delete;
+
+ private:
+  int previous_;
+};
+
 // A deadlock (or livelock) of a bounded simulation; what() names every blocked process and its
 // stream.
 class Deadlock : public std::runtime_error {

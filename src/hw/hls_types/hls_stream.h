@@ -141,10 +141,13 @@ class stream {
  private:
 #ifndef __SYNTHESIS__
   void Attach() { sched_ = ::hls::sim::BoundedScheduler(); }
-  size_t Capacity() const { return static_cast<size_t>(depth()); }
+  size_t Capacity() const {
+    const int limit = ::hls::sim::DepthLimit().load(std::memory_order_relaxed);
+    return static_cast<size_t>(limit > 0 && limit < depth() ? limit : depth());
+  }
   std::string Describe(const char* op, const char* state) const {
     return std::string(op) + " '" + name_ + "', " + state + " (" + std::to_string(fifo_.size()) + " of " +
-           std::to_string(depth()) + ")";
+           std::to_string(Capacity()) + ")";
   }
   // Blocks the running process until `ready` holds; `slot` is this stream's waiter of that side.
   template <typename Pred>
