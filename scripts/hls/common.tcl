@@ -1,7 +1,8 @@
 # scripts/hls/common.tcl — shared by init.tcl, weigh5.tcl, weigh10.tcl, update.tcl (Vitis HLS):
 #   vitis_hls -f scripts/hls/<top>.tcl          (from any directory)
 # Environment:
-#   POSEFILTER_HLS_STEPS    the steps to run, default "csim csynth cosim"
+#   POSEFILTER_HLS_STEPS    the steps to run, default "csim csynth cosim export" (export: the
+#                           top as a Vivado IP, export_design -format ip_catalog)
 #   POSEFILTER_HLS_VECTORS  the golden-vector directory the test benches read, default
 #                           <repo>/build/release/tests/hls/vectors (written by ctest's
 #                           hls_golden_write or `hls_tb golden <dir>`; see README.md)
@@ -23,7 +24,7 @@ proc posefilter_env {name default} {
 # bench defines <tb_defs> (e.g. -DHLS_TB_CORES=10).
 proc posefilter_hls_flow {project top tb tb_defs} {
   set root $::posefilter_root
-  set steps [posefilter_env POSEFILTER_HLS_STEPS "csim csynth cosim"]
+  set steps [posefilter_env POSEFILTER_HLS_STEPS "csim csynth cosim export"]
   set vectors [posefilter_env POSEFILTER_HLS_VECTORS [file join $root build release tests hls vectors]]
   set out [posefilter_env POSEFILTER_HLS_OUT [pwd]]
   set cflags "-std=c++17 -I$root/src -I$root/include"
@@ -38,5 +39,6 @@ proc posefilter_hls_flow {project top tb tb_defs} {
   if {[lsearch $steps csim] >= 0} { csim_design -argv $vectors }
   if {[lsearch $steps csynth] >= 0} { csynth_design }
   if {[lsearch $steps cosim] >= 0} { cosim_design -argv $vectors }
+  if {[lsearch $steps export] >= 0} { export_design -format ip_catalog }
   close_project
 }

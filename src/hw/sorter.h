@@ -79,8 +79,10 @@ SORT_CELL_SHIFT:
 // value) into sorted_w / sorted_idx, descending, ties in arrival order.
 inline void SortWeights(hls::stream<weight_t>& weights, int n, weight_t sorted_w[kMaxParticles],
                         particle_index_t sorted_idx[kMaxParticles] HW_TRACE_PARAM) {
+  // Registers, every dimension partitioned: the unrolled chain touches every cell and every
+  // register of a cell in one clock (a memory of either dimension would serialise them).
   SortEntry cells[kSortCells][kSortCellSize];
-#pragma HLS ARRAY_PARTITION variable = cells complete dim = 2
+#pragma HLS ARRAY_PARTITION variable = cells complete dim = 0
   int fill[kSortCells];
 #pragma HLS ARRAY_PARTITION variable = fill complete
   if (n > kMaxParticles) n = kMaxParticles;
