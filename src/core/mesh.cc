@@ -122,9 +122,19 @@ double Mesh::Diameter() const {
       p.push_back(vertices[i].cast<double>());
     }
   }
+  // Plain arrays and scalar arithmetic (the same sums as Eigen's squaredNorm, in the same order):
+  // this O(n²) loop runs at full speed in builds that do not inline Eigen (the sanitizers').
+  const size_t m = p.size();
+  std::vector<double> x(m), y(m), z(m);
+  for (size_t i = 0; i < m; ++i) x[i] = p[i].x(), y[i] = p[i].y(), z[i] = p[i].z();
   double best = 0.0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    for (size_t j = i + 1; j < p.size(); ++j) best = std::max(best, (p[i] - p[j]).squaredNorm());
+  for (size_t i = 0; i < m; ++i) {
+    const double xi = x[i], yi = y[i], zi = z[i];
+    for (size_t j = i + 1; j < m; ++j) {
+      const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      if (d2 > best) best = d2;
+    }
   }
   return std::sqrt(best);
 }

@@ -478,10 +478,19 @@ Dataset ReadYcbvFolder(const std::string& root, const std::string& targets_path)
   for (auto& m : ds.models) {
     if (!m.points_path.empty()) {
       const std::vector<Eigen::Vector3f> pts = ReadXyzPoints(m.points_path);
-      double d2 = 0;
-      for (std::size_t i = 0; i < pts.size(); ++i)
-        for (std::size_t j = i + 1; j < pts.size(); ++j) d2 = std::max(d2, double((pts[i] - pts[j]).squaredNorm()));
-      m.diameter_m = std::sqrt(d2);
+      // Squared distances in float (as Eigen's squaredNorm of the difference, same order), in
+      // plain arrays so that the O(n²) loop is fast in builds that do not inline Eigen.
+      const std::size_t n = pts.size();
+      std::vector<float> x(n), y(n), z(n);
+      for (std::size_t i = 0; i < n; ++i) x[i] = pts[i].x(), y[i] = pts[i].y(), z[i] = pts[i].z();
+      float d2 = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+          const float dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+          const float e = dx * dx + dy * dy + dz * dz;
+          if (e > d2) d2 = e;
+        }
+      m.diameter_m = std::sqrt(double(d2));
     } else if (used_models.count(m.name)) {
       m.diameter_m = LoadDatasetMesh(m).Diameter();
     }

@@ -11,9 +11,11 @@
 //                     HwUpdateTop) with bounded streams and concurrent processes gives the
 //                     sequential model's outputs bit for bit: HwWeighTop5 directly on the
 //                     2048-face torus with 510 particles (and the same cycle trace); the whole
-//                     hw engine with 510 particles (every top, each iteration) on the torus
-//                     and on a real YCB-Video frame with its mesh at the engine's level of
-//                     detail and the windows the frame's box gives.
+//                     hw engine (every top, each iteration) on the torus with 96 particles;
+//                     with every FIFO one deep, the same results.
+//   HwBoundedLong   — the whole hw engine with 510 particles on the torus and on a real
+//                     YCB-Video frame, with its mesh at the engine's level of detail and the
+//                     windows the frame's box gives (ctest LABEL long: outside scripts/test.sh).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -335,7 +337,7 @@ TEST(HwBoundedTops, TheWeighTopOnTheTorusWith510ParticlesIsBitIdenticalToTheSequ
 // depths are a matter of throughput, not of correctness.
 TEST(HwBoundedTops, WithEveryFifoOneDeepTheWeighTopsStillGiveTheSameResults) {
   auto wp = std::make_unique<WeighProblem>();
-  MakeTorusProblem(wp.get(), 120);
+  MakeTorusProblem(wp.get(), 36);
   for (int cores : {5, 10}) {
     WeighWords seq, shallow;
     {
@@ -382,11 +384,16 @@ void ExpectSameRun(const EstimateResult& a, const EstimateResult& b) {
   EXPECT_EQ(a.stats.resample_cdf_reads, b.stats.resample_cdf_reads);
 }
 
-EstimateResult RunIn(Mode mode, const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls) {
+EstimateResult RunIn(Mode mode, const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                     int particles) {
   const ScopedMode m(mode);
-  return EstimatePose(scene, mesh, prior, cls, BoundedRunOptions());
+  FilterOptions o = BoundedRunOptions();
+  o.num_particles = particles;
+  return EstimatePose(scene, mesh, prior, cls, o);
 }
 
+// Every top of the engine (HwInitTop, HwWeighTop<10>, HwUpdateTop) on the torus scene with 96
+// particles, and again with every FIFO one deep; the 510-particle runs are HwBoundedLong's.
 TEST(HwBoundedTops, EveryTopOfTheEngineOnTheTorusIsBitIdenticalToTheSequentialModel) {
   SynthOptions so;
   so.target = "torus";
@@ -395,29 +402,37 @@ TEST(HwBoundedTops, EveryTopOfTheEngineOnTheTorusIsBitIdenticalToTheSequentialMo
   const int cls = prior.ClassIndex(scene.target.name);
   const SceneInput in{scene.depth, scene.camera};
   ASSERT_EQ(scene.target.faces.size(), 2048u);
-  const EstimateResult seq = RunIn(Mode::kSequential, in, scene.target, prior, cls);
-  const EstimateResult bounded = RunIn(Mode::kBounded, in, scene.target, prior, cls);
+  const EstimateResult seq = RunIn(Mode::kSequential, in, scene.target, prior, cls, 96);
+  const EstimateResult bounded = RunIn(Mode::kBounded, in, scene.target, prior, cls, 96);
+  EXPECT_EQ(seq.stats.weighings, 2 * 96);
+  ExpectSameRun(seq, bounded);
+  EstimateResult shallow;
+  {
+    const hls::sim::ScopedDepthLimit one(1);
+    shallow = RunIn(Mode::kBounded, in, scene.target, prior, cls, 96);
+  }
+  ExpectSameRun(seq, shallow);
+}
+
+// The full particle set (510) through every top, on the torus. ctest LABEL long (outside
+// scripts/test.sh: about 30 s).
+TEST(HwBoundedLong, EveryTopOfTheEngineOnTheTorusWith510ParticlesIsBitIdenticalToTheSequentialModel) {
+  SynthOptions so;
+  so.target = "torus";
+  const SynthScene scene = MakeSynthScene(so, 3);
+  const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
+  const int cls = prior.ClassIndex(scene.target.name);
+  const SceneInput in{scene.depth, scene.camera};
+  const EstimateResult seq = RunIn(Mode::kSequential, in, scene.target, prior, cls, kHwMaxParticles);
+  const EstimateResult bounded = RunIn(Mode::kBounded, in, scene.target, prior, cls, kHwMaxParticles);
   EXPECT_EQ(seq.stats.weighings, 2 * kHwMaxParticles);
   ExpectSameRun(seq, bounded);
-  // The initialisation and update regions with every FIFO one deep (fewer particles).
-  FilterOptions small = BoundedRunOptions();
-  small.num_particles = 64;
-  EstimateResult small_seq, small_shallow;
-  {
-    const ScopedMode m(Mode::kSequential);
-    small_seq = EstimatePose(in, scene.target, prior, cls, small);
-  }
-  {
-    const ScopedMode m(Mode::kBounded);
-    const hls::sim::ScopedDepthLimit one(1);
-    small_shallow = EstimatePose(in, scene.target, prior, cls, small);
-  }
-  ExpectSameRun(small_seq, small_shallow);
 }
 
 // A real YCB-Video frame: its depth, camera, one object's mesh (reduced by the engine to its
 // level of detail) and a detection box around the object's ground-truth silhouette.
-TEST(HwBoundedTops, EveryTopOfTheEngineOnARealYcbVideoFrameIsBitIdenticalToTheSequentialModel) {
+// ctest LABEL long (outside scripts/test.sh: about 30 s).
+TEST(HwBoundedLong, EveryTopOfTheEngineOnARealYcbVideoFrameIsBitIdenticalToTheSequentialModel) {
   namespace fs = std::filesystem;
   const fs::path frame = testing_util::YcbvDataDir() / "scenes" / "ycbv_0000_000001";
   const fs::path models = testing_util::YcbvDataDir() / "models";
@@ -448,8 +463,8 @@ TEST(HwBoundedTops, EveryTopOfTheEngineOnARealYcbVideoFrameIsBitIdenticalToTheSe
   const Prior prior = PriorFromDetections({d}, PyramidLayout::Thesis(), classes);
   const int cls = prior.ClassIndex(obj.obj);
   ASSERT_GE(cls, 0);
-  const EstimateResult seq = RunIn(Mode::kSequential, in, mesh, prior, cls);
-  const EstimateResult bounded = RunIn(Mode::kBounded, in, mesh, prior, cls);
+  const EstimateResult seq = RunIn(Mode::kSequential, in, mesh, prior, cls, kHwMaxParticles);
+  const EstimateResult bounded = RunIn(Mode::kBounded, in, mesh, prior, cls, kHwMaxParticles);
   EXPECT_EQ(seq.stats.weighings, 2 * kHwMaxParticles);
   EXPECT_GT(seq.stats.faces_front, 0);
   ExpectSameRun(seq, bounded);

@@ -128,6 +128,32 @@ constexpr std::uint64_t kPollLimit = 10000000;
 
 class Scheduler;
 
+// What a blocked process waits for, kept as pointers and numbers (a deadlock report formats it;
+// a block costs no string work). `name` lives as long as the wait.
+struct Wait {
+  enum class Kind { kStream, kPoll, kProducer, kJoin };
+  Kind kind = Kind::kStream;
+  const char* op = "";                // kStream: "write to" / "read from"; kPoll: "empty()" …
+  const std::string* name = nullptr;  // the stream's, the producer's or the first pending process's
+  const char* state = "";             // kStream: "full" / "empty"
+  std::size_t fill = 0, capacity = 0; // kStream: the stream's occupancy and depth when it blocked
+  std::string Describe() const {
+    const std::string n = name ? *name : std::string("?");
+    switch (kind) {
+      case Kind::kStream:
+        return std::string(op) + " '" + n + "', " + state + " (" + std::to_string(fill) + " of " +
+               std::to_string(capacity) + ")";
+      case Kind::kPoll:
+        return std::string(op) + " of '" + n + "'";
+      case Kind::kProducer:
+        return "its producer " + n + " to end (a ping-pong buffer)";
+      case Kind::kJoin:
+        return "its processes to end (" + n + " first)";
+    }
+    return "";
+  }
+};
+
 // One simulated process: a coroutine with its own stack, or (owner = true) the thread that
 // entered the outermost region.
 struct Process {
@@ -138,7 +164,7 @@ struct Process {
   ucontext_t ctx;
   void* stack = nullptr;
   std::function<void()> body;
-  std::string waiting_for;   // for the report: "write to 'x', full (2 of 2)"
+  Wait wait;                 // what it is blocked on (the report's line)
   bool stream_wait = false;  // blocked on a stream or a producer (resumed with Deadlock)
   bool abort = false;        // resume by throwing Deadlock
   std::exception_ptr error;  // what the body threw
@@ -204,15 +230,15 @@ class Scheduler {
 
   // The running process waits until Ready() is called for it. stream_wait: blocked on a stream
   // or a producer (a deadlock resumes it by throwing). Throws Deadlock when resumed so.
-  void Block(const std::string& waiting_for, bool stream_wait) {
+  void Block(const Wait& wait, bool stream_wait) {
     Process* me = running_;
     if (me->owner && stream_wait && alive_ > 0) {
       std::fprintf(stderr, "hls::sim: the caller of a dataflow region blocked on %s while its processes run; "
-                           "only processes may use a region's streams\n", waiting_for.c_str());
+                           "only processes may use a region's streams\n", wait.Describe().c_str());
       std::abort();
     }
     me->state = Process::State::kBlocked;
-    me->waiting_for = waiting_for;
+    me->wait = wait;
     me->stream_wait = stream_wait;
     Dispatch();
     if (me->abort) {
@@ -233,10 +259,14 @@ class Scheduler {
 
   // A poll that found nothing (empty()/full() true, read_nb/write_nb refused): the running
   // process yields to the ready ones; too many in a row without any transfer is a livelock.
-  void FailedPoll(const std::string& what) {
+  void FailedPoll(const char* op, const std::string* stream_name) {
     if (++failed_polls_ >= kPollLimit && !deadlocked_) {
+      Wait w;
+      w.kind = Wait::Kind::kPoll;
+      w.op = op;
+      w.name = stream_name;
       DeclareDeadlock("livelock: " + std::to_string(kPollLimit) + " polls without a transfer on any stream, last " +
-                      running_->name + ": " + what);
+                      running_->name + ": " + w.Describe());
     }
     if (running_->abort) {
       running_->abort = false;
@@ -264,7 +294,10 @@ class Scheduler {
         }
       if (!pending) return;
       pending->joiner = running_;
-      Block("its processes to end (" + pending->name + " first)", false);
+      Wait w;
+      w.kind = Wait::Kind::kJoin;
+      w.name = &pending->name;
+      Block(w, false);
     }
   }
 
@@ -295,7 +328,10 @@ class Scheduler {
     try {
       if (me->after && me->after->state != Process::State::kDone) {
         me->after->dependents.push_back(me);
-        s->Block("its producer " + me->after->name + " to end (a ping-pong buffer)", true);
+        Wait w;
+        w.kind = Wait::Kind::kProducer;
+        w.name = &me->after->name;
+        s->Block(w, true);
       }
       me->body();
     } catch (...) {
@@ -332,7 +368,7 @@ class Scheduler {
     std::string r = "hls::sim " + kind + " in a bounded dataflow simulation; blocked:";
     std::vector<Process*> victims;
     for (Process* p : Blocked()) {
-      r += "\n  " + p->name + ": " + p->waiting_for;
+      r += "\n  " + p->name + ": " + p->wait.Describe();
       if (p->stream_wait) victims.push_back(p);
     }
     report_ = r;

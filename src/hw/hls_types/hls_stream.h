@@ -63,14 +63,14 @@ class stream {
   bool empty() const {
     const bool e = fifo_.empty();
 #ifndef __SYNTHESIS__
-    if (e && sched_) sched_->FailedPoll("empty() of '" + name_ + "'");
+    if (e && sched_) sched_->FailedPoll("empty()", &name_);
 #endif
     return e;
   }
   bool full() const {
 #ifndef __SYNTHESIS__
     if (sched_ && fifo_.size() >= Capacity()) {
-      sched_->FailedPoll("full() of '" + name_ + "'");
+      sched_->FailedPoll("full()", &name_);
       return true;
     }
 #endif
@@ -104,7 +104,7 @@ class stream {
   bool read_nb(T& out) {
     if (fifo_.empty()) {
 #ifndef __SYNTHESIS__
-      if (sched_) sched_->FailedPoll("read_nb() of '" + name_ + "'");
+      if (sched_) sched_->FailedPoll("read_nb()", &name_);
 #endif
       out = T();
       return false;
@@ -115,7 +115,7 @@ class stream {
   bool write_nb(const T& v) {
 #ifndef __SYNTHESIS__
     if (sched_ && fifo_.size() >= Capacity()) {
-      sched_->FailedPoll("write_nb() of '" + name_ + "'");
+      sched_->FailedPoll("write_nb()", &name_);
       return false;
     }
 #endif
@@ -145,10 +145,6 @@ class stream {
     const int limit = ::hls::sim::DepthLimit().load(std::memory_order_relaxed);
     return static_cast<size_t>(limit > 0 && limit < depth() ? limit : depth());
   }
-  std::string Describe(const char* op, const char* state) const {
-    return std::string(op) + " '" + name_ + "', " + state + " (" + std::to_string(fifo_.size()) + " of " +
-           std::to_string(Capacity()) + ")";
-  }
   // Blocks the running process until `ready` holds; `slot` is this stream's waiter of that side.
   template <typename Pred>
   void Await(Pred ready, ::hls::sim::Process** slot, const char* op, const char* state) {
@@ -158,7 +154,13 @@ class stream {
         ::hls::sim::Process** s;
         ~Clear() { *s = nullptr; }
       } clear{slot};
-      sched_->Block(Describe(op, state), true);
+      ::hls::sim::Wait w;
+      w.op = op;
+      w.name = &name_;
+      w.state = state;
+      w.fill = fifo_.size();
+      w.capacity = Capacity();
+      sched_->Block(w, true);
     }
   }
 #else
