@@ -1,12 +1,17 @@
-// posefilter hw-report — the hw engine's cycle model on a synthetic scene comparable to the
-// thesis's (640×480, thesis camera, N = 510, windows capped at 200×200, a model of 1024
-// vertices / 2048 faces — the synthetic torus), side by side with the thesis's figures
-// (thesis Ch. 7: Tables 7.2, 7.3, Fig. 7.11, 7.21). Two configurations: "thesis" (the given
-// options with every extension of ours off: no z-buffer, the thesis's 13 moves, no annealing,
-// niches, support plane or polish) and "ours" (the options as given). docs/HARDWARE.md explains
-// the model and the comparison.
+// posefilter hw-report — the hw engine's cycle model, side by side with the thesis's figures
+// (thesis Ch. 7: Tables 7.2, 7.3, Fig. 7.11, 7.21), on one of two scenes:
+//   - a synthetic scene comparable to the thesis's (640×480, thesis camera, N = 510, windows
+//     capped at 200×200, a model of 1024 vertices / 2048 faces — the synthetic torus);
+//   - --frame DIR: a real frame (a YCB-Video scene folder: depth.png, camera.json, gt.json,
+//     label.png) with one object's mesh reduced to the engine's level of detail and the windows
+//     its label mask's box gives (the box a segmentation front end would report), as the
+//     thesis's real scenes.
+// Two configurations: "thesis" (the given options with every extension of ours off: no
+// z-buffer, the thesis's 13 moves, no annealing, niches, support plane or polish) and "ours"
+// (the options as given). docs/HARDWARE.md explains the model and the comparison.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -16,9 +21,14 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "filter_cli.h"
+#include "posefilter/depth_image.h"
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/hw_engine.h"
+#include "posefilter/mask_prior.h"
+#include "posefilter/mesh.h"
+#include "posefilter/prior.h"
+#include "posefilter/scene_io.h"
 #include "posefilter/metrics.h"
 #include "posefilter/synth.h"
 
@@ -72,6 +82,80 @@ FilterOptions ThesisConfiguration(FilterOptions opt) {
   return opt;
 }
 
+// What the report models: the scene, the object and its prior, and the ground truth.
+struct ReportScene {
+  std::string description;  // for the header line
+  SceneInput input;
+  Mesh target;
+  Prior prior;
+  int cls = -1;
+  Eigen::Isometry3d gt = Eigen::Isometry3d::Identity();
+  std::vector<float> raw_pyramid;  // the synthetic scene's raw stage-1 output (empty for a frame)
+};
+
+// A YCB-Video scene folder: depth.png, camera.json, gt.json, label.png; the mesh models/<obj>.ply
+// (metres). The prior: the object's label-mask box as its one detection.
+ReportScene FrameScene(const std::string& dir, const std::string& models_arg, const std::string& object) {
+  namespace fs = std::filesystem;
+  const fs::path frame(dir);
+  if (!fs::is_directory(frame)) throw Error(dir + ": not a folder (--frame)");
+  for (const char* f : {"depth.png", "camera.json", "gt.json", "label.png"})
+    if (!fs::exists(frame / f)) throw Error((frame / f).string() + ": missing (--frame needs depth.png, camera.json, gt.json, label.png)");
+  const fs::path models = models_arg.empty() ? frame.parent_path().parent_path() / "models" : fs::path(models_arg);
+  ReportScene r;
+  const CameraFile cam = ReadCameraJson((frame / "camera.json").string());
+  r.input.camera = cam.camera;
+  r.input.depth = LoadDepthPng((frame / "depth.png").string(), cam.depth_scale);
+  ValidateScene(r.input, (frame / "depth.png").string());
+  const std::vector<GtObject> gt = ReadGtJson((frame / "gt.json").string());
+  if (gt.empty()) throw Error((frame / "gt.json").string() + ": no object");
+  const GtObject* obj = &gt[0];
+  if (!object.empty()) {
+    obj = nullptr;
+    for (const GtObject& g : gt)
+      if (g.obj == object) obj = &g;
+    if (!obj) throw Error("--object: '" + object + "' is not in " + (frame / "gt.json").string());
+  }
+  const fs::path mesh_path = models / (obj->obj + ".ply");
+  if (!fs::exists(mesh_path)) throw Error(mesh_path.string() + ": missing (--models)");
+  r.target = LoadMesh(mesh_path.string());
+  r.target.name = obj->obj;
+  r.gt = obj->T_cam_obj;
+  const LabelImage labels = LoadLabelPng((frame / "label.png").string());
+  if (labels.width != r.input.camera.width || labels.height != r.input.camera.height)
+    throw Error((frame / "label.png").string() + ": label image is " + std::to_string(labels.width) + "x" +
+                std::to_string(labels.height) + " but the camera is " + std::to_string(r.input.camera.width) + "x" +
+                std::to_string(r.input.camera.height));
+  const std::vector<InstanceMask> masks = MasksFromLabels(labels, YcbVideoMaskClasses(), (frame / "label.png").string());
+  const InstanceMask* mask = nullptr;
+  for (const InstanceMask& m : masks)
+    if (m.cls == obj->obj) mask = &m;
+  if (!mask) throw Error((frame / "label.png").string() + ": no pixel labelled '" + obj->obj + "'");
+  const std::vector<std::string> classes = YcbVideoClassNames();
+  r.prior = PriorFromDetections({MaskDetection(*mask)}, PyramidLayout::Thesis(), classes);
+  r.cls = r.prior.ClassIndex(obj->obj);
+  r.description = "frame " + frame.filename().string() + ", " + obj->obj;
+  return r;
+}
+
+ReportScene SyntheticScene(std::uint64_t seed, const std::string& target, double occlusion) {
+  SynthOptions so;
+  so.target = target;
+  so.occlusion = occlusion;
+  std::string why;
+  if (!so.IsValid(&why)) throw Error("invalid scene option: " + why);
+  const SynthScene scene = MakeSynthScene(so, seed);
+  ReportScene r;
+  r.input = SceneInput{scene.depth, scene.camera};
+  r.target = scene.target;
+  r.prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
+  r.cls = r.prior.ClassIndex(scene.target.name);
+  r.gt = scene.gt[0].T_cam_obj;
+  r.raw_pyramid = scene.raw_pyramid;
+  r.description = "scene seed " + std::to_string(seed) + ", " + target;
+  return r;
+}
+
 struct Configuration {
   std::string name;
   FilterOptions options;
@@ -83,7 +167,12 @@ nlohmann::json ProfileJson(const HwProfile& p, const PoseErrors& e) {
   nlohmann::json models = nlohmann::json::array();
   for (const HwCoreModel& m : p.models) {
     nlohmann::json mods = nlohmann::json::array();
-    for (const auto& mod : m.modules) mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}, {"ms", p.CyclesToMs(mod.cycles)}});
+    for (const auto& mod : m.modules)
+      mods.push_back({{"module", mod.module},
+                      {"cycles", mod.cycles},
+                      {"ms", p.CyclesToMs(mod.cycles)},
+                      {"memory_latency_cycles", mod.memory_cycles},
+                      {"memory_latency_ms", p.CyclesToMs(mod.memory_cycles)}});
     models.push_back({{"cores", m.cores},
                       {"depth_distribution_ms", p.CyclesToMs(m.depth_distribution_cycles)},
                       {"first_iteration_ms", p.CyclesToMs(m.first_iteration_cycles)},
@@ -93,10 +182,12 @@ nlohmann::json ProfileJson(const HwProfile& p, const PoseErrors& e) {
                       {"iteration_ms", p.CyclesToMs(m.iteration_cycles)},
                       {"depth_reads_shared", m.depth_reads_shared},
                       {"depth_reads_unshared", m.depth_reads_unshared},
+                      {"memory_latency_ms", p.CyclesToMs(m.memory_cycles)},
                       {"modules", mods}});
   }
   nlohmann::json init_mods = nlohmann::json::array();
-  for (const auto& mod : p.init_modules) init_mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}});
+  for (const auto& mod : p.init_modules)
+    init_mods.push_back({{"module", mod.module}, {"cycles", mod.cycles}, {"memory_latency_cycles", mod.memory_cycles}});
   const double faces_ratio = p.faces_front > 0 ? p.faces_total / p.faces_front : 0;
   return {{"vertices", p.num_vertices}, {"faces", p.num_faces}, {"particles", p.num_particles},
           {"iterations", p.iterations}, {"modelled_iterations", p.modelled_iterations}, {"clock_mhz", p.clock_mhz},
@@ -128,9 +219,10 @@ void PrintProfile(const Configuration& c) {
     std::printf("  %-32s %10s %10s\n", "  resample + diffusion", "", Ms(p.CyclesToMs(m.update_cycles)).c_str());
     std::printf("  %-32s %10.0f %10s\n", "  depth px read, shared", m.depth_reads_shared, "");
     std::printf("  %-32s %10.0f %10s\n", "  depth px read, unshared", m.depth_reads_unshared, "");
-    std::printf("  per module [cycles, ms]:\n");
+    std::printf("  per module [cycles, ms; of which DDR latency, cycles]:\n");
     for (const auto& mod : m.modules)
-      std::printf("    %-30s %10.0f %10s\n", mod.module.c_str(), mod.cycles, Ms(p.CyclesToMs(mod.cycles)).c_str());
+      std::printf("    %-30s %10.0f %10s %10.0f\n", mod.module.c_str(), mod.cycles, Ms(p.CyclesToMs(mod.cycles)).c_str(),
+                  mod.memory_cycles);
   }
   std::printf("%-34s %10s %10s\n", "once per run", "ours", "thesis");
   std::printf("  %-32s %10s %10s\n", "post-process [ms]", Ms(p.CyclesToMs(p.postprocess_cycles)).c_str(), "-");
@@ -163,6 +255,12 @@ int RunHwReport(int argc, char** argv) {
   // The thesis's depth fragments are 200×200 for every particle (eq. 7.8, Table 7.2): windows of
   // at least 4 object diameters are clipped to the 200-pixel cap.
   opt.render.min_window_diameters = 4;
+  std::string frame_dir, models_dir, object;
+  app.add_option("--frame", frame_dir,
+                 "a real frame instead of the synthetic scene: a YCB-Video scene folder (depth.png, camera.json, "
+                 "gt.json, label.png); the prior is the object's label-mask box");
+  app.add_option("--models", models_dir, "meshes of --frame, <obj>.ply in metres (default: FRAME/../../models)");
+  app.add_option("--object", object, "object of --frame (default: the first of its gt.json)");
   app.add_option("--scene-seed", scene_seed, "synthetic scene seed")->capture_default_str();
   app.add_option("--target", target, "synthetic object kind (torus: 1024 vertices, 2048 faces)")->capture_default_str();
   app.add_option("--occlusion", occlusion, "occluded fraction of the target")->capture_default_str();
@@ -171,9 +269,10 @@ int RunHwReport(int argc, char** argv) {
   app.add_option("--profile-every", popt.profile_every,
                  "model every k-th iteration (the first always; others reuse the last model)")
       ->capture_default_str();
-  app.add_option("--window-diameters", opt.render.min_window_diameters,
-                 "minimum window side in object diameters (4: every window 200x200, as the thesis; 1: the filter's default)")
-      ->capture_default_str();
+  auto* window_option =
+      app.add_option("--window-diameters", opt.render.min_window_diameters,
+                     "minimum window side in object diameters (default 4 on the synthetic scene: every window 200x200, "
+                     "as the thesis's Table 7.2; with --frame the filter's default: the windows the frame's box gives)");
   std::vector<std::string> configs = {"thesis", "ours"};
   app.add_option("--configs", configs,
                  "configurations to model: thesis (the options with every extension of ours off: no z-buffer, 13 moves, "
@@ -186,17 +285,15 @@ int RunHwReport(int argc, char** argv) {
 
   return RunApp(app, argc, argv, [&] {
     if (opt.engine != "hw") throw Error("--engine: hw-report models the hw engine only");
+    if (frame_dir.empty() && (!models_dir.empty() || !object.empty()))
+      throw Error(std::string(models_dir.empty() ? "--object" : "--models") + " applies to --frame only");
+    if (!frame_dir.empty() && window_option->count() == 0) opt.render.min_window_diameters = FilterOptions{}.render.min_window_diameters;
     CheckFilterOptions(opt);
     CheckOutputPaths({{json_path, "--json"}}, {});
     std::string pwhy;
     if (!popt.IsValid(&pwhy)) throw Error("invalid hw-report option: " + pwhy);
-    SynthOptions so;
-    so.target = target;
-    so.occlusion = occlusion;
-    std::string why;
-    if (!so.IsValid(&why)) throw Error("invalid scene option: " + why);
-    const SynthScene scene = MakeSynthScene(so, scene_seed);
-    const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
+    const ReportScene scene = frame_dir.empty() ? SyntheticScene(scene_seed, target, occlusion)
+                                                : FrameScene(frame_dir, models_dir, object);
     popt.raw_pyramid = scene.raw_pyramid;
     if (configs.empty()) throw Error("--configs: name at least one of thesis, ours");
     std::vector<Configuration> runs;
@@ -205,16 +302,15 @@ int RunHwReport(int argc, char** argv) {
       Configuration c;
       c.name = name;
       c.options = name == "thesis" ? ThesisConfiguration(opt) : opt;
-      c.profile = ProfileHw(SceneInput{scene.depth, scene.camera}, scene.target, prior, prior.ClassIndex(scene.target.name),
-                            c.options, popt);
+      c.profile = ProfileHw(scene.input, scene.target, scene.prior, scene.cls, c.options, popt);
       c.errors = ComputePoseErrors(SamplePoints(scene.target), scene.target.Diameter(), c.profile.result.T_cam_obj,
-                                   scene.gt[0].T_cam_obj);
+                                   scene.gt);
       runs.push_back(std::move(c));
     }
     const HwProfile& p0 = runs[0].profile;
-    std::printf("hw-report: scene seed %llu, %s (%d vertices, %d faces), %dx%d, N = %d, %.0f MHz\n\n",
-                (unsigned long long)scene_seed, target.c_str(), p0.num_vertices, p0.num_faces, scene.camera.width,
-                scene.camera.height, p0.num_particles, p0.clock_mhz);
+    std::printf("hw-report: %s (%d vertices, %d faces in the engine), %dx%d, N = %d, %.0f MHz\n\n",
+                scene.description.c_str(), p0.num_vertices, p0.num_faces, scene.input.camera.width,
+                scene.input.camera.height, p0.num_particles, p0.clock_mhz);
     for (const Configuration& c : runs) PrintProfile(c);
 
     // Side by side: Table 7.2 (depth distribution) and 7.3 (iterations) against each configuration.
@@ -243,10 +339,17 @@ int RunHwReport(int argc, char** argv) {
                           {"depth_distribution_ms", r.depth_distribution_ms},
                           {"first_iteration_ms", r.first_iteration_ms},
                           {"average_iteration_ms", r.average_iteration_ms}});
-      const nlohmann::json j = {
-          {"scene_seed", scene_seed}, {"target", target}, {"configurations", confs},
+      nlohmann::json j = {
+          {"scene", scene.description}, {"configurations", confs},
           {"thesis", {{"tables", tables}, {"init_tracker_saving", kThesisInitRatio},
                       {"resample_tracker_saving", kThesisResampleRatio}, {"faces_ratio", kThesisFacesRatio}}}};
+      if (frame_dir.empty()) {
+        j["scene_seed"] = scene_seed;
+        j["target"] = target;
+      } else {
+        j["frame"] = frame_dir;
+        j["object"] = scene.target.name;
+      }
       WriteFileAtomically(json_path, [&](std::ostream& out) { out << j.dump(1) << "\n"; });
     }
   });

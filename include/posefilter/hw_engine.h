@@ -54,6 +54,9 @@ struct HwProfileOptions {
 struct HwModuleCycles {
   std::string module;
   double cycles = 0;
+  // Of `cycles`, those spent waiting on DDR: the m_axi burst latency (64 clocks per burst,
+  // src/hw/latency.h kAxiReadLatency / kAxiWriteLatency) of the module's reads and writes.
+  double memory_cycles = 0;
 };
 
 // The model of one core count M, averaged over the modelled iterations.
@@ -68,6 +71,7 @@ struct HwCoreModel {
   double average_iteration_cycles = 0;  // mean over all iterations, the first included
   double depth_reads_shared = 0;        // depth pixels read per iteration, with window sharing
   double depth_reads_unshared = 0;      // … without (Σ window areas)
+  double memory_cycles = 0;             // Σ over modules of memory_cycles (weigh + update)
 };
 
 struct HwProfile {

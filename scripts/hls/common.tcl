@@ -6,6 +6,7 @@
 #   POSEFILTER_HLS_VECTORS  the golden-vector directory the test benches read, default
 #                           <repo>/build/release/tests/hls/vectors (written by ctest's
 #                           hls_golden_write or `hls_tb golden <dir>`; see README.md)
+#   POSEFILTER_HLS_CASE     the test benches' case, cube (default) or torus (README.md)
 #   POSEFILTER_HLS_OUT      where the projects go, default the current directory
 # The include path holds the repository's src/ and include/ but NOT src/hw/hls_types/: the
 # kernels' "ap_int.h", "ap_fixed.h" and "hls_stream.h" resolve to the vendor's headers, which
@@ -26,19 +27,20 @@ proc posefilter_hls_flow {project top tb tb_defs} {
   set root $::posefilter_root
   set steps [posefilter_env POSEFILTER_HLS_STEPS "csim csynth cosim export"]
   set vectors [posefilter_env POSEFILTER_HLS_VECTORS [file join $root build release tests hls vectors]]
+  set case [posefilter_env POSEFILTER_HLS_CASE cube]
   set out [posefilter_env POSEFILTER_HLS_OUT [pwd]]
   set cflags "-std=c++17 -I$root/src -I$root/include"
   cd $out
   open_project -reset $project
   set_top $top
-  add_files [file join $root scripts hls tops.cc] -cflags $cflags
+  add_files [file join $root src hw tops.cc] -cflags $cflags
   add_files -tb [file join $root scripts hls tb $tb] -cflags "$cflags -I$root/scripts/hls/tb $tb_defs"
   open_solution -reset solution1 -flow_target vivado
   set_part $::posefilter_part
   create_clock -period $::posefilter_clock_ns -name default
-  if {[lsearch $steps csim] >= 0} { csim_design -argv $vectors }
+  if {[lsearch $steps csim] >= 0} { csim_design -argv "$vectors $case" }
   if {[lsearch $steps csynth] >= 0} { csynth_design }
-  if {[lsearch $steps cosim] >= 0} { cosim_design -argv $vectors }
+  if {[lsearch $steps cosim] >= 0} { cosim_design -argv "$vectors $case" }
   if {[lsearch $steps export] >= 0} { export_design -format ip_catalog }
   close_project
 }

@@ -174,7 +174,10 @@ class HwRunner {
     InitOptions iopt;  // tracker on, LFSR leap on (docs/HARDWARE.md)
     InitReport report;
     if (init_trace) init_trace->Clear();
-    HwInitTop(m.init_prob, m.init_sum, m.volumes, gen, iopt, m.samples[0], N, report, init_trace);
+    {
+      const ScopedTopTrace traced(init_trace);
+      HwInitTop(m.init_prob, m.init_sum, m.volumes, gen, iopt, m.samples[0], N, report);
+    }
     res.stats.init_cdf_reads = std::int64_t(report.counters.reads.to_uint64());
     res.stats.init_cdf_reads_linear = std::int64_t(report.counters.reads_linear.to_uint64());
 
@@ -215,8 +218,9 @@ class HwRunner {
       if (!last) {
         ResampleCounters rc;
         // w_best = the sorter's first output; the sample memory on both of its read ports.
+        const ScopedTopTrace traced(update_trace);
         HwUpdateTop(m.sorted_w, m.sorted_idx, m.sorted_w[0], m.samples[cur], m.samples[cur], m.offsets, m.hypothesis, rprm_,
-                    resample_rng, dprm_, m.volumes, diffusion_rng, m.samples[1 - cur], &rc, update_trace);
+                    resample_rng, dprm_, m.volumes, diffusion_rng, m.samples[1 - cur], &rc);
         res.stats.resample_cdf_reads += rc.cdf_reads;
         res.stats.resample_cdf_reads_linear += rc.cdf_reads_linear;
       }
@@ -532,13 +536,14 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
 
   const int K = int(popt.cores.size());
   std::vector<HwCoreModel> acc(K);
-  std::vector<std::map<std::string, double>> module_acc(K);
+  std::vector<std::map<std::string, std::pair<double, double>>> module_acc(K);  // cycles, memory
   std::vector<std::vector<std::string>> module_order(K);
   std::vector<double> iteration_cycles_sum(K, 0.0), first_iteration(K, 0.0);
   int modelled = 0, iterations = 0;
   double window_area = 0;
   std::unique_ptr<CycleTrace> one(new CycleTrace);
   std::unique_ptr<CycleTrace> vm_trace(new CycleTrace);
+  std::unique_ptr<depth_t[]> depth_mem(new depth_t[kImageHeight * kImageWidth]);  // DistributeDepth's copy
   double last_model_iteration[16] = {};
 
   auto hook = [&](int it, int cur, CycleTrace* weigh, CycleTrace* update, bool last) {
@@ -578,8 +583,16 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
         if (mod == name) return double(c);
       return 0.0;
     };
-    const double head = double(ModuleDepth(*weigh, "sample_info") + ModuleDepth(*weigh, "ft_chain") +
-                               ModuleDepth(*weigh, "ft_distributor"));
+    // Head, before the first round: the depth distributor and the FT chain start when
+    // GatherSampleInfo has returned (its windows and sample copy are ping-pong buffers), so its
+    // whole time (the window memory's burst, then one particle per II) and the FT chain's fill.
+    // The vertex multiplier's model bursts run beside it (below, per M).
+    const double gather = double(ModuleTotal(*weigh, "sample_info") + ModuleDepth(*weigh, "ft_chain") +
+                                 ModuleDepth(*weigh, "ft_distributor"));
+    // The merger copies ρ on chip before its first particle: it cannot finish before that copy
+    // and its N particles at II 3.
+    const double merger_floor =
+        double(ModuleTotal(*weigh, "weight_merger")) - double(ModuleDepth(*weigh, "weight_merger"));
     // Tail after the last round: the merger's last particle (II 3 + depth), the sorter chain's
     // latency and its drain, the glue kernels' depths.
     const double tail = double(kWmParticlesII + ModuleDepth(*weigh, "weight_merger") + ModuleDepth(*weigh, "weight_split") +
@@ -590,24 +603,30 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
       const int M = popt.cores[k];
       // Depth distributor per round (its per-round cycles) and the vertex multiplier for M.
       std::vector<std::uint64_t> round_fill;
-      double dd_cycles = 0, reads_shared = 0, reads_unshared = 0;
+      double dd_cycles = 0, dd_load = 0, dd_memory = 0, reads_shared = 0, reads_unshared = 0;
       for (int first = 0; first < N; first += M) {
         const int active = std::min(M, N - first);
         hls::stream<Window> info[kMaxRasterCores];
         hls::stream<depth_t> dep[kMaxRasterCores];
         DepthDistributionCounts cnt;
         one->Clear();
-        DistributeDepth(active, M, windows.data() + first, m.depth, runner.config().img_width, info, dep, &cnt, one.get());
+        DistributeDepth(active, M, windows.data() + first, m.depth, runner.config().img_width,
+                        runner.config().img_height, depth_mem.get(), info, dep, &cnt, one.get());
         for (int c = 0; c < active; ++c) {
           while (!info[c].empty()) info[c].read();
           while (!dep[c].empty()) dep[c].read();
         }
-        round_fill.push_back(ModuleTotal(*one, "depth_distributor"));
+        // The depth image's copy on chip happens once per weighing, before the first round
+        // (in the head below), not per round.
+        const std::uint64_t load = LoopTotal(*one, "depth_distributor", "DD_DEPTH_LOAD");
+        round_fill.push_back(ModuleTotal(*one, "depth_distributor") - load);
         dd_cycles += double(round_fill.back());
+        dd_load = double(load);
+        dd_memory = double(ModuleMemory(*one, "depth_distributor"));
         reads_shared += double(cnt.reads_shared.to_uint64());
         reads_unshared += double(cnt.reads_unshared.to_uint64());
       }
-      double vm_cycles = 0;
+      double vm_cycles = 0, vm_load = 0, vm_memory = 0;
       {
         hls::stream<Vertex> vout[kMaxRasterCores];
         vm_trace->Clear();
@@ -616,8 +635,14 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
         for (int c = 0; c < M; ++c)
           while (!vout[c].empty()) vout[c].read();
         const int rounds = (N + M - 1) / M;
-        vm_cycles = double(LoopTrips(*vm_trace, "vertex_multiplier", "VM_VERTICES")) * rounds + 5;
+        vm_load = double(ModuleTotal(*vm_trace, "vertex_multiplier")) -
+                  double(LoopTrips(*vm_trace, "vertex_multiplier", "VM_VERTICES")) - kVmVerticesDepth;
+        vm_memory = double(ModuleMemory(*vm_trace, "vertex_multiplier"));
+        vm_cycles = vm_load + double(LoopTrips(*vm_trace, "vertex_multiplier", "VM_VERTICES")) * rounds + kVmVerticesDepth;
       }
+      // The cores start when the depth distributor has its depth copy (it starts after
+      // GatherSampleInfo) and the vertex multiplier its model copy (it starts at once).
+      const double head = std::max(gather + dd_load, vm_load + kVmVerticesDepth);
       // Busiest core: Σ over its particles of fill + compute.
       double busiest = 0;
       for (int c = 0; c < M; ++c) {
@@ -626,7 +651,7 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
         busiest = std::max(busiest, s);
       }
       const double rounds_cycles = double(ComposeRounds(work, round_fill, M));
-      const double weigh_cycles = head + rounds_cycles + tail;
+      const double weigh_cycles = head + std::max(rounds_cycles, merger_floor) + tail;
       HwCoreModel& a = acc[k];
       a.cores = M;
       a.depth_distribution_cycles += dd_cycles;
@@ -639,18 +664,20 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
       last_model_iteration[k] = iter;
       iteration_cycles_sum[k] += iter;
       if (it == 0) first_iteration[k] = iter;
-      auto add = [&](const std::string& name, double c) {
+      auto add = [&](const std::string& name, double c, double memory) {
         if (!module_acc[k].count(name)) module_order[k].push_back(name);
-        module_acc[k][name] += c;
+        module_acc[k][name].first += c;
+        module_acc[k][name].second += memory;
+        a.memory_cycles += memory;
       };
       for (const auto& [mod, c] : weigh_modules) {
-        if (mod == "raster_core") add(mod, busiest);
-        else if (mod == "depth_distributor") add(mod, dd_cycles);
-        else if (mod == "vertex_multiplier") add(mod, vm_cycles);
-        else add(mod, module_cycles(mod));
+        if (mod == "raster_core") add(mod, busiest, 0);
+        else if (mod == "depth_distributor") add(mod, dd_load + dd_cycles, dd_memory);
+        else if (mod == "vertex_multiplier") add(mod, vm_cycles, vm_memory);
+        else add(mod, module_cycles(mod), double(ModuleMemory(*weigh, mod)));
       }
       if (update)
-        for (const auto& [mod, c] : ModuleCycles(*update)) add(mod, double(c));
+        for (const auto& [mod, c] : ModuleCycles(*update)) add(mod, double(c), double(ModuleMemory(*update, mod)));
     }
     (void)last;
   };
@@ -662,7 +689,8 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
   prof.iterations = iterations;
   prof.modelled_iterations = modelled;
   prof.init_cycles = double(DataflowLatency(*init_trace));
-  for (const auto& [mod, c] : ModuleCycles(*init_trace)) prof.init_modules.push_back({mod, double(c)});
+  for (const auto& [mod, c] : ModuleCycles(*init_trace))
+    prof.init_modules.push_back({mod, double(c), double(ModuleMemory(*init_trace, mod))});
   const FilterStats& st = prof.result.stats;
   prof.init_reads = double(st.init_cdf_reads) / N;
   prof.init_reads_linear = double(st.init_cdf_reads_linear) / N;
@@ -684,7 +712,9 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
     a.first_iteration_cycles = prof.postprocess_cycles + prof.init_cycles + first_iteration[k];
     a.average_iteration_cycles =
         (iteration_cycles_sum[k] + prof.postprocess_cycles + prof.init_cycles) / std::max(1, iterations);
-    for (const auto& name : module_order[k]) a.modules.push_back({name, module_acc[k][name] / d});
+    a.memory_cycles /= d;
+    for (const auto& name : module_order[k])
+      a.modules.push_back({name, module_acc[k][name].first / d, module_acc[k][name].second / d});
     prof.models.push_back(a);
   }
   return prof;

@@ -64,7 +64,8 @@ CDF_NORM:
     out.write(c);
     ++trips;
   }
-  HW_TRACE("cdf", "CDF_NORM", trips, 1, kCdfNormDepth);
+  // prob is read in order from DDR (one burst): its latency adds to the depth (latency.h).
+  HW_TRACE_MEM("cdf", "CDF_NORM", trips, 1, kCdfNormDepth + kAxiReadLatency, kAxiReadLatency);
 }
 
 }  // namespace posefilter::hw

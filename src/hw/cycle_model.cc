@@ -42,6 +42,22 @@ std::uint64_t ModuleDepth(const CycleTrace& trace, const std::string& module) {
   return s;
 }
 
+std::uint64_t ModuleMemory(const CycleTrace& trace, const std::string& module) {
+  std::uint64_t s = 0;
+  for (int i = 0; i < trace.count; ++i) {
+    const LoopRecord& r = trace.records[i];
+    if ((module.empty() || module == r.module) && r.trips > 0) s += r.memory;
+  }
+  return s;
+}
+
+std::uint64_t LoopTotal(const CycleTrace& trace, const std::string& module, const std::string& loop) {
+  std::uint64_t s = 0;
+  for (int i = 0; i < trace.count; ++i)
+    if (module == trace.records[i].module && loop == trace.records[i].loop) s += LoopCycles(trace.records[i]);
+  return s;
+}
+
 std::uint64_t LoopTrips(const CycleTrace& trace, const std::string& module, const std::string& loop) {
   std::uint64_t s = 0;
   for (int i = 0; i < trace.count; ++i)

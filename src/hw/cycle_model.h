@@ -2,7 +2,8 @@
 // turns the kernels' loop records (hw_types.h CycleTrace: trips, II, depth per labelled loop)
 // into module latencies and composes them across the dataflow regions of an iteration.
 //
-//   loop cycles    = trips × II + depth            (depth counted once, only if trips > 0)
+//   loop cycles    = trips × II + depth            (depth counted once, only if trips > 0;
+//                                                  DDR burst latency is part of II or depth)
 //   module cycles  = Σ over the module's records in one call (its sequential latency)
 //   weigh region   = an explicit stage-overlap ("round") model of the render pipeline,
 //                    see ComposeRounds; the other modules of the region overlap with it
@@ -28,6 +29,11 @@ std::vector<std::pair<std::string, std::uint64_t>> ModuleCycles(const CycleTrace
 std::uint64_t ModuleTotal(const CycleTrace& trace, const std::string& module);
 // Σ of the pipeline depths of the records of `module` that ran (the module's fill latency).
 std::uint64_t ModuleDepth(const CycleTrace& trace, const std::string& module);
+// Σ of the DDR latency (LoopRecord::memory) of the records of `module` that ran ("" = every
+// record): the part of ModuleTotal spent waiting on m_axi bursts.
+std::uint64_t ModuleMemory(const CycleTrace& trace, const std::string& module);
+// Σ of LoopCycles over the records of one loop of one module.
+std::uint64_t LoopTotal(const CycleTrace& trace, const std::string& module, const std::string& loop);
 // Σ of trips of one loop of one module.
 std::uint64_t LoopTrips(const CycleTrace& trace, const std::string& module, const std::string& loop);
 

@@ -47,6 +47,7 @@
 #endif
 
 #include "hw/box_muller.h"
+#include "hw/burst.h"
 #include "hw/hw_types.h"
 #include "hw/latency.h"
 #include "hw/lfsr.h"
@@ -454,19 +455,33 @@ inline void Diffuse(const Sample in_mem[kMaxParticles], const depth_off_t in_off
                     const HeuristicVolume volumes[kNumCells], DiffusionRng& rng,
                     Sample out_mem[kMaxParticles] HW_TRACE_PARAM) {
   if (n > kMaxParticles) n = kMaxParticles;
+  // The moves read the sample memory at the resampled indices and the heuristic volumes at
+  // two cells per particle (its own and the move's target): on-chip copies of the DDR arrays
+  // (n × 88 + n × 18 bits, and kNumCells × 78 bits in a dual-port RAM: two reads per clock),
+  // one burst each per call.
+  Sample sample_mem[kMaxParticles];
+  depth_off_t off_mem[kMaxParticles];
+  HeuristicVolume volume_mem[kNumCells];
+  BurstLoad<Sample, kMaxParticles>(in_mem, sample_mem, n);
+  BurstLoad<depth_off_t, kMaxParticles>(in_off, off_mem, n);
+  BurstLoad<HeuristicVolume, kNumCells>(volumes, volume_mem, kNumCells);
+  HW_TRACE_MEM("diffusion", "DIFFUSION_LOAD_SAMPLES", uint64_t(n > 0 ? n : 0), 1, kBurstLoadDepth, kAxiReadLatency);
+  HW_TRACE_MEM("diffusion", "DIFFUSION_LOAD_OFFSETS", uint64_t(n > 0 ? n : 0), 1, kBurstLoadDepth, kAxiReadLatency);
+  HW_TRACE_MEM("diffusion", "DIFFUSION_LOAD_VOLUMES", kNumCells, 1, kBurstLoadDepth, kAxiReadLatency);
   int trips = 0;
 DIFFUSION_SAMPLES:
   for (int j = 0; j < n; ++j) {
 #pragma HLS PIPELINE II = 1
 #pragma HLS LOOP_TRIPCOUNT min = 1 max = 510
-    const Sample s = in_mem[selected[j].to_int()];
-    const depth_off_t off = in_off[selected[j].to_int()];
+    const Sample s = sample_mem[selected[j].to_int()];
+    const depth_off_t off = off_mem[selected[j].to_int()];
     const MoveDraw d = rng.Draw(params);  // the sources advance every clock
-    out_mem[j] = (j < num_elite) ? s : ApplyMove(s, d, w_best, params, volumes, off);
+    out_mem[j] = (j < num_elite) ? s : ApplyMove(s, d, w_best, params, volume_mem, off);
     ++trips;
   }
-  // Depth: the align-depth path + the Box–Muller units' latency (latency.h).
-  HW_TRACE("diffusion", "DIFFUSION_SAMPLES", trips, 1, kDiffusionDepth);
+  // Depth: the align-depth path + the Box–Muller units' latency (latency.h), and out_mem is a
+  // write burst to DDR, acknowledged after the write latency.
+  HW_TRACE_MEM("diffusion", "DIFFUSION_SAMPLES", trips, 1, kDiffusionDepth + kAxiWriteLatency, kAxiWriteLatency);
 }
 
 }  // namespace posefilter::hw

@@ -6,6 +6,7 @@
 // may be partial (N not a multiple of M): only its active cores get data.
 #pragma once
 
+#include "hw/burst.h"
 #include "hw/hw_types.h"
 #include "hw/latency.h"
 #include "hw/transform.h"
@@ -92,11 +93,20 @@ struct DepthDistributionCounts {
 // pixel shared by several windows of the round is read once.
 // Outputs per particle: its window on info_out[core], then width·height depth pixels on
 // depth_out[core].
+// The depth image (img_height rows of img_width pixels, row-major, in DDR) is first copied into
+// depth_mem, the thesis's depth BRAM (Fig. 7.19a: kImageHeight × kImageWidth × 12 bits, 114
+// RAMB36, owned by the caller like the raster cores' memories), by one burst per call: the
+// rows of the windows are not consecutive addresses, so reading them from DDR would pay the
+// burst latency once per (row, interval) segment.
 inline void DistributeDepth(int num_particles, int num_cores, const Window windows[kMaxParticles],
-                            const depth_t depth[kImageHeight * kImageWidth], int img_width,
+                            const depth_t depth[kImageHeight * kImageWidth], int img_width, int img_height,
+                            depth_t depth_mem[kImageHeight * kImageWidth],
                             hls::stream<Window> info_out[kMaxRasterCores],
                             hls::stream<depth_t> depth_out[kMaxRasterCores],
                             DepthDistributionCounts* counts HW_TRACE_PARAM) {
+  BurstLoad<depth_t, kImageHeight * kImageWidth>(depth, depth_mem, img_width * img_height);
+  HW_TRACE_MEM("depth_distributor", "DD_DEPTH_LOAD", uint64_t(img_width) * uint64_t(img_height), 1, kBurstLoadDepth,
+               kAxiReadLatency);
   uint64_t reads = 0, requested = 0, segments = 0, setup_ops = 0;
 DD_ROUNDS:
   for (int first = 0; first < num_particles; first += num_cores) {
@@ -176,7 +186,7 @@ DD_ROUNDS:
           for (int col = col_lo[k]; col < col_hi[k]; ++col) {
 #pragma HLS PIPELINE II = 1
 #pragma HLS LOOP_TRIPCOUNT min = 1 max = 640
-            const depth_t d = depth[row * img_width + col];  // the one read of this pixel
+            const depth_t d = depth_mem[row * img_width + col];  // the one read of this pixel
             ++reads;
           DD_CHANNELS:
             for (int c = 0; c < kMaxRasterCores; ++c) {

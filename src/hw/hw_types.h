@@ -84,6 +84,10 @@ struct LoopRecord {
   uint64_t trips;      // iterations executed in this call
   uint32_t ii;         // initiation interval, cycles (1 = fully pipelined)
   uint32_t depth;      // pipeline depth (latency of one iteration), cycles
+  // Of this record's cycles (trips × II + depth), those spent waiting on DDR through an m_axi
+  // port: the burst start latency (latency.h kAxiReadLatency / kAxiWriteLatency) once per
+  // burst. Included in the cycles above, reported apart (hw-report's memory latency).
+  uint64_t memory = 0;
 };
 
 // Fixed-capacity log of loop records (no heap): a kernel call appends one record per loop.
@@ -92,12 +96,12 @@ struct CycleTrace {
   LoopRecord records[kCapacity];
   int count = 0;
   bool overflowed = false;
-  void Add(const char* module, const char* loop, uint64_t trips, uint32_t ii, uint32_t depth) {
+  void Add(const char* module, const char* loop, uint64_t trips, uint32_t ii, uint32_t depth, uint64_t memory = 0) {
     if (count >= kCapacity) {
       overflowed = true;
       return;
     }
-    records[count++] = LoopRecord{module, loop, trips, ii, depth};
+    records[count++] = LoopRecord{module, loop, trips, ii, depth, memory};
   }
   void Clear() {
     count = 0;
@@ -105,17 +109,44 @@ struct CycleTrace {
   }
 };
 
+// The trace the tops (tops.h) record into on this thread: their signatures are the synthesized
+// ones, so the caller names it for the calls it makes, with ScopedTopTrace. None by default.
+inline CycleTrace*& TopTraceSlot() {
+  thread_local CycleTrace* trace = nullptr;
+  return trace;
+}
+inline CycleTrace* TopTrace() { return TopTraceSlot(); }
+// Names `trace` (may be null) as the tops' trace on this thread until the end of the scope.
+class ScopedTopTrace {
+ public:
+  explicit ScopedTopTrace(CycleTrace* trace) : previous_(TopTraceSlot()) { TopTraceSlot() = trace; }
+  ~ScopedTopTrace() { TopTraceSlot() = previous_; }
+  ScopedTopTrace(const ScopedTopTrace&) = delete;
+  ScopedTopTrace& operator=(const ScopedTopTrace&) = delete;
+
+ private:
+  CycleTrace* previous_;
+};
 }  // namespace posefilter::hw
+
 #define HW_TRACE_PARAM , ::posefilter::hw::CycleTrace* trace
 #define HW_TRACE_ARG , trace
 #define HW_TRACE(module, loop, trips, ii, depth) \
   do {                                            \
     if (trace) trace->Add(module, loop, trips, ii, depth); \
   } while (0)
+// A loop that waits on DDR: `memory` of its cycles are m_axi burst latency (LoopRecord).
+#define HW_TRACE_MEM(module, loop, trips, ii, depth, memory) \
+  do {                                                      \
+    if (trace) trace->Add(module, loop, trips, ii, depth, memory); \
+  } while (0)
 #else
 #define HW_TRACE_PARAM
 #define HW_TRACE_ARG
 #define HW_TRACE(module, loop, trips, ii, depth) \
   do {                                            \
+  } while (0)
+#define HW_TRACE_MEM(module, loop, trips, ii, depth, memory) \
+  do {                                                      \
   } while (0)
 #endif

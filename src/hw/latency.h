@@ -22,6 +22,25 @@
 
 namespace posefilter::hw {
 
+// ---- DDR through m_axi (docs/HARDWARE.md "Memory architecture") ----
+// Every memory argument of a top lives in DDR (the PS's DDR4 behind an HP port on the
+// Zynq UltraScale+) and is read or written through an m_axi adapter. A pipelined loop whose
+// addresses are an affine function of its counter is one burst (the adapter splits it into
+// max_read_burst_length-beat requests and keeps up to num_read_outstanding of them in flight,
+// so only the first beat waits); every other access pattern reads from an on-chip copy that a
+// burst filled (BurstLoad, burst.h). The cycle model charges:
+// kAxiReadLatency: clocks from a burst's read request to its first data beat. 64 is the
+// `latency` that Vitis HLS schedules an m_axi interface with when the INTERFACE pragma gives
+// none (UG1399, "Options for Controlling AXI4 Burst Behavior"): 320 ns at 200 MHz, the order
+// of a DDR4 page miss plus the PS interconnect. Paid once per burst.
+constexpr int kAxiReadLatency = 64;
+// kAxiWriteLatency: clocks from a write burst's last beat to its response (the process ends
+// only when its writes are acknowledged). The same default figure; paid once per burst.
+constexpr int kAxiWriteLatency = 64;
+// A burst load into on-chip RAM (BurstLoad): address/enable (1), then one word per clock; the
+// RAM write (1) after the latency.
+constexpr int kBurstLoadDepth = kAxiReadLatency + 2;
+
 // ---- Operator latencies (fx_math.h; ExpRom and WideReciprocal in postprocess.h) ----
 // Inline building blocks, not kernels: a kernel adds them to its loop's depth.
 // SinCos: radian→turn multiply (1 DSP, 2 stages), dual-port ROM read (1), interpolation
@@ -137,7 +156,8 @@ constexpr int kFtdElementsDepth = 3;
 // DD_SETUP: one comparison/shift of the insertion sorts and the merge per cycle; depth:
 // compare (1) + register write (1).
 constexpr int kDdSetupDepth = 2;
-// DD_PIXELS: address (1) + BRAM read (2) + window compare and stream write (1).
+// DD_PIXELS: address (1) + BRAM read of the on-chip depth image (2) + window compare and
+// stream write (1).
 constexpr int kDdPixelsDepth = 4;
 // Each (row, column interval) segment restarts the pixel pipeline: its fill (kDdPixelsDepth)
 // per segment, recorded as DD_SEGMENTS' II …

@@ -38,6 +38,7 @@
 #include <string>
 #endif
 
+#include "hw/burst.h"
 #include "hw/fx_math.h"
 #include "hw/hw_types.h"
 #include "hw/latency.h"
@@ -142,7 +143,15 @@ inline void Resample(const weight_t sorted_w[kMaxParticles], const particle_inde
   int pool = 0;
   const bool rot_capped = params.rotation_cap > 0;
   const bool capped = params.region_cap > 0 || rot_capped;
+  // The caps read the samples and their cells' labels at the sorted indices: on-chip copies
+  // (n × 88 bits and kNumCells × 8 bits, BRAM) of the DDR arrays, one burst each per call.
+  Sample sample_mem[kMaxParticles];
+  hypothesis_t hyp_mem[kNumCells];
   if (capped) {
+    BurstLoad<Sample, kMaxParticles>(samples, sample_mem, n);
+    BurstLoad<hypothesis_t, kNumCells>(hypothesis, hyp_mem, kNumCells);
+    HW_TRACE_MEM("resample", "RESAMPLE_LOAD_SAMPLES", uint64_t(n), 1, kBurstLoadDepth, kAxiReadLatency);
+    HW_TRACE_MEM("resample", "RESAMPLE_LOAD_LABELS", kNumCells, 1, kBurstLoadDepth, kAxiReadLatency);
   RESAMPLE_CAP_CLEAR:
     for (int h = 0; h < kMaxHypotheses; ++h) {
 #pragma HLS PIPELINE II = 1
@@ -162,8 +171,8 @@ RESAMPLE_POOL:
     ++examined;
     bool take = true;
     if (capped) {
-      const Sample& s = samples[sorted_idx[j]];
-      const hypothesis_t h = hypothesis[s.cell];
+      const Sample& s = sample_mem[sorted_idx[j]];
+      const hypothesis_t h = hyp_mem[s.cell];
       const int bin = rot_capped ? RotationBinHw(s) : 0;
       if (params.region_cap > 0 && per_hyp[h] >= ap_uint<10>(params.region_cap)) take = false;
       if (rot_capped && per_niche[bin][h] >= ap_uint<10>(params.rotation_cap)) take = false;
@@ -182,8 +191,12 @@ RESAMPLE_POOL:
   // latency 1, no forwarding), depth 4 (index read, sample read, label read, counter). The
   // rotation bin (ours) runs beside the label read: SinCos (kSinCosDepth) + 2 multiply stages
   // (col2's triple product) + compares/encode (2) before the counter stage. (latency.h.)
-  HW_TRACE("resample", "RESAMPLE_POOL", examined, capped ? kResamplePoolCappedII : 1,
-           rot_capped ? kResamplePoolRotDepth : (capped ? kResamplePoolCappedDepth : kResamplePoolDepth));
+  // sorted_w and sorted_idx are read in order: two bursts on their own bundles, whose latency
+  // adds to the depth.
+  HW_TRACE_MEM("resample", "RESAMPLE_POOL", examined, capped ? kResamplePoolCappedII : 1,
+               kAxiReadLatency +
+                   (rot_capped ? kResamplePoolRotDepth : (capped ? kResamplePoolCappedDepth : kResamplePoolDepth)),
+               kAxiReadLatency);
 
   // ---- 2. Elite ----
   const int elite = params.num_elite < pool ? params.num_elite : pool;

@@ -17,6 +17,7 @@
 
 #include "hw/cdf.h"
 #include "hw/dataflow.h"
+#include "hw/burst.h"
 #include "hw/hw_types.h"
 #include "hw/latency.h"
 #include "hw/lfsr.h"
@@ -32,6 +33,11 @@ inline void GenSample(hls::stream<cell_index_t>& cells, hls::stream<unif18_t>& r
                       const HeuristicVolume heuristics[kNumCells], Sample samples[kMaxParticles],
                       int n HW_TRACE_PARAM) {
   if (n > kMaxParticles) n = kMaxParticles;
+  // The heuristic volume of each drawn cell: an on-chip copy of the DDR array (kNumCells × 78
+  // bits, BRAM), one burst per call, before the first draw is read.
+  HeuristicVolume volume_mem[kNumCells];
+  BurstLoad<HeuristicVolume, kNumCells>(heuristics, volume_mem, kNumCells);
+  HW_TRACE_MEM("sample_gen", "GEN_LOAD_VOLUMES", kNumCells, 1, kBurstLoadDepth, kAxiReadLatency);
   int trips = 0;
 GEN_SAMPLE:
   for (int i = 0; i < n; ++i) {
@@ -41,7 +47,7 @@ GEN_SAMPLE:
     unif18_t u = rand_z.read();
     int ci = c.to_int();
     if (ci >= kNumCells) ci = kNumCells - 1;  // 13 bits hold up to 8191
-    const HeuristicVolume h = heuristics[ci];
+    const HeuristicVolume h = volume_mem[ci];
     Sample s;
     ap_fixed<14, 4> sx = h.x_min + h.x_max;  // exact
     ap_fixed<14, 4> sy = h.y_min + h.y_max;
@@ -56,7 +62,8 @@ GEN_SAMPLE:
     samples[i] = s;
     ++trips;
   }
-  HW_TRACE("sample_gen", "GEN_SAMPLE", trips, 1, kGenSampleDepth);  // depth: latency.h
+  // Depth: latency.h, + the write latency of the samples' burst to DDR.
+  HW_TRACE_MEM("sample_gen", "GEN_SAMPLE", trips, 1, kGenSampleDepth + kAxiWriteLatency, kAxiWriteLatency);
 }
 
 // The generators of the initialisation (each module owns its LFSR, §7.4 "random number

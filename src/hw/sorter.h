@@ -130,8 +130,10 @@ SORT_DRAIN:
     sorted_idx[k] = e.idx;
     ++drained;
   }
-  // Depth 2: register mux + BRAM write (latency.h).
-  HW_TRACE("sorter", "SORT_DRAIN", drained, 1, kSortDrainDepth);
+  // Depth 2: register mux + write (latency.h); sorted_w and sorted_idx are two write bursts to
+  // DDR on their own m_axi bundles (one word each per clock), acknowledged after the write
+  // latency.
+  HW_TRACE_MEM("sorter", "SORT_DRAIN", drained, 1, kSortDrainDepth + kAxiWriteLatency, kAxiWriteLatency);
 }
 
 }  // namespace posefilter::hw

@@ -1,5 +1,6 @@
-// src/hw/top.h — the top functions of the `hw` engine (thesis Ch. 7, Fig. 1.4, 7.12, 7.17):
-// they only instantiate kernels and the streams/memories between them (finn-hlslib style).
+// src/hw/top.h — the regions and glue of the `hw` engine's top functions (thesis Ch. 7, Fig.
+// 1.4, 7.12, 7.17): they only instantiate kernels and the streams/memories between them
+// (finn-hlslib style). The tops themselves are declared in tops.h and defined in tops.cc.
 //
 //   HwInitTop   — the initialisation path (§7.4, Fig. 7.5): CDF → threshold tracker → bound
 //                 generator → sampling → sample generation (sample_gen.h InitSamples, itself a
@@ -36,8 +37,8 @@
 // the configuration structs and `return` are AXI4-Lite registers (s_axilite, bundle control).
 // Tops are the non-template functions named Hw…Top[N] (scripts/hls names them with set_top):
 // HwInitTop, HwWeighTop5, HwWeighTop10 (HwWeighTop<M> for M = 5, 10 raster cores: a template
-// cannot be an HLS top) and HwUpdateTop. docs/HARDWARE.md §3 and scripts/hls/README.md list
-// every argument's interface.
+// cannot be an HLS top) and HwUpdateTop, with the same signatures in C simulation and synthesis
+// (tops.h). docs/HARDWARE.md §3 and scripts/hls/README.md list every argument's interface.
 //
 // Canonical dataflow (each region: HwWeighTop<M>, HwUpdateTop, sample_gen.h's
 // InitSamplesRegion): every channel — a stream, a local array, a memory argument — has one
@@ -50,11 +51,21 @@
 // parallel host threads (OpenMP, ignored by HLS; each core owns its streams, memories and
 // trace, appended in core order). In bounded mode every stream holds its HW_STREAM depth and
 // every process runs concurrently, as synthesis builds them; the results are the same bit for
-// bit (tests/hw/hwbounded_test.cc). A core's memories (fragment + z-buffer, ≈ 0.3 MB) are a
-// local array of the top in synthesis and a heap block per call in C simulation (too large
-// for a thread's stack; estimates run on several threads).
+// bit (tests/hw/hwbounded_test.cc). A core's memories (fragment + z-buffer, ≈ 0.3 MB) and the
+// depth distributor's copy of the depth image (≈ 1.2 MB in C) are local arrays of the top in
+// synthesis and heap blocks per call in C simulation (too large for a thread's stack;
+// estimates run on several threads).
+//
+// Memories (docs/HARDWARE.md "Memory architecture"): every memory argument is DDR behind an
+// m_axi port; a kernel reads or writes it only in bursts (a pipelined loop at addresses
+// affine in its counter, at most II accesses per bundle per iteration; the memory lint of
+// tests/hw/hwtop_lint_test.cc checks both), and reads what it needs at data-dependent
+// addresses from an on-chip copy that a burst fills at the start of each call (burst.h). The
+// cycle model charges each burst its DDR latency (latency.h kAxiReadLatency,
+// kAxiWriteLatency).
 #pragma once
 
+#include "hw/burst.h"
 #include "hw/dataflow.h"
 #include "hw/diffusion.h"
 #include "hw/distributor.h"
@@ -64,12 +75,11 @@
 #include "hw/resample.h"
 #include "hw/sample_gen.h"
 #include "hw/sorter.h"
+#include "hw/tops.h"
 #include "hw/transform.h"
 #include "hw/weight_merger.h"
 
 #ifndef __SYNTHESIS__
-#include <cstdio>
-#include <cstdlib>
 #include <memory>
 #endif
 
@@ -81,21 +91,6 @@
 
 namespace posefilter::hw {
 
-// Everything HwWeighTop needs that stays fixed during a run (loaded once by the host).
-struct WeighConfig {
-  int num_cores;      // host side: M of the HwWeighTop<M> that HwWeighTopCores runs, 1 … 10
-                      // (the synthesized tops take M as a template parameter, not this field)
-  int num_faces;      // model faces, 1 … kMaxFaces
-  int img_width;      // depth image width, pixels (≤ kImageWidth); height·width ≤ the buffer
-  CameraParams cam;   // P and C (eq. 6.9), host-quantized
-  RasterParams raster;  // z-buffer / inlier mode, thresholds (thr1 annealed per iteration)
-  WeightParams weight;  // α β γ δ, occlusion-aware N_raster
-  // ours, optional: grow each particle's window to its bounding-box projection (0 = thesis).
-  int grow_window = 0;
-  int img_height = kImageHeight;  // image height, pixels (≤ kImageHeight)
-  int max_window = kMaxWindow;    // growth cap per axis, pixels (≤ kMaxWindow)
-  xyz_t bbox[8][3] = {};          // the model's bounding-box corners, object frame, metres
-};
 
 // The window a particle is weighed in (ours, like the reference's ParticleWindow in
 // src/filter/particle_filter.cc): its cell's window grown, axis by axis, to contain the
@@ -171,13 +166,18 @@ inline void GatherSampleInfo(int n, const WeighConfig& cfg, const Sample samples
   ft_t pc[kFtElements];
 #pragma HLS ARRAY_PARTITION variable = pc complete
   ProjectionTimesCamera(cfg.cam, pc);
+  // The window memory (§7.5.3): the cells' windows, read at each particle's cell, so on chip
+  // (kNumCells × 36 bits, BRAM), filled by one burst per call.
+  Window window_mem[kNumCells];
+  BurstLoad<Window, kNumCells>(cell_windows, window_mem, kNumCells);
+  HW_TRACE_MEM("sample_info", "WINDOW_LOAD", kNumCells, 1, kBurstLoadDepth, kAxiReadLatency);
 GATHER_INFO:
   for (int p = 0; p < n; ++p) {
 #pragma HLS PIPELINE II = 8
 #pragma HLS LOOP_TRIPCOUNT min = 1 max = 510
     const Sample s = samples[p];
     const cell_index_t c = s.cell;
-    windows[p] = ParticleWindowHw(s, cell_windows[c.to_int()], cfg, pc);
+    windows[p] = ParticleWindowHw(s, window_mem[c.to_int()], cfg, pc);
     cells[p] = c;
     samples_fwd[p] = s;
   }
@@ -186,8 +186,11 @@ GATHER_INFO:
   // for. This top has the unit and is II 8 whatever grow_window says, so with grow_window off it
   // takes up to 7·n clocks (≤ 3.6 k per iteration) more than recorded, hidden behind the
   // raster cores.
-  if (cfg.grow_window) HW_TRACE("sample_info", "GATHER_INFO", uint64_t(n), kGatherInfoGrowII, kGatherInfoGrowDepth);
-  else HW_TRACE("sample_info", "GATHER_INFO", uint64_t(n), 1, kGatherInfoDepth);
+  // The samples are one read burst: its latency adds to the loop's depth.
+  if (cfg.grow_window)
+    HW_TRACE_MEM("sample_info", "GATHER_INFO", uint64_t(n), kGatherInfoGrowII, kGatherInfoGrowDepth + kAxiReadLatency,
+                 kAxiReadLatency);
+  else HW_TRACE_MEM("sample_info", "GATHER_INFO", uint64_t(n), 1, kGatherInfoDepth + kAxiReadLatency, kAxiReadLatency);
 }
 
 // The merger's (weight, relative index) stream → the sorter's weight stream. The merger emits
@@ -230,52 +233,18 @@ COLLECT_STATS:
   // Depth: read (1) + a pipelined 56/32-bit divider (≈ one stage per quotient bit that can be
   // non-zero: 2^17·2^5 / 1 → 24 bits, rounded up to 26) + round/saturate (1) + write (1) = 29
   // (latency.h).
-  HW_TRACE("stats", "COLLECT_STATS", uint64_t(n), 1, kCollectStatsDepth);
+  // stats and offsets are two write bursts on their own bundles: + the write latency.
+  HW_TRACE_MEM("stats", "COLLECT_STATS", uint64_t(n), 1, kCollectStatsDepth + kAxiWriteLatency, kAxiWriteLatency);
 }
 
-// ---- Tops ----
-
-// Linkage of the tops: external in synthesis (the HLS flow compiles top.h in one translation
-// unit, scripts/hls/tops.cc, and names the functions with set_top), inline in C simulation
-// (top.h is included by several translation units of the library and the tests).
-#ifdef __SYNTHESIS__
-#define HW_TOP
-#else
-#define HW_TOP inline
-#endif
-// The tops' trace parameter (C simulation) defaults to none, so that a test bench calls a top
-// with its synthesized arguments only.
-#ifndef __SYNTHESIS__
-#define HW_TOP_TRACE_PARAM , ::posefilter::hw::CycleTrace* trace = nullptr
-#else
-#define HW_TOP_TRACE_PARAM
-#endif
-
-// Initialisation (§7.4, Fig. 7.5): n samples of the class whose post-processed probabilities
-// are prob[·][0] (one class loaded, NC = 1) and whose sum is class_sum. The sampling memory
-// (the CDF, kNumCells × 18 bits, BRAM) is local to the design.
-HW_TOP void HwInitTop(const prob_t prob[kNumCells][1], class_sum_t class_sum, const HeuristicVolume volumes[kNumCells],
-                      InitGenerators& gen, const InitOptions& opt, Sample samples[kMaxParticles], int n,
-                      InitReport& report HW_TOP_TRACE_PARAM) {
-#pragma HLS INTERFACE m_axi port = prob offset = slave bundle = gmem_prob depth = 6300
-#pragma HLS INTERFACE m_axi port = volumes offset = slave bundle = gmem_vol depth = 6300
-#pragma HLS INTERFACE m_axi port = samples offset = slave bundle = gmem_smp depth = 510
-#pragma HLS INTERFACE s_axilite port = class_sum bundle = control
-#pragma HLS INTERFACE s_axilite port = gen bundle = control
-#pragma HLS INTERFACE s_axilite port = opt bundle = control
-#pragma HLS INTERFACE s_axilite port = n bundle = control
-#pragma HLS INTERFACE s_axilite port = report bundle = control
-#pragma HLS INTERFACE s_axilite port = return bundle = control
-  cdf_t cdf_mem[kNumCells];
-  InitSamples<1>(prob, 0, class_sum, volumes, cdf_mem, gen, opt, samples, n, report HW_TRACE_ARG);
-}
+// ---- The weigh region (the tops HwWeighTop5 and HwWeighTop10 in tops.cc) ----
 
 // Weighing and sorting of n particles with M raster cores (1 … kMaxRasterCores), one DATAFLOW
 // region. Outputs: the weights sorted descending with their relative indices, each particle's
 // core counters (stats, particle order), each particle's depth offset (the sample memory's
 // side-band, particle order) and the depth distributor's read counts. Particle p is rendered
 // by core p mod M; results do not depend on M. Not a top itself (a template): the tops are
-// HwWeighTop5 and HwWeighTop10 below.
+// HwWeighTop5 and HwWeighTop10 (tops.h, tops.cc).
 template <int M>
 void HwWeighTop(int n, const WeighConfig& cfg, const Sample samples[kMaxParticles], const Window cell_windows[kNumCells],
                 const prob_t class_prob[kNumCells], const depth_t depth[kImageHeight * kImageWidth],
@@ -288,9 +257,12 @@ void HwWeighTop(int n, const WeighConfig& cfg, const Sample samples[kMaxParticle
 #ifdef __SYNTHESIS__
   RasterCoreMemory core_mem[M];  // per core: depth fragment + window z-buffer (BRAM)
 #pragma HLS ARRAY_PARTITION variable = core_mem complete dim = 1
+  depth_t depth_mem[kImageHeight * kImageWidth];  // the depth BRAM of DistributeDepth
 #else
   std::unique_ptr<RasterCoreMemory[]> core_mem_heap(new RasterCoreMemory[M]);
   RasterCoreMemory* const core_mem = core_mem_heap.get();
+  std::unique_ptr<depth_t[]> depth_mem_heap(new depth_t[kImageHeight * kImageWidth]);
+  depth_t* const depth_mem = depth_mem_heap.get();
 #endif
   // Ping-pong buffers of GatherSampleInfo: its readers start when it has returned.
   Window windows[kMaxParticles];
@@ -323,7 +295,8 @@ void HwWeighTop(int n, const WeighConfig& cfg, const Sample samples[kMaxParticle
   HW_PROCESS(df, DistributeFT(n, M, ft_chain, ft_core HW_TRACE_ARG));
   HW_PROCESS(df, VertexMultiplier(n, M, cfg.num_faces, vmem, tri_mem, vert_core HW_TRACE_ARG));
   HW_PROCESS_AFTER(df, "GatherSampleInfo",
-                   DistributeDepth(n, M, windows, depth, cfg.img_width, info_core, depth_core, dd_counts HW_TRACE_ARG));
+                   DistributeDepth(n, M, windows, depth, cfg.img_width, cfg.img_height, depth_mem, info_core,
+                                   depth_core, dd_counts HW_TRACE_ARG));
 RASTER_CORES:
   HW_PROCESS_UNROLL(df, c, M,
                     RasterCore((n - c + M - 1) / M, cfg.num_faces, cfg.raster, info_core[c], depth_core[c], ft_core[c],
@@ -336,121 +309,6 @@ RASTER_CORES:
   HW_DATAFLOW_END(df);
 }
 
-// The weigh tops' interfaces: one m_axi bundle per process that touches memory
-// (GatherSampleInfo: samples + cell windows; DistributeDepth: depth; VertexMultiplier: the
-// model; MergeWeights: ρ; SortWeights: the sorted set; CollectStats: stats + side-band).
-#define HW_WEIGH_TOP_INTERFACE                                                                               \
-  _Pragma("HLS INTERFACE m_axi port = samples offset = slave bundle = gmem_info depth = 510")               \
-  _Pragma("HLS INTERFACE m_axi port = cell_windows offset = slave bundle = gmem_info depth = 6300")         \
-  _Pragma("HLS INTERFACE m_axi port = class_prob offset = slave bundle = gmem_prob depth = 6300")           \
-  _Pragma("HLS INTERFACE m_axi port = depth offset = slave bundle = gmem_depth depth = 307200")             \
-  _Pragma("HLS INTERFACE m_axi port = vmem offset = slave bundle = gmem_model depth = 3072")                \
-  _Pragma("HLS INTERFACE m_axi port = tri_mem offset = slave bundle = gmem_model depth = 2048")             \
-  _Pragma("HLS INTERFACE m_axi port = sorted_w offset = slave bundle = gmem_sort depth = 510")              \
-  _Pragma("HLS INTERFACE m_axi port = sorted_idx offset = slave bundle = gmem_sort depth = 510")            \
-  _Pragma("HLS INTERFACE m_axi port = stats offset = slave bundle = gmem_stats depth = 510")                \
-  _Pragma("HLS INTERFACE m_axi port = offsets offset = slave bundle = gmem_stats depth = 510")              \
-  _Pragma("HLS INTERFACE s_axilite port = n bundle = control")                                              \
-  _Pragma("HLS INTERFACE s_axilite port = cfg bundle = control")                                            \
-  _Pragma("HLS INTERFACE s_axilite port = dd_counts bundle = control")                                      \
-  _Pragma("HLS INTERFACE s_axilite port = return bundle = control")
-
-// The thesis's two designs (§7.7: five and ten raster cores) as HLS tops.
-HW_TOP void HwWeighTop5(int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
-                        const Window cell_windows[kNumCells], const prob_t class_prob[kNumCells],
-                        const depth_t depth[kImageHeight * kImageWidth], const xyz_t vmem[3][kMaxVertices],
-                        const face_t tri_mem[kMaxFaces], weight_t sorted_w[kMaxParticles],
-                        particle_index_t sorted_idx[kMaxParticles], RasterCoreOutput stats[kMaxParticles],
-                        depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts HW_TOP_TRACE_PARAM) {
-  HW_WEIGH_TOP_INTERFACE
-  HwWeighTop<5>(n, cfg, samples, cell_windows, class_prob, depth, vmem, tri_mem, sorted_w, sorted_idx, stats, offsets,
-                dd_counts HW_TRACE_ARG);
-}
-
-HW_TOP void HwWeighTop10(int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
-                         const Window cell_windows[kNumCells], const prob_t class_prob[kNumCells],
-                         const depth_t depth[kImageHeight * kImageWidth], const xyz_t vmem[3][kMaxVertices],
-                         const face_t tri_mem[kMaxFaces], weight_t sorted_w[kMaxParticles],
-                         particle_index_t sorted_idx[kMaxParticles], RasterCoreOutput stats[kMaxParticles],
-                         depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts HW_TOP_TRACE_PARAM) {
-  HW_WEIGH_TOP_INTERFACE
-  HwWeighTop<10>(n, cfg, samples, cell_windows, class_prob, depth, vmem, tri_mem, sorted_w, sorted_idx, stats, offsets,
-                 dd_counts HW_TRACE_ARG);
-}
-
-#ifndef __SYNTHESIS__
-// Host side (C simulation): HwWeighTop<M> for a runtime core count M = cores ∈ [1, 10] (the
-// driver and ProfileHw choose M at run time; each M is its own hardware design).
-inline void HwWeighTopCores(int cores, int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
-                            const Window cell_windows[kNumCells], const prob_t class_prob[kNumCells],
-                            const depth_t depth[kImageHeight * kImageWidth], const xyz_t vmem[3][kMaxVertices],
-                            const face_t tri_mem[kMaxFaces], weight_t sorted_w[kMaxParticles],
-                            particle_index_t sorted_idx[kMaxParticles], RasterCoreOutput stats[kMaxParticles],
-                            depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts HW_TRACE_PARAM) {
-#define HW_WEIGH_CASE(m)                                                                                           \
-  case m:                                                                                                          \
-    HwWeighTop<m>(n, cfg, samples, cell_windows, class_prob, depth, vmem, tri_mem, sorted_w, sorted_idx, stats,    \
-                  offsets, dd_counts HW_TRACE_ARG);                                                                \
-    return;
-  switch (cores) {
-    HW_WEIGH_CASE(1)
-    HW_WEIGH_CASE(2)
-    HW_WEIGH_CASE(3)
-    HW_WEIGH_CASE(4)
-    HW_WEIGH_CASE(5)
-    HW_WEIGH_CASE(6)
-    HW_WEIGH_CASE(7)
-    HW_WEIGH_CASE(8)
-    HW_WEIGH_CASE(9)
-    HW_WEIGH_CASE(10)
-    default:
-      break;
-  }
-#undef HW_WEIGH_CASE
-  std::fprintf(stderr, "HwWeighTopCores: %d raster cores is outside [1, %d]\n", cores, kMaxRasterCores);
-  std::abort();  // the callers validate the core count
-}
-#endif
-
-// Resampling (elitism, pool, threshold tracker) and diffusion into samples_out. w_best, the
-// best weight that sets the diffusion spread, is the sorter's first output (§7.6): the host
-// reads sorted_w[0] for its convergence test anyway and passes it as a register, so sorted_w
-// has one reader (Resample). The current sample memory is bound to two read ports,
-// samples_in (Diffuse: the samples to move) and samples_in_cells (Resample: the cells of the
-// region and rotation caps) — the same buffer, read-only, so each process owns its port (the
-// thesis's "copy for the dataflow" of the index memory, §7.1, without the copy). The host
-// passes the same memory to both.
-HW_TOP void HwUpdateTop(const weight_t sorted_w[kMaxParticles], const particle_index_t sorted_idx[kMaxParticles],
-                        weight_t w_best, const Sample samples_in[kMaxParticles],
-                        const Sample samples_in_cells[kMaxParticles], const depth_off_t offsets_in[kMaxParticles],
-                        const hypothesis_t hypothesis[kNumCells], const ResampleParams& rprm, Lfsr18& resample_rng,
-                        const DiffusionParams& dprm, const HeuristicVolume volumes[kNumCells],
-                        DiffusionRng& diffusion_rng, Sample samples_out[kMaxParticles],
-                        ResampleCounters* counters HW_TOP_TRACE_PARAM) {
-#pragma HLS INTERFACE m_axi port = sorted_w offset = slave bundle = gmem_sort depth = 510
-#pragma HLS INTERFACE m_axi port = sorted_idx offset = slave bundle = gmem_sort depth = 510
-#pragma HLS INTERFACE m_axi port = samples_in_cells offset = slave bundle = gmem_caps depth = 510
-#pragma HLS INTERFACE m_axi port = hypothesis offset = slave bundle = gmem_caps depth = 6300
-#pragma HLS INTERFACE m_axi port = samples_in offset = slave bundle = gmem_smp depth = 510
-#pragma HLS INTERFACE m_axi port = offsets_in offset = slave bundle = gmem_smp depth = 510
-#pragma HLS INTERFACE m_axi port = volumes offset = slave bundle = gmem_vol depth = 6300
-#pragma HLS INTERFACE m_axi port = samples_out offset = slave bundle = gmem_out depth = 510
-#pragma HLS INTERFACE s_axilite port = w_best bundle = control
-#pragma HLS INTERFACE s_axilite port = rprm bundle = control
-#pragma HLS INTERFACE s_axilite port = resample_rng bundle = control
-#pragma HLS INTERFACE s_axilite port = dprm bundle = control
-#pragma HLS INTERFACE s_axilite port = diffusion_rng bundle = control
-#pragma HLS INTERFACE s_axilite port = counters bundle = control
-#pragma HLS INTERFACE s_axilite port = return bundle = control
-#pragma HLS DATAFLOW
-  HW_DATAFLOW_BEGIN(df, trace);
-  particle_index_t selected[kMaxParticles];  // ping-pong buffer: Diffuse starts when Resample has returned
-  HW_PROCESS(df, Resample(sorted_w, sorted_idx, samples_in_cells, hypothesis, rprm, resample_rng, selected, counters,
-                          nullptr HW_TRACE_ARG));
-  HW_PROCESS_AFTER(df, "Resample", Diffuse(samples_in, offsets_in, selected, rprm.num_particles, rprm.num_elite, w_best,
-                                           dprm, volumes, diffusion_rng, samples_out HW_TRACE_ARG));
-  HW_DATAFLOW_END(df);
-}
 
 }  // namespace posefilter::hw
 

@@ -22,6 +22,7 @@
 // 16-bit sines dominate: see docs/HARDWARE.md).
 #pragma once
 
+#include "hw/burst.h"
 #include "hw/fx_math.h"
 #include "hw/hw_types.h"
 #include "hw/latency.h"
@@ -179,9 +180,22 @@ inline face_t PackFace(vertex_index_t a, vertex_index_t b, vertex_index_t c) {
 // streams of every core that has a particle in that round (num_particles may not be a
 // multiple of num_cores: the last round feeds only its active cores). Core c of round r
 // renders particle r·num_cores + c.
+// vmem and tri_mem are DDR (m_axi): the face words are read in order but the vertices at the
+// faces' indices, so the model is first copied on chip (model_v: 3 × kMaxVertices × 13 bits,
+// one RAM per coordinate so that the three reads of a vertex take one clock; model_f:
+// kMaxFaces × 30 bits), four bursts per call: three of kMaxVertices words and one of the
+// num_faces face words.
 inline void VertexMultiplier(int num_particles, int num_cores, int num_faces,
                              const xyz_t vmem[3][kMaxVertices], const face_t tri_mem[kMaxFaces],
                              hls::stream<Vertex> vert_out[kMaxRasterCores] HW_TRACE_PARAM) {
+  xyz_t model_v[3][kMaxVertices];
+#pragma HLS ARRAY_PARTITION variable = model_v complete dim = 1
+  face_t model_f[kMaxFaces];
+VM_LOAD:
+  for (int k = 0; k < 3; ++k) BurstLoad<xyz_t, kMaxVertices>(vmem[k], model_v[k], kMaxVertices);
+  BurstLoad<face_t, kMaxFaces>(tri_mem, model_f, num_faces);
+  HW_TRACE_MEM("vertex_multiplier", "VM_LOAD_VERTICES", 3 * kMaxVertices, 1, 3 * kBurstLoadDepth, 3 * kAxiReadLatency);
+  HW_TRACE_MEM("vertex_multiplier", "VM_LOAD_FACES", uint64_t(num_faces), 1, kBurstLoadDepth, kAxiReadLatency);
   uint64_t trips = 0;
 VM_ROUNDS:
   for (int first = 0; first < num_particles; first += num_cores) {
@@ -193,12 +207,12 @@ VM_ROUNDS:
 #pragma HLS PIPELINE II = 1
 #pragma HLS LOOP_TRIPCOUNT min = 36 max = 6144
       const int corner = i % 3;
-      if (corner == 0) face = tri_mem[i / 3];
+      if (corner == 0) face = model_f[i / 3];
       const vertex_index_t idx = face.range(10 * corner + 9, 10 * corner);
       Vertex v;
-      v.x = vmem[0][idx];
-      v.y = vmem[1][idx];
-      v.z = vmem[2][idx];
+      v.x = model_v[0][idx];
+      v.y = model_v[1][idx];
+      v.z = model_v[2][idx];
     VM_COPY:
       for (int c = 0; c < kMaxRasterCores; ++c) {
 #pragma HLS UNROLL

@@ -12,6 +12,7 @@
 // three terms of eq. 7.4 with runtime α, β, γ (and δ).
 #pragma once
 
+#include "hw/burst.h"
 #include "hw/fx_math.h"
 #include "hw/hw_types.h"
 #include "hw/latency.h"
@@ -91,6 +92,11 @@ inline void MergeWeights(int num_particles, int num_cores, const WeightParams& p
                          const cell_index_t cells[kMaxParticles], const prob_t class_prob[kNumCells],
                          hls::stream<WeightOut>& weights, hls::stream<RasterCoreOutput>& stats_out HW_TRACE_PARAM) {
   using namespace merger_detail;
+  // ρ is read at each particle's cell: class_prob (DDR) is copied on chip first (kNumCells ×
+  // 8 bits, BRAM), one burst per call, while the first round of the cores runs.
+  prob_t prob_mem[kNumCells];
+  BurstLoad<prob_t, kNumCells>(class_prob, prob_mem, kNumCells);
+  HW_TRACE_MEM("weight_merger", "WM_PROB_LOAD", kNumCells, 1, kBurstLoadDepth, kAxiReadLatency);
 WM_PARTICLES:
   for (int p = 0; p < num_particles; ++p) {
     // II = 3: the one divider takes I/N_raster, I/N_depth and the edge ratio in turn.
@@ -102,7 +108,7 @@ WM_PARTICLES:
     const ratio_t r_raster = CappedRatio(o.inlier_sum, n_raster);
     const ratio_t r_depth = CappedRatio(o.inlier_sum, o.n_depth);
     const ratio_t r_edge = CappedRatio(inlier_t(o.n_edge_continued), o.n_edge);
-    const prob_t rho = class_prob[cells[p].to_int()];
+    const prob_t rho = prob_mem[cells[p].to_int()];
     // Exact sum of products (F32), then max(0, ·) and truncation to weight_t (F17).
     const ap_fixed<40, 4> positive = prm.alpha * r_raster + prm.beta * r_depth + prm.gamma * rho;
     const ap_fixed<40, 4> penalty = prm.delta * r_edge;

@@ -66,6 +66,51 @@ TEST_F(HwCliTest, HwReportPrintsTheTableAndWritesJson) {
   };
   EXPECT_GT(raster_ms("thesis"), 0.0);
   EXPECT_LT(raster_ms("thesis"), raster_ms("ours"));
+  // The DDR latency per module: the depth distributor's one burst (its copy of the depth image)
+  // and the vertex multiplier's four (the model); none for the raster cores (on-chip only).
+  const auto memory = [&](const char* module) {
+    for (const auto& m : all["configurations"]["ours"]["models"][1]["modules"])
+      if (m["module"] == module) return m["memory_latency_cycles"].get<double>();
+    return -1.0;
+  };
+  EXPECT_EQ(memory("depth_distributor"), 64.0);
+  EXPECT_EQ(memory("vertex_multiplier"), 4 * 64.0);
+  EXPECT_EQ(memory("raster_core"), 0.0);
+  EXPECT_GT(all["configurations"]["ours"]["models"][1]["memory_latency_ms"].get<double>(), 0.0);
+}
+
+// A real frame of the shared YCB-Video data: its depth, its label mask's box as the prior, the
+// gelatin box's mesh.
+TEST_F(HwCliTest, HwReportModelsARealFrame) {
+  const fs::path frame = testing_util::YcbvDataDir() / "scenes" / "ycbv_0000_000001";
+  if (!fs::exists(frame / "depth.png")) GTEST_SKIP() << "no shared YCB-Video frame at " << frame;
+  const fs::path json = dir_ / "frame.json";
+  const RunResult r = RunCli({"hw-report", "--frame", frame.string(), "--object", "061_foam_brick", "--iterations", "2",
+                              "--particles", "40", "--cores", "5", "--configs", "thesis", "--json", json.string()},
+                             dir_ / "frame");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("frame ycbv_0000_000001, 061_foam_brick"), std::string::npos) << r.out;
+  const nlohmann::json all = nlohmann::json::parse(ReadFile(json));
+  EXPECT_EQ(all["object"], "061_foam_brick");
+  const nlohmann::json& j = all["configurations"]["thesis"];
+  EXPECT_EQ(j["particles"], 40);
+  EXPECT_GT(j["mean_window_area"].get<double>(), 0.0);
+  EXPECT_LT(j["mean_window_area"].get<double>(), 200.0 * 200.0);  // the frame's windows, not forced to 200x200
+  EXPECT_GT(j["models"][0]["average_iteration_ms"].get<double>(), 0.0);
+}
+
+TEST_F(HwCliTest, HwReportNamesABadFrame) {
+  RunResult r = RunCli({"hw-report", "--frame", (dir_ / "nowhere").string(), "--iterations", "1"}, dir_ / "no_frame");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--frame"), std::string::npos) << r.err;
+  fs::create_directories(dir_ / "half");
+  r = RunCli({"hw-report", "--frame", (dir_ / "half").string(), "--iterations", "1"}, dir_ / "half_frame");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("depth.png"), std::string::npos) << r.err;
+  r = RunCli({"hw-report", "--object", "025_mug", "--iterations", "1"}, dir_ / "object_alone");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--object applies to --frame"), std::string::npos) << r.err;
 }
 
 TEST_F(HwCliTest, HwReportRejectsBadOptions) {

@@ -270,12 +270,13 @@ void WeighTop(WeighProblem& wp, int cores, WeighWords* out) {
   auto offsets = std::make_unique<depth_off_t[]>(kMaxParticles);
   DepthDistributionCounts dd;
   wp.cfg.num_cores = cores;
+  const ScopedTopTrace traced(out->trace.get());
   if (cores == 5)
     HwWeighTop5(wp.n, wp.cfg, wp.samples, wp.cell_windows, wp.class_prob, wp.depth.get(), wp.vmem, wp.tri_mem, w.get(),
-                idx.get(), stats.get(), offsets.get(), &dd, out->trace.get());
+                idx.get(), stats.get(), offsets.get(), &dd);
   else
     HwWeighTop10(wp.n, wp.cfg, wp.samples, wp.cell_windows, wp.class_prob, wp.depth.get(), wp.vmem, wp.tri_mem, w.get(),
-                 idx.get(), stats.get(), offsets.get(), &dd, out->trace.get());
+                 idx.get(), stats.get(), offsets.get(), &dd);
   for (int p = 0; p < wp.n; ++p) {
     Push(&out->words, w[p]);
     Push(&out->words, idx[p]);

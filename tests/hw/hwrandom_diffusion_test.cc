@@ -292,9 +292,18 @@ TEST(HwRandomDiffusion, ModuleIsDeterministicPerSeedAndKeepsTheElite) {
     EXPECT_LT(same, 50) << "seed " << seed;
   }
   EXPECT_GT(moved, (kMaxParticles - 10) / 2);
-  ASSERT_EQ(trace.count, 1);
+  // The on-chip copies of the samples, their side-band and the volumes (one burst each), then
+  // the pipelined loop, which ends with the write burst's latency.
+  ASSERT_EQ(trace.count, 4);
+  EXPECT_STREQ(trace.records[0].loop, "DIFFUSION_LOAD_SAMPLES");
   EXPECT_EQ(trace.records[0].trips, uint64_t(kMaxParticles));
-  EXPECT_EQ(trace.records[0].ii, 1u);
+  EXPECT_EQ(trace.records[0].memory, uint64_t(kAxiReadLatency));
+  EXPECT_EQ(trace.records[2].trips, uint64_t(kNumCells));
+  EXPECT_STREQ(trace.records[3].loop, "DIFFUSION_SAMPLES");
+  EXPECT_EQ(trace.records[3].trips, uint64_t(kMaxParticles));
+  EXPECT_EQ(trace.records[3].ii, 1u);
+  EXPECT_EQ(trace.records[3].depth, uint32_t(kDiffusionDepth + kAxiWriteLatency));
+  EXPECT_EQ(trace.records[3].memory, uint64_t(kAxiWriteLatency));
 }
 
 TEST(HwRandomDiffusion, ParamsValidation) {

@@ -165,8 +165,15 @@ TEST(HwRenderVertexMultiplier, CopiesEveryFaceToEveryActiveCorePerRound) {
     EXPECT_TRUE(out[c].empty()) << "core " << c << " got more than its particles' faces";
   }
   for (int c = M; c < kMaxRasterCores; ++c) EXPECT_TRUE(out[c].empty());
-  ASSERT_EQ(trace.count, 1);
-  EXPECT_EQ(trace.records[0].trips, uint64_t(3) * 3 * 3);  // 3 rounds × 3 faces × 3 vertices: one model read per round
+  // The model's on-chip copy (three coordinate bursts of kMaxVertices words, one of the faces),
+  // then the vertex loop.
+  ASSERT_EQ(trace.count, 3);
+  EXPECT_STREQ(trace.records[0].loop, "VM_LOAD_VERTICES");
+  EXPECT_EQ(trace.records[0].trips, uint64_t(3) * kMaxVertices);
+  EXPECT_EQ(trace.records[0].memory, uint64_t(3) * kAxiReadLatency);
+  EXPECT_EQ(trace.records[1].trips, uint64_t(3));
+  EXPECT_EQ(trace.records[2].trips, uint64_t(3) * 3 * 3);  // 3 rounds × 3 faces × 3 vertices: one model read per round
+  EXPECT_EQ(trace.records[2].memory, 0u);
 }
 
 // ---- FT distributor ----
@@ -203,7 +210,8 @@ void CheckDistribution(const std::vector<Window>& windows, int M, uint64_t* shar
   hls::stream<depth_t> frag[kMaxRasterCores];
   DepthDistributionCounts counts;
   CycleTrace trace;
-  DistributeDepth(N, M, windows.data(), depth.data(), W, info, frag, &counts, &trace);
+  std::vector<depth_t> depth_mem(depth.size());
+  DistributeDepth(N, M, windows.data(), depth.data(), W, H, depth_mem.data(), info, frag, &counts, &trace);
   uint64_t expect_shared = 0, expect_unshared = 0;
   for (int first = 0; first < N; first += M) {
     std::set<std::pair<int, int>> pixels;  // distinct pixels of the round
@@ -369,9 +377,11 @@ TEST(HwRenderWeightMerger, MatchesDoubleFormulaInParticleOrder) {
     }
     EXPECT_TRUE(weights.empty());
     for (int c = 0; c < kMaxRasterCores; ++c) EXPECT_TRUE(core_out[c].empty());
-    ASSERT_EQ(trace.count, 1);
-    EXPECT_EQ(trace.records[0].trips, uint64_t(N));
-    EXPECT_EQ(trace.records[0].ii, 3u);
+    ASSERT_EQ(trace.count, 2);  // ρ's on-chip copy, then the particles
+    EXPECT_STREQ(trace.records[0].loop, "WM_PROB_LOAD");
+    EXPECT_EQ(trace.records[0].trips, uint64_t(kNumCells));
+    EXPECT_EQ(trace.records[1].trips, uint64_t(N));
+    EXPECT_EQ(trace.records[1].ii, 3u);
   }
 }
 

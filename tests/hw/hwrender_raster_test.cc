@@ -98,6 +98,8 @@ Pose6 SamplePose(const Sample& s) {
 // Depth image in depth_t (clipped to the format, rounded) and the same values as floats.
 struct HwDepth {
   std::vector<depth_t> hw;
+  // DistributeDepth's on-chip copy (scratch of every run on this depth image).
+  mutable std::vector<depth_t> mem = std::vector<depth_t>(std::size_t(kImageWidth) * kImageHeight);
   std::vector<float> ref;
   int width = 0, height = 0;
 };
@@ -138,7 +140,7 @@ RasterCoreOutput RunOneParticle(const Sample& s, const CameraParams& cam, const 
   hls::stream<Window> info[kMaxRasterCores];
   hls::stream<depth_t> frag[kMaxRasterCores];
   DepthDistributionCounts c;
-  DistributeDepth(1, 1, wins.data(), depth.hw.data(), depth.width, info, frag, &c, trace);
+  DistributeDepth(1, 1, wins.data(), depth.hw.data(), depth.width, depth.height, depth.mem.data(), info, frag, &c, trace);
   if (counts) *counts = c;
   hls::stream<Vertex> verts[kMaxRasterCores];
   VertexMultiplier(1, 1, nf, model.vmem.get(), model.faces.data(), verts, trace);
@@ -476,7 +478,8 @@ TEST(HwRenderPipeline, MultiCoreWeightsMatchTheReference) {
   hls::stream<Window> info[kMaxRasterCores];
   hls::stream<depth_t> frag[kMaxRasterCores];
   DepthDistributionCounts counts;
-  DistributeDepth(N, M, windows.data(), sc.depth.hw.data(), sc.depth.width, info, frag, &counts, &trace);
+  DistributeDepth(N, M, windows.data(), sc.depth.hw.data(), sc.depth.width, sc.depth.height, sc.depth.mem.data(), info,
+                  frag, &counts, &trace);
   hls::stream<Vertex> verts[kMaxRasterCores];
   VertexMultiplier(N, M, nf, model.vmem.get(), model.faces.data(), verts, &trace);
   hls::stream<RasterCoreOutput> core_out[kMaxRasterCores];

@@ -82,8 +82,10 @@ TEST(HwSampleGen, SamplesSitInTheirVolumes) {
   // The angles cover ±π.
   EXPECT_LT(roll_min, -2.9);
   EXPECT_GT(roll_max, 2.9);
-  ASSERT_EQ(trace->count, 1);
-  EXPECT_EQ(trace->records[0].trips, uint64_t(kMaxParticles));
+  ASSERT_EQ(trace->count, 2);  // the volumes' on-chip copy, then the samples
+  EXPECT_STREQ(trace->records[0].loop, "GEN_LOAD_VOLUMES");
+  EXPECT_EQ(trace->records[0].trips, uint64_t(kNumCells));
+  EXPECT_EQ(trace->records[1].trips, uint64_t(kMaxParticles));
 }
 
 TEST(HwSampleGen, DepthIsUniformInTheInterval) {

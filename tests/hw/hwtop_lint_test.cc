@@ -1,5 +1,5 @@
-// Kernel lint: the hw kernels (src/hw/*.h, not src/hw/hls_types/) stay in the synthesizable
-// subset (hw_shared conventions): no new/delete/malloc, no std:: containers or other heap
+// Kernel lint: the hw kernels (src/hw/*.h and the tops' src/hw/tops.cc, not src/hw/hls_types/)
+// stay in the synthesizable subset (hw_shared conventions): no new/delete/malloc, no std:: containers or other heap
 // types, no Eigen, no throw/try, no virtual functions, no recursion, no float/double
 // arithmetic (constexpr ROM generators evaluated at compile time excepted). clang-query
 // (Debian clang-tools) runs AST matchers over one translation unit that includes every kernel
@@ -9,7 +9,7 @@
 // Top and dataflow lint (pragmas are not in the clang AST, so this part is source level): the
 // same translation unit is preprocessed (c++ -E -D__SYNTHESIS__; `#pragma` lines and
 // _Pragma(...) from macros survive as `#pragma` lines, host-only code is gone) and the code of
-// src/hw/*.h is tokenized. Rules:
+// src/hw/*.h and src/hw/tops.cc is tokenized. Rules:
 //   (a) a top — a non-template function definition named Hw<letters>Top[<digits>], the
 //       functions scripts/hls names with set_top — has `#pragma HLS INTERFACE … port = p` for
 //       every parameter p and for `return`;
@@ -23,8 +23,13 @@
 //       constexpr name): a process under `if`, a loop with a runtime bound (the `c < M` of a
 //       runtime M) or any other statement (a scalar assignment, an initialised scalar) is
 //       rejected.
-// Suites: HwTopLint.TopsHaveInterfacesAndRegionsAreCanonical (the real src/hw) and
-// HwTopLint.EachTopRuleCatchesABadFixture (one fixture per rule, and good fixtures).
+//   (d) memory: an m_axi argument of a top, followed through every call that passes it on, is
+//       read or written inside a pipelined loop only at an affine function of the loop's
+//       counter (a burst), is not handed to a function inside such a loop, and no loop makes
+//       more accesses per iteration to one bundle than its II (MemoryLint below).
+// Suites: HwTopLint.TopsHaveInterfacesAndRegionsAreCanonical (the real src/hw),
+// HwTopLint.EachTopRuleCatchesABadFixture (one fixture per rule (a)–(c), and good fixtures) and
+// HwTopLint.EachMemoryRuleCatchesABadFixture (rule (d): bad and good fixtures).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -56,7 +61,7 @@ const char* const kHostHeaders[] = {"cycle_model.h"};
 
 // The matchers. Each `match` prints "N match(es)."; any match is a violation.
 const char* const kQueries = R"(set output diag
-let inhw isExpansionInFileMatching("src/hw/[^/]+[.]h$")
+let inhw isExpansionInFileMatching("src/hw/([^/]+[.]h|tops[.]cc)$")
 let notce unless(anyOf(hasAncestor(functionDecl(isConstexpr())), hasAncestor(varDecl(isConstexpr()))))
 match cxxNewExpr(inhw)
 match cxxDeleteExpr(inhw)
@@ -145,6 +150,7 @@ TEST(HwTopLint, KernelHeadersStayInTheSynthesizableSubset) {
   ASSERT_NE(std::find(headers.begin(), headers.end(), "top.h"), headers.end());
   std::string tu;
   for (const auto& h : headers) tu += "#include \"hw/" + h + "\"\n";
+  tu += "#include \"hw/tops.cc\"\n";  // the tops' definitions
   WriteFile(dir / "kernels.cc", tu);
   const LintResult r = RunLint(dir, dir / "kernels.cc", {root / "src", root / "src/hw/hls_types", root / "include"});
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -551,16 +557,208 @@ struct Region {
   }
 };
 
+// Rule (d), memory: an m_axi argument of a top (followed through every call that passes it
+// on, by parameter position) is, inside a pipelined loop (`#pragma HLS PIPELINE` at the top of
+// the loop's body), only indexed by an affine function of the loop's counter: each subscript
+// made of the counter, literals, loop-invariant names (assigned nowhere in the loop body) and
+// + - * ( ); no subscript inside it, no member, no call, no division. It is not handed to a
+// function inside such a loop. And the loop makes at most II distinct accesses per bundle in
+// one iteration (a bundle moves one word per clock).
+struct MemoryLint {
+  const std::vector<Tok>& t;
+  const std::vector<Function>& fns;
+  std::vector<std::string>* bad;
+  std::set<std::string>* checked;  // "function:parameter" pairs followed (also the cycle guard)
+
+  static bool Keyword(const Tok& k) {
+    for (const char* w : {"if", "for", "while", "switch", "return", "sizeof", "static_assert", "do", "else"})
+      if (Is(k, w)) return true;
+    return false;
+  }
+  // The arguments of the call whose "(" is at `open`: [begin, end) token ranges.
+  std::vector<std::pair<std::size_t, std::size_t>> Args(std::size_t open) const {
+    std::vector<std::pair<std::size_t, std::size_t>> out;
+    const std::size_t close = MatchClose(t, open);
+    std::size_t b = open + 1;
+    for (std::size_t i = open + 1; i <= close; ++i) {
+      if (i == close || Is(t[i], ",")) {
+        if (i > b) out.push_back({b, i});
+        b = i + 1;
+        continue;
+      }
+      if (Is(t[i], "(") || Is(t[i], "[") || Is(t[i], "{")) i = MatchClose(t, i);
+      else if (Is(t[i], "<") && i > 0 && t[i - 1].kind == Tok::kIdent && Is(t[i - 1], "stream")) i = MatchClose(t, i);
+    }
+    return out;
+  }
+  struct Loop {
+    std::size_t body_b, body_e;
+    std::string var;
+    int ii;
+  };
+  // The pipelined `for` loops of [b, e).
+  std::vector<Loop> PipelinedLoops(std::size_t b, std::size_t e) const {
+    std::vector<Loop> out;
+    static const std::regex pipe_re(R"(^\s*HLS\s+PIPELINE\b(.*))", std::regex::icase);
+    static const std::regex ii_re(R"(\bII\s*=\s*(\d+))", std::regex::icase);
+    for (std::size_t i = b; i + 1 < e; ++i) {
+      if (!Is(t[i], "for") || !Is(t[i + 1], "(")) continue;
+      const std::size_t hclose = MatchClose(t, i + 1);
+      if (hclose + 1 >= e || !Is(t[hclose + 1], "{")) continue;
+      Loop l{hclose + 2, MatchClose(t, hclose + 1), "", 0};
+      for (std::size_t j = i + 2; j < hclose && !Is(t[j], ";"); ++j)
+        if (t[j].kind == Tok::kIdent && Is(t[j + 1], "=")) l.var = t[j].text;
+      for (std::size_t j = l.body_b; j < l.body_e && t[j].kind == Tok::kPragma; ++j) {
+        std::smatch m;
+        if (!std::regex_match(t[j].text, m, pipe_re)) continue;
+        std::smatch n;
+        const std::string rest = m[1];
+        l.ii = std::regex_search(rest, n, ii_re) ? std::stoi(n[1]) : 1;
+      }
+      if (l.ii > 0) out.push_back(l);
+    }
+    return out;
+  }
+  // Names assigned, incremented or declared with an initialiser inside [b, e).
+  std::set<std::string> Variant(std::size_t b, std::size_t e) const {
+    std::set<std::string> v;
+    for (std::size_t i = b; i < e; ++i) {
+      if (t[i].kind != Tok::kIdent) continue;
+      const bool before_assign = i + 1 < e && (Is(t[i + 1], "=") || Is(t[i + 1], "+=") || Is(t[i + 1], "-=") ||
+                                               Is(t[i + 1], "*=") || Is(t[i + 1], "++") || Is(t[i + 1], "--") ||
+                                               Is(t[i + 1], "[") || Is(t[i + 1], "("));
+      const bool after_incr = i > b && (Is(t[i - 1], "++") || Is(t[i - 1], "--"));
+      if ((before_assign && !Is(t[i + 1], "[") && !Is(t[i + 1], "(")) || after_incr) v.insert(t[i].text);
+      // A declaration `Type name;` / `Type name[...]` / `Type name(...)` counts as well.
+      if (i + 1 < e && i > b && t[i - 1].kind == Tok::kIdent && !Keyword(t[i - 1]) &&
+          (Is(t[i + 1], ";") || Is(t[i + 1], "[") || Is(t[i + 1], "(") || Is(t[i + 1], "=") || Is(t[i + 1], ",")))
+        if (!Is(t[i - 1], "return")) v.insert(t[i].text);
+    }
+    return v;
+  }
+  // Whether subscript [b, e) is affine in `var` with invariants (names outside `variant`).
+  bool Affine(std::size_t b, std::size_t e, const std::string& var, const std::set<std::string>& variant,
+              std::string* why) const {
+    if (b == e) {
+      *why = "an empty subscript";
+      return false;
+    }
+    for (std::size_t i = b; i < e; ++i) {
+      const Tok& k = t[i];
+      if (k.kind == Tok::kNumber) continue;
+      if (k.kind == Tok::kIdent) {
+        if (i + 1 < e && (Is(t[i + 1], "(") || Is(t[i + 1], "<"))) {
+          *why = "a call '" + k.text + "(…)' in the index";
+          return false;
+        }
+        if (k.text != var && variant.count(k.text)) {
+          *why = "'" + k.text + "', which changes inside the loop";
+          return false;
+        }
+        continue;
+      }
+      if (k.kind == Tok::kPunct &&
+          (k.text == "+" || k.text == "-" || k.text == "*" || k.text == "(" || k.text == ")" || k.text == "::"))
+        continue;
+      *why = "'" + k.text + "' in the index (data-dependent or not affine)";
+      return false;
+    }
+    return true;
+  }
+  // Pipelined-loop accesses of the tracked parameters of `f`; then the calls that pass them on.
+  void Follow(const Function& f, const std::map<std::string, std::string>& tracked, const std::string& top) {
+    std::map<std::string, std::string> fresh;
+    for (const auto& [name, bundle] : tracked)
+      if (checked->insert(f.name + ":" + name).second) fresh[name] = bundle;
+    if (fresh.empty()) return;
+    std::vector<std::pair<std::size_t, std::size_t>> pipelined;
+    for (const Loop& l : PipelinedLoops(f.body_begin, f.body_end)) {
+      pipelined.push_back({l.body_b, l.body_e});
+      const std::set<std::string> variant = Variant(l.body_b, l.body_e);
+      std::map<std::string, std::set<std::string>> per_bundle;  // bundle → distinct accesses
+      for (std::size_t i = l.body_b; i < l.body_e; ++i) {
+        if (t[i].kind != Tok::kIdent || !fresh.count(t[i].text)) continue;
+        if (i > 0 && (Is(t[i - 1], ".") || Is(t[i - 1], "->"))) continue;  // a member of the same name
+        const std::string& name = t[i].text;
+        if (i + 1 >= l.body_e || !Is(t[i + 1], "[")) {
+          bad->push_back(Where(t[i]) + "top " + top + ": m_axi argument '" + name + "' (in " + f.name +
+                         ") is handed on inside a pipelined loop");
+          continue;
+        }
+        std::string access = name;
+        for (std::size_t j = i + 1; j < l.body_e && Is(t[j], "[");) {
+          const std::size_t c = MatchClose(t, j);
+          std::string why;
+          if (!Affine(j + 1, c, l.var, variant, &why))
+            bad->push_back(Where(t[i]) + "top " + top + ": m_axi argument '" + name + "' (in " + f.name +
+                           ") indexed by " + why + " (a pipelined loop over '" + l.var + "')");
+          for (std::size_t q = j; q <= c; ++q) access += t[q].text;
+          j = c + 1;
+        }
+        per_bundle[fresh.at(name)].insert(access);
+      }
+      for (const auto& [bundle, accesses] : per_bundle)
+        if (int(accesses.size()) > l.ii) {
+          std::string list;
+          for (const auto& a : accesses) list += (list.empty() ? "" : ", ") + a;
+          bad->push_back(Where(t[l.body_b]) + "top " + top + ": bundle " + bundle + " takes " +
+                         std::to_string(accesses.size()) + " accesses per iteration (" + list + ") in a loop of II " +
+                         std::to_string(l.ii) + " (in " + f.name + ")");
+        }
+    }
+    // Calls outside the pipelined loops that pass a tracked argument on.
+    for (std::size_t i = f.body_begin; i + 1 < f.body_end; ++i) {
+      bool inside = false;
+      for (const auto& [b, e] : pipelined) inside |= i >= b && i < e;
+      if (inside || t[i].kind != Tok::kIdent || Keyword(t[i])) continue;
+      if (i > 0 && (Is(t[i - 1], ".") || Is(t[i - 1], "->"))) continue;
+      std::size_t open = i + 1;
+      if (Is(t[open], "<")) open = MatchClose(t, open) + 1;
+      if (open >= f.body_end || !Is(t[open], "(")) continue;
+      const auto args = Args(open);
+      for (const Function& g : fns) {
+        if (g.name != t[i].text) continue;
+        const std::vector<Param> params = Params(t, g);
+        std::map<std::string, std::string> passed;
+        for (std::size_t a = 0; a < args.size() && a < params.size(); ++a) {
+          const Tok& first = t[args[a].first];
+          if (first.kind == Tok::kIdent && fresh.count(first.text) &&
+              (args[a].second == args[a].first + 1 || Is(t[args[a].first + 1], "[")))
+            passed[params[a].name] = fresh.at(first.text);
+        }
+        if (!passed.empty()) Follow(g, passed, top);
+      }
+    }
+  }
+  // The m_axi ports of top `f` (port → bundle) and the walk from it.
+  void CheckTop(const Function& f) {
+    if (f.is_template || !IsTopName(f.name)) return;
+    static const std::regex maxi_re(R"(^\s*HLS\s+INTERFACE\s+m_axi\b.*)", std::regex::icase);
+    static const std::regex port_re(R"(\bport\s*=\s*(\w+))", std::regex::icase);
+    static const std::regex bundle_re(R"(\bbundle\s*=\s*(\w+))", std::regex::icase);
+    std::map<std::string, std::string> ports;
+    for (std::size_t i = f.body_begin; i < f.body_end; ++i) {
+      if (t[i].kind != Tok::kPragma || !std::regex_match(t[i].text, maxi_re)) continue;
+      std::smatch p, b;
+      if (std::regex_search(t[i].text, p, port_re))
+        ports[p[1]] = std::regex_search(t[i].text, b, bundle_re) ? std::string(b[1]) : std::string("gmem");
+    }
+    checked->clear();
+    Follow(f, ports, f.name);
+  }
+};
+
 struct TopLintResult {
   std::vector<std::string> violations;
   std::set<std::string> tops, regions;
+  std::set<std::string> memory_followed;  // "function:parameter" pairs rule (d) walked, all tops
   std::string error;  // the preprocessor's complaint, if any
 };
 
-// Preprocesses `tu` (-D__SYNTHESIS__) and applies rules (a)–(c) to the code of files whose
+// Preprocesses `tu` (-D__SYNTHESIS__) and applies rules (a)–(d) to the code of files whose
 // path matches `keep`.
 TopLintResult RunTopLint(const fs::path& dir, const fs::path& tu, const std::vector<fs::path>& includes,
-                         const std::string& keep = "src/hw/[^/]+[.]h$") {
+                         const std::string& keep = "src/hw/([^/]+[.]h|tops[.]cc)$") {
   TopLintResult r;
   std::string cmd = "c++ -E -std=c++20 -D__SYNTHESIS__ '" + tu.string() + "'";
   for (const fs::path& inc : includes) cmd += " -I'" + inc.string() + "'";
@@ -580,7 +778,14 @@ TopLintResult RunTopLint(const fs::path& dir, const fs::path& tu, const std::vec
       }
   }
   static const std::regex dataflow_re(R"(^\s*HLS\s+DATAFLOW\b.*)", std::regex::icase);
-  for (const Function& f : FindFunctions(t)) {
+  const std::vector<Function> fns = FindFunctions(t);
+  std::set<std::string> followed;
+  MemoryLint memory{t, fns, &r.violations, &followed};
+  for (const Function& f : fns) {
+    memory.CheckTop(f);
+    r.memory_followed.insert(followed.begin(), followed.end());
+  }
+  for (const Function& f : fns) {
     CheckTop(t, f, &r.violations, &r.tops);
     bool dataflow = false;
     for (std::size_t i = f.body_begin; i < f.body_end; ++i)
@@ -612,6 +817,7 @@ TEST(HwTopLint, TopsHaveInterfacesAndRegionsAreCanonical) {
     if (std::find(std::begin(kHostHeaders), std::end(kHostHeaders), name) != std::end(kHostHeaders)) continue;
     tu += "#include \"hw/" + name + "\"\n";
   }
+  tu += "#include \"hw/tops.cc\"\n";  // the tops' definitions
   WriteFile(dir / "kernels.cc", tu);
   const TopLintResult r = RunTopLint(dir, dir / "kernels.cc", {root / "src", root / "src/hw/hls_types", root / "include"});
   ASSERT_TRUE(r.error.empty()) << r.error;
@@ -620,6 +826,151 @@ TEST(HwTopLint, TopsHaveInterfacesAndRegionsAreCanonical) {
   for (const char* top : {"HwInitTop", "HwWeighTop5", "HwWeighTop10", "HwUpdateTop"}) EXPECT_TRUE(r.tops.count(top)) << top;
   for (const char* region : {"HwWeighTop", "HwUpdateTop", "InitSamplesRegion"})
     EXPECT_TRUE(r.regions.count(region)) << region;
+  // Rule (d) followed every m_axi argument to the kernel that reads or writes it.
+  for (const char* use : {"GatherSampleInfo:samples", "BurstLoad:src", "DistributeDepth:depth", "VertexMultiplier:vmem",
+                          "VertexMultiplier:tri_mem", "MergeWeights:class_prob", "SortWeights:sorted_w",
+                          "SortWeights:sorted_idx", "CollectStats:stats", "CollectStats:offsets", "Resample:sorted_w",
+                          "Resample:samples", "Resample:hypothesis", "Diffuse:in_mem", "Diffuse:volumes",
+                          "Diffuse:out_mem", "CdfNormalise:prob", "GenSample:heuristics", "GenSample:samples"})
+    EXPECT_TRUE(r.memory_followed.count(use)) << "rule (d) did not reach " << use;
+  fs::remove_all(dir);
+}
+
+// Rule (d) rejects each bad access pattern of an m_axi argument and passes the good ones.
+TEST(HwTopLint, EachMemoryRuleCatchesABadFixture) {
+  if (std::system("c++ --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no c++ preprocessor";
+  const fs::path dir = FreshTempPath("hwtop_memlint");
+  fs::create_directories(dir / "src/hw");
+  WriteFile(dir / "tu.cc", "#include \"hw/kernel.h\"\n");
+  const std::string prelude = R"(#pragma once
+template <typename T, int N>
+void Load(const T src[N], T dst[N], int count) {
+  for (int i = 0; i < count; ++i) {
+#pragma HLS PIPELINE II = 1
+    dst[i] = src[i];
+  }
+}
+inline int Pick(const int a[64], int k) { return a[k]; }
+)";
+  // A top around a kernel body: in and out are m_axi on bundles gmem_a and gmem_b (or one).
+  const auto top = [](const std::string& kernel, const std::string& bundle_out) {
+    return kernel + R"(
+inline void HwFixtureTop(int n, const int in[64], const int lut[64], int out[64]) {
+#pragma HLS INTERFACE m_axi port = in offset = slave bundle = gmem_a depth = 64
+#pragma HLS INTERFACE m_axi port = lut offset = slave bundle = gmem_lut depth = 64
+#pragma HLS INTERFACE m_axi port = out offset = slave bundle = )" + bundle_out + R"( depth = 64
+#pragma HLS INTERFACE s_axilite port = n bundle = control
+#pragma HLS INTERFACE s_axilite port = return bundle = control
+  Kernel(n, in, lut, out);
+}
+)";
+  };
+  const std::vector<fs::path> includes = {dir / "src"};
+  const std::vector<std::tuple<std::string, std::string, std::string>> good = {
+      {"affine reads and writes", R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  const int base = n / 2;
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 1
+    out[i] = in[base + 2 * i] + lut[i];
+  }
+})", "gmem_b"},
+      {"a random read of an on-chip copy", R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  int copy[64];
+  Load<int, 64>(in, copy, 64);
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 1
+    out[i] = copy[lut[i] & 63];
+  }
+})", "gmem_b"},
+      {"two arrays of one bundle in a loop of II 2", R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 2
+    out[i] = in[i];
+  }
+  (void)lut;
+})", "gmem_a"},
+      {"a row of a 2-D walk (the outer counter is invariant in the inner loop)",
+       R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  for (int r = 0; r < 8; ++r) {
+    for (int c = 0; c < n; ++c) {
+#pragma HLS PIPELINE II = 1
+      out[r * 8 + c] = lut[c];
+    }
+  }
+  (void)in;
+})", "gmem_b"},
+  };
+  for (const auto& [what, kernel, bundle] : good) {
+    WriteFile(dir / "src/hw/kernel.h", prelude + top(kernel, bundle));
+    const TopLintResult r = RunTopLint(dir, dir / "tu.cc", includes);
+    ASSERT_TRUE(r.error.empty()) << what << "\n" << r.error;
+    EXPECT_TRUE(r.violations.empty()) << what << ":\n" << Joined(r.violations);
+    EXPECT_TRUE(r.memory_followed.count("Kernel:in")) << what;
+  }
+  const std::vector<std::tuple<std::string, std::string, std::string, std::string>> bad = {
+      {"a data-dependent read", R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 1
+    out[i] = in[lut[i]];
+  }
+})", "gmem_b", "'in' (in Kernel) indexed by '[' in the index"},
+      {"an index computed inside the loop", R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  int k = 0;
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 1
+    k = (k * 5 + 1) & 63;
+    out[i] = in[k];
+  }
+  (void)lut;
+})", "gmem_b", "indexed by 'k', which changes inside the loop"},
+      {"a member of a sample as the index", R"(struct S { int cell; };
+inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  S s{};
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 1
+    s.cell = lut[i];
+    out[i] = in[s.cell];
+  }
+})", "gmem_b", "'in' (in Kernel) indexed by"},
+      {"two arrays of one bundle in a loop of II 1", R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 1
+    out[i] = in[i];
+  }
+  (void)lut;
+})", "gmem_a", "bundle gmem_a takes 2 accesses per iteration (in[i], out[i]) in a loop of II 1"},
+      {"three reads of one array at II 2", R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 2
+    out[i] = in[i] + in[i + 1] + in[i + 2];
+  }
+  (void)lut;
+})", "gmem_b", "bundle gmem_a takes 3 accesses per iteration"},
+      {"an m_axi array handed to a function in a pipelined loop",
+       R"(inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 1
+    out[i] = Pick(in, lut[i]);
+  }
+})", "gmem_b", "m_axi argument 'in' (in Kernel) is handed on inside a pipelined loop"},
+      {"a random read two calls down", R"(inline void Inner(int n, const int a[64], int out[64]) {
+  for (int i = 0; i < n; ++i) {
+#pragma HLS PIPELINE II = 1
+    out[i] = a[(i * i) & 63];
+  }
+}
+inline void Kernel(int n, const int in[64], const int lut[64], int out[64]) {
+  Inner(n, in, out);
+  (void)lut;
+})", "gmem_b", "'a' (in Inner) indexed by '&' in the index"},
+  };
+  for (const auto& [what, kernel, bundle, expect] : bad) {
+    WriteFile(dir / "src/hw/kernel.h", prelude + top(kernel, bundle));
+    const TopLintResult r = RunTopLint(dir, dir / "tu.cc", includes);
+    ASSERT_TRUE(r.error.empty()) << what << "\n" << r.error;
+    EXPECT_NE(Joined(r.violations).find(expect), std::string::npos)
+        << "the memory lint missed: " << what << "\nexpected: " << expect << "\ngot:\n" << Joined(r.violations);
+  }
   fs::remove_all(dir);
 }
 

@@ -1,16 +1,26 @@
-// scripts/hls/tb/hls_case.h — the small synthetic case of the HLS test benches and of the
-// golden-vector generator (tests/hls/), and the vector files' format.
+// scripts/hls/tb/hls_case.h — the synthetic cases of the HLS test benches and of the
+// golden-vector generator (tests/hls/), the vector files' format, and the AXI byte images the
+// benches pass every input and output through.
 //
-// The case (built from integers and host conversions only, the same on every compiler and
-// with the vendor's or our ap types): a 640×480 depth image (background 1.0 m, a 67 × 67 px
-// patch at 0.75 m in the middle), a 0.1 m cube (8 vertices, 12 faces) seen by a pinhole camera
+// Two cases, built from integers and exact host conversions only (no libm), so that they are
+// the same on every compiler and with the vendor's or our ap types. Both share a 640×480 depth
+// image (background 1.0 m, a 67 × 67 px patch at 0.75 m in the middle), a pinhole camera
 // (fx = fy = 500 px, cx = 320, cy = 240, base = camera frame), a prior with mass on every 97th
-// cell, every cell's heuristic volume around (0, 0, 0.8 m), 96 × 96 px cell windows at the
-// image centre, kCaseParticles particles, the per-particle window growth on, region and
-// rotation caps on, all 15 diffusion moves equally likely.
+// cell, every cell's heuristic volume around (0, 0, 0.8 m), 96 × 96 px cell windows at the image
+// centre, the per-particle window growth, region and rotation caps on, all 15 diffusion moves
+// equally likely. They differ in the model and the particle count:
+//   cube  — a 0.1 m cube (8 vertices, 12 faces), 24 particles;
+//   torus — a torus of 1024 vertices and 2048 faces (the engine's bounds; major radius 61,
+//           minor 26 units of 2^-10 m, 32 × 32 vertices from an integer sine table), 96 particles.
 //
-// Vector files: text, one value per line as the hexadecimal raw bits of the field (the
-// fixed-point value × 2^F, two's complement, W bits), fields of a struct in declaration order.
+// Vector files (one folder per case, <vector dir>/<case>/<name>.hex): text, one value per line
+// as the hexadecimal raw bits of the field (the fixed-point value × 2^F, W bits), fields of a
+// struct in declaration order (src/hw/host/axi_pack.h's VisitFields).
+//
+// The AXI byte images (docs/HW_PACKING.md): a bench writes every memory and register a top
+// reads as the bytes a driver would write to DDR and the AXI4-Lite registers
+// (posefilter::hw::axi::Pack), unpacks them into the top's arguments, and packs and unpacks
+// every output before comparing it, so a layout error shows as a mismatch.
 #pragma once
 
 #include <cstdint>
@@ -18,62 +28,50 @@
 #include <string>
 #include <vector>
 
+#include "hw/host/axi_pack.h"
 #include "hw/top.h"
 
 namespace hls_case {
 
 using namespace posefilter::hw;
+namespace axi = posefilter::hw::axi;
 
-constexpr int kCaseParticles = 24;  // particles of the case (n)
-constexpr int kCaseFaces = 12;
+// ---- The cases ----
+struct CaseSpec {
+  const char* name;
+  int particles;  // n
+  bool torus;     // the model: the torus, else the cube
+};
+constexpr CaseSpec kCases[] = {{"cube", 24, false}, {"torus", 96, true}};
+constexpr int kNumCases = 2;
 
-// ---- Raw bits of the ap types (the common API of the vendor's and our headers) ----
-template <int W>
-uint64_t Bits(const ap_uint<W>& x) { return x.to_uint64(); }
-template <int W>
-uint64_t Bits(const ap_int<W>& x) { return ap_uint<W>(x.range(W - 1, 0)).to_uint64(); }
-template <int W, int I, ap_q_mode Q, ap_o_mode O, int N>
-uint64_t Bits(const ap_fixed<W, I, Q, O, N>& x) { return ap_uint<W>(x.range(W - 1, 0)).to_uint64(); }
-template <int W, int I, ap_q_mode Q, ap_o_mode O, int N>
-uint64_t Bits(const ap_ufixed<W, I, Q, O, N>& x) { return ap_uint<W>(x.range(W - 1, 0)).to_uint64(); }
-inline uint64_t Bits(uint64_t v) { return v; }
-
-template <int W>
-void SetBits(ap_uint<W>& x, uint64_t v) { x = ap_uint<W>(v); }
-template <int W>
-void SetBits(ap_int<W>& x, uint64_t v) { x.range(W - 1, 0) = ap_uint<W>(v); }
-template <int W, int I, ap_q_mode Q, ap_o_mode O, int N>
-void SetBits(ap_fixed<W, I, Q, O, N>& x, uint64_t v) { x.range(W - 1, 0) = ap_uint<W>(v); }
-template <int W, int I, ap_q_mode Q, ap_o_mode O, int N>
-void SetBits(ap_ufixed<W, I, Q, O, N>& x, uint64_t v) { x.range(W - 1, 0) = ap_uint<W>(v); }
-
-// The fields of the structs that cross the tops' ports, in declaration order.
-inline std::vector<uint64_t> Words(const Sample& s) {
-  return {Bits(s.x), Bits(s.y), Bits(s.z), Bits(s.roll), Bits(s.pitch), Bits(s.yaw), Bits(s.cell)};
+// The case called name, or null (with a message).
+inline const CaseSpec* FindCase(const std::string& name) {
+  for (const CaseSpec& c : kCases)
+    if (name == c.name) return &c;
+  std::fprintf(stderr, "unknown case '%s' (cube, torus)\n", name.c_str());
+  return nullptr;
 }
-inline void FromWords(Sample& s, const uint64_t* w) {
-  SetBits(s.x, w[0]), SetBits(s.y, w[1]), SetBits(s.z, w[2]), SetBits(s.roll, w[3]), SetBits(s.pitch, w[4]),
-      SetBits(s.yaw, w[5]), SetBits(s.cell, w[6]);
-}
-inline std::vector<uint64_t> Words(const RasterCoreOutput& o) {
-  return {Bits(o.inlier_sum), Bits(o.n_raster), Bits(o.n_occluded), Bits(o.n_depth), Bits(o.depth_diff_sum),
-          Bits(o.depth_diff_count), Bits(o.n_edge), Bits(o.n_edge_continued), Bits(o.faces_front), Bits(o.faces_total)};
-}
-inline void FromWords(RasterCoreOutput& o, const uint64_t* w) {
-  SetBits(o.inlier_sum, w[0]), SetBits(o.n_raster, w[1]), SetBits(o.n_occluded, w[2]), SetBits(o.n_depth, w[3]),
-      SetBits(o.depth_diff_sum, w[4]), SetBits(o.depth_diff_count, w[5]), SetBits(o.n_edge, w[6]),
-      SetBits(o.n_edge_continued, w[7]), SetBits(o.faces_front, w[8]), SetBits(o.faces_total, w[9]);
+
+// ---- Vector files ----
+
+// The fields of a value in declaration order, as raw bits, and back.
+template <typename T>
+std::vector<uint64_t> Words(const T& x) {
+  std::vector<uint64_t> w;
+  axi::ForEachScalar(x, [&](const auto& f) { w.push_back(axi::RawBits(f)); });
+  return w;
 }
 template <typename T>
-std::vector<uint64_t> Words(const T& x) { return {Bits(x)}; }
-template <typename T>
-void FromWords(T& x, const uint64_t* w) { SetBits(x, w[0]); }
+void FromWords(T& x, const uint64_t* w) {
+  axi::ForEachScalar(x, [&](auto& f) { axi::SetRawBits(f, *w++); });
+}
 
 // One vector file: all words of values[0 … n).
 template <typename T>
 bool WriteVector(const std::string& path, const T* values, int n) {
   FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) return false;
+  if (!f) return std::fprintf(stderr, "cannot write %s\n", path.c_str()), false;
   for (int i = 0; i < n; ++i)
     for (uint64_t w : Words(values[i])) std::fprintf(f, "%llx\n", static_cast<unsigned long long>(w));
   return std::fclose(f) == 0;
@@ -91,7 +89,7 @@ template <typename T>
 bool ReadVector(const std::string& path, T* values, int n) {
   std::vector<uint64_t> w;
   if (!ReadWords(path, &w)) return std::fprintf(stderr, "cannot read %s\n", path.c_str()), false;
-  const std::size_t per = Words(values[0]).size();
+  const std::size_t per = axi::LayoutOf<T>().fields.size();
   if (w.size() != per * std::size_t(n))
     return std::fprintf(stderr, "%s: %zu words, expected %zu\n", path.c_str(), w.size(), per * n), false;
   for (int i = 0; i < n; ++i) FromWords(values[i], &w[per * i]);
@@ -127,6 +125,20 @@ int CompareVector(const std::string& path, const T* values, int n) {
   return bad;
 }
 
+// The vector folder of a case, and a file in it.
+inline std::string CaseDir(const std::string& dir, const CaseSpec& spec) { return dir + "/" + spec.name; }
+inline std::string VecPath(const std::string& case_dir, const char* name) { return case_dir + "/" + name + ".hex"; }
+
+// ---- Through the AXI byte images ----
+
+// count values as a driver writes them (an m_axi buffer, or with count 1 an s_axilite struct's
+// register image) and as the top reads them: packed to bytes, unpacked into `device`.
+template <typename T>
+void ViaAxi(const T* host, int count, T* device) {
+  const std::vector<uint8_t> bytes = axi::Pack(host, count);
+  axi::Unpack(bytes.data(), count, device);
+}
+
 // ---- The case ----
 
 // Every memory and register of the three tops (≈ 1 MB: allocate it, not on the stack).
@@ -152,9 +164,72 @@ struct Case {
   uint32_t diffusion_seed = 0x51ED;
 };
 
-inline xyz_t Xyz(double v) { return xyz_t(ap_fixed<13, 3, AP_RND, AP_SAT>(v)); }
+// What the tops read of a case, written and read back through the byte images: the m_axi
+// buffers (prob, volumes, cell windows, ρ, depth, model, hypotheses) and the s_axilite structs
+// (class_sum, gen, init_opt, cfg, rprm, dprm). The seeds are the host's.
+inline void CaseViaAxi(const Case& host, Case* device) {
+  ViaAxi(&host.prob[0][0], kNumCells, &device->prob[0][0]);
+  ViaAxi(&host.class_sum, 1, &device->class_sum);
+  ViaAxi(host.volumes, kNumCells, device->volumes);
+  ViaAxi(&host.gen, 1, &device->gen);
+  ViaAxi(&host.init_opt, 1, &device->init_opt);
+  ViaAxi(&host.cfg, 1, &device->cfg);
+  ViaAxi(host.cell_windows, kNumCells, device->cell_windows);
+  ViaAxi(host.class_prob, kNumCells, device->class_prob);
+  ViaAxi(host.depth, kImageHeight * kImageWidth, device->depth);
+  ViaAxi(&host.vmem[0][0], 3 * kMaxVertices, &device->vmem[0][0]);
+  ViaAxi(host.tri_mem, kMaxFaces, device->tri_mem);
+  ViaAxi(host.hypothesis, kNumCells, device->hypothesis);
+  ViaAxi(&host.rprm, 1, &device->rprm);
+  ViaAxi(&host.dprm, 1, &device->dprm);
+  device->resample_seed = host.resample_seed;
+  device->diffusion_seed = host.diffusion_seed;
+}
 
-inline void MakeCase(Case* c) {
+inline xyz_t Xyz(double v) { return xyz_t(ap_fixed<13, 3, AP_RND, AP_SAT>(v)); }
+inline xyz_t XyzRaw(int raw) {  // raw units of 2^-10 m
+  xyz_t x;
+  axi::SetRawBits(x, uint64_t(int64_t(raw)));
+  return x;
+}
+
+// sin(2πk/32) · 1024, rounded (an integer table: no libm in the case).
+inline int Sin32(int k) {
+  static const int kQuarter[9] = {0, 200, 392, 569, 724, 851, 946, 1004, 1024};
+  k &= 31;
+  const int q = k / 8, r = k % 8;
+  const int v = (q & 1) ? kQuarter[8 - r] : kQuarter[r];
+  return q >= 2 ? -v : v;
+}
+inline int Cos32(int k) { return Sin32(k + 8); }
+// a / b rounded half away from zero (b > 0).
+inline int64_t RoundDiv(int64_t a, int64_t b) { return a >= 0 ? (a + b / 2) / b : -((-a + b / 2) / b); }
+
+// The torus: vertex (i, j) = ((R + r cos φ_j) cos θ_i, (R + r cos φ_j) sin θ_i, r sin φ_j),
+// θ_i = 2πi/32, φ_j = 2πj/32, R = 61 and r = 26 units of 2^-10 m; quad (i, j) → faces
+// (i,j)(i+1,j)(i+1,j+1) and (i,j)(i+1,j+1)(i,j+1), counter-clockwise seen from outside
+// (src/synth/shapes.cc's MakeTorus). Returns the face count.
+constexpr int kTorusN = 32, kTorusMajor = 61, kTorusMinor = 26;
+inline int MakeTorus(xyz_t vmem[3][kMaxVertices], face_t tri_mem[kMaxFaces]) {
+  for (int i = 0; i < kTorusN; ++i)
+    for (int j = 0; j < kTorusN; ++j) {
+      const int v = i * kTorusN + j;
+      const int64_t rho = int64_t(kTorusMajor) * 1024 + int64_t(kTorusMinor) * Cos32(j);  // × 2^10
+      vmem[0][v] = XyzRaw(int(RoundDiv(rho * Cos32(i), 1 << 20)));
+      vmem[1][v] = XyzRaw(int(RoundDiv(rho * Sin32(i), 1 << 20)));
+      vmem[2][v] = XyzRaw(int(RoundDiv(int64_t(kTorusMinor) * Sin32(j), 1 << 10)));
+    }
+  auto idx = [](int i, int j) { return (i % kTorusN) * kTorusN + (j % kTorusN); };
+  int f = 0;
+  for (int i = 0; i < kTorusN; ++i)
+    for (int j = 0; j < kTorusN; ++j) {
+      tri_mem[f++] = PackFace(idx(i, j), idx(i + 1, j), idx(i + 1, j + 1));
+      tri_mem[f++] = PackFace(idx(i, j), idx(i + 1, j + 1), idx(i, j + 1));
+    }
+  return f;
+}
+
+inline void MakeCase(Case* c, const CaseSpec& spec) {
   class_sum_t sum = 0;
   for (int i = 0; i < kNumCells; ++i) {
     c->prob[i][0] = i % 97 == 0 ? prob_t(ap_ufixed<8, 0, AP_RND, AP_SAT>((i % 7 + 1) / 8.0)) : prob_t(0);
@@ -176,15 +251,29 @@ inline void MakeCase(Case* c) {
       const bool patch = u >= 287 && u < 354 && v >= 207 && v < 274;
       c->depth[v * kImageWidth + u] = depth_t(patch ? 0.75 : 1.0);
     }
-  // The cube: vertex k = (±0.05, ±0.05, ±0.05) with bit j of k giving the sign of axis j.
-  for (int k = 0; k < 8; ++k)
-    for (int j = 0; j < 3; ++j) c->vmem[j][k] = Xyz((k >> j) & 1 ? 0.05 : -0.05);
-  const int faces[kCaseFaces][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  for (int f = 0; f < kCaseFaces; ++f) c->tri_mem[f] = PackFace(faces[f][0], faces[f][1], faces[f][2]);
+  // The model memory beyond the model is zero (the driver writes whole buffers).
+  for (int j = 0; j < 3; ++j)
+    for (int k = 0; k < kMaxVertices; ++k) c->vmem[j][k] = 0;
+  for (int f = 0; f < kMaxFaces; ++f) c->tri_mem[f] = 0;
   WeighConfig& cfg = c->cfg;
+  if (spec.torus) {
+    cfg.num_faces = MakeTorus(c->vmem, c->tri_mem);
+    // The bounding box: corner k = (±(R + r), ±(R + r), ±r), bit j of k the sign of axis j.
+    const int half[3] = {kTorusMajor + kTorusMinor, kTorusMajor + kTorusMinor, kTorusMinor};
+    for (int k = 0; k < 8; ++k)
+      for (int j = 0; j < 3; ++j) cfg.bbox[k][j] = XyzRaw((k >> j) & 1 ? half[j] : -half[j]);
+  } else {
+    // The cube: vertex k = (±0.05, ±0.05, ±0.05) with bit j of k giving the sign of axis j.
+    for (int k = 0; k < 8; ++k)
+      for (int j = 0; j < 3; ++j) c->vmem[j][k] = Xyz((k >> j) & 1 ? 0.05 : -0.05);
+    const int faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                              {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    for (int f = 0; f < 12; ++f) c->tri_mem[f] = PackFace(faces[f][0], faces[f][1], faces[f][2]);
+    cfg.num_faces = 12;
+    for (int k = 0; k < 8; ++k)
+      for (int j = 0; j < 3; ++j) cfg.bbox[k][j] = c->vmem[j][k];
+  }
   cfg.num_cores = 1;
-  cfg.num_faces = kCaseFaces;
   cfg.img_width = kImageWidth;
   cfg.img_height = kImageHeight;
   cfg.cam.fx = intr_t(500.0);
@@ -197,13 +286,18 @@ inline void MakeCase(Case* c) {
   cfg.weight = DefaultWeightParams();
   cfg.grow_window = 1;
   cfg.max_window = 120;
-  for (int k = 0; k < 8; ++k)
-    for (int j = 0; j < 3; ++j) cfg.bbox[k][j] = c->vmem[j][k];
-  c->rprm.num_particles = kCaseParticles;
-  c->rprm.num_elite = 2;
-  c->rprm.pool_size = 20;
-  c->rprm.region_cap = 8;
-  c->rprm.rotation_cap = 3;
+  c->rprm.num_particles = spec.particles;
+  if (spec.torus) {
+    c->rprm.num_elite = 4;
+    c->rprm.pool_size = 80;
+    c->rprm.region_cap = 32;
+    c->rprm.rotation_cap = 10;
+  } else {
+    c->rprm.num_elite = 2;
+    c->rprm.pool_size = 20;
+    c->rprm.region_cap = 8;
+    c->rprm.rotation_cap = 3;
+  }
   c->dprm = ThesisDiffusionParams();
   double p[kNumHwMoves];
   for (double& x : p) x = 1.0;
@@ -213,8 +307,5 @@ inline void MakeCase(Case* c) {
   SetAlignDepthCamera(&c->dprm, rot, trans, &why);
   c->dprm.sigma_floor_lsb = 1;
 }
-
-// File names of the vectors (in the vector directory).
-inline std::string VecPath(const std::string& dir, const char* name) { return dir + "/" + name + ".hex"; }
 
 }  // namespace hls_case

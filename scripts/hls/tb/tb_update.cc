@@ -1,40 +1,69 @@
 // scripts/hls/tb/tb_update.cc — C test bench of HwUpdateTop (Vitis csim/cosim:
-// scripts/hls/update.tcl; here: ctest hls_tb_update). Reads the golden samples of the
-// initialisation and the golden sorted set and depth offsets of the weighing, runs the top
-// (w_best = the golden sorted_w[0], the sample memory on both read ports) and compares the
-// next sample memory and the resampling counters bit for bit. Usage: tb_update [<vector dir>].
+// scripts/hls/update.tcl; here: ctest hls_tb_update, hls_tb_update_torus). Reads the golden
+// samples of the initialisation and the golden sorted set and depth offsets of the weighing,
+// writes every memory and register of the top as its AXI byte image and reads it back as the
+// top's argument (w_best = the golden sorted_w[0], the sample memory on both read ports), runs
+// the top, reads the next sample memory and the resampling counters back through their byte
+// images and compares them bit for bit. Usage: tb_update [<vector dir> [<case>]] (case: cube,
+// torus).
 #include <memory>
 
 #include "hls_case.h"
 
 namespace hls_case {
 
-inline int TbUpdate(const std::string& dir) {
-  std::unique_ptr<Case> c(new Case);
-  MakeCase(c.get());
-  const int n = kCaseParticles;
+inline int TbUpdate(const std::string& dir, const std::string& case_name) {
+  const CaseSpec* spec = FindCase(case_name);
+  if (!spec) return kTbMissingInput;
+  const std::string cdir = CaseDir(dir, *spec);
+  std::unique_ptr<Case> host(new Case), dev(new Case);
+  MakeCase(host.get(), *spec);
+  CaseViaAxi(*host, dev.get());
+  const int count = spec->particles;
+  Sample samples_host[kMaxParticles];
+  weight_t w_host[kMaxParticles];
+  particle_index_t idx_host[kMaxParticles];
+  depth_off_t offsets_host[kMaxParticles];
+  if (!ReadVector(VecPath(cdir, "init_samples"), samples_host, count) ||
+      !ReadVector(VecPath(cdir, "weigh_sorted_w"), w_host, count) ||
+      !ReadVector(VecPath(cdir, "weigh_sorted_idx"), idx_host, count) ||
+      !ReadVector(VecPath(cdir, "weigh_offsets"), offsets_host, count))
+    return kTbMissingInput;
+  // The driver's writes: the buffers, w_best and the LFSR states.
   Sample samples_in[kMaxParticles];
-  weight_t sorted_w[kMaxParticles];
+  weight_t sorted_w[kMaxParticles], w_best;
   particle_index_t sorted_idx[kMaxParticles];
   depth_off_t offsets[kMaxParticles];
-  if (!ReadVector(VecPath(dir, "init_samples"), samples_in, n) || !ReadVector(VecPath(dir, "weigh_sorted_w"), sorted_w, n) ||
-      !ReadVector(VecPath(dir, "weigh_sorted_idx"), sorted_idx, n) || !ReadVector(VecPath(dir, "weigh_offsets"), offsets, n))
-    return kTbMissingInput;
-  Lfsr18 resample_rng(c->resample_seed);
-  DiffusionRng diffusion_rng(c->diffusion_seed);
+  ViaAxi(samples_host, count, samples_in);
+  ViaAxi(w_host, count, sorted_w);
+  ViaAxi(idx_host, count, sorted_idx);
+  ViaAxi(offsets_host, count, offsets);
+  ViaAxi(&w_host[0], 1, &w_best);
+  const Lfsr18 resample_rng_host(host->resample_seed);
+  const DiffusionRng diffusion_rng_host(host->diffusion_seed);
+  Lfsr18 resample_rng;
+  DiffusionRng diffusion_rng;
+  ViaAxi(&resample_rng_host, 1, &resample_rng);
+  ViaAxi(&diffusion_rng_host, 1, &diffusion_rng);
   Sample samples_out[kMaxParticles];
   ResampleCounters rc;
-  HwUpdateTop(sorted_w, sorted_idx, sorted_w[0], samples_in, samples_in, offsets, c->hypothesis, c->rprm, resample_rng,
-              c->dprm, c->volumes, diffusion_rng, samples_out, &rc);
-  const ap_uint<32> counters[4] = {rc.draws, rc.cdf_reads, rc.cdf_reads_linear, rc.pool};
-  int bad = CompareVector(VecPath(dir, "update_samples"), samples_out, n);
-  bad += CompareVector(VecPath(dir, "update_counters"), counters, 4);
-  std::printf("HwUpdateTop: %s\n", bad ? "MISMATCH" : "PASS");
+  HwUpdateTop(sorted_w, sorted_idx, w_best, samples_in, samples_in, offsets, dev->hypothesis, dev->rprm, resample_rng,
+              dev->dprm, dev->volumes, diffusion_rng, samples_out, &rc);
+  // What the driver reads back: the next sample memory and the counter registers.
+  Sample got_samples[kMaxParticles];
+  ResampleCounters got_rc;
+  ViaAxi(samples_out, count, got_samples);
+  ViaAxi(&rc, 1, &got_rc);
+  int bad = CompareVector(VecPath(cdir, "update_samples"), got_samples, count);
+  bad += CompareVector(VecPath(cdir, "update_counters"), &got_rc, 1);
+  std::printf("HwUpdateTop (%s): %s\n", spec->name, bad ? "MISMATCH" : "PASS");
   return TbStatus(bad);
 }
 
 }  // namespace hls_case
 
 #ifndef HLS_TB_NO_MAIN
-int main(int argc, char** argv) { return hls_case::TbUpdate(argc > 1 ? argv[1] : "vectors"); }
+int main(int argc, char** argv) {
+  return hls_case::TbUpdate(argc > 1 ? argv[1] : "vectors", argc > 2 ? argv[2] : "cube");
+}
 #endif

@@ -119,9 +119,9 @@ class Deadlock : public std::runtime_error {
   explicit Deadlock(const std::string& what) : std::runtime_error(what) {}
 };
 
-// Stack of one process coroutine (bytes). Kernels keep their large memories in the top's
-// frame or on the heap; their own locals are a few kB.
-constexpr std::size_t kStackBytes = 512 * 1024;
+// Stack of one process coroutine (bytes). The raster cores' memories are in the top's frame or
+// on the heap; a kernel's own locals are at most its on-chip copies of DDR arrays (≤ 0.2 MB).
+constexpr std::size_t kStackBytes = 1024 * 1024;
 // Failed polls in a row (empty()/full() true, read_nb/write_nb refused) with no transfer on
 // any stream in between that count as a livelock.
 constexpr std::uint64_t kPollLimit = 10000000;
