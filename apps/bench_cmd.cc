@@ -159,7 +159,7 @@ int RunBench(int argc, char** argv) {
   app.add_option("--threads", threads, "worker threads: scoring, scene normals, heuristic volumes (0 = all cores)")->capture_default_str();
   app.add_option("--zbuffer", zbuffer, "on: exact z-buffer; off: the thesis's culling-only mode")->capture_default_str();
   app.add_option("--lod", lod, "render the mesh simplified to at most this many faces (0 = full mesh)")->capture_default_str();
-  app.add_option("--seed", seed, "seed of the scene and of the filter")->capture_default_str()->check(SeedValidator());
+  app.add_option("--seed", seed, "seed of the scene and of the filter")->capture_default_str()->transform(SeedValidator());
   app.add_option("--target", target, "object kind of the scene (box, cylinder, lshape, torus)")->capture_default_str();
   app.add_option("--json", json_path, "also write the results as JSON to this file");
   app.add_flag("--quiet", quiet, "no progress on stderr");

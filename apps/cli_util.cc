@@ -2,18 +2,60 @@
 
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include "posefilter/error.h"
 
 namespace posefilter::cli {
 
+namespace {
+
+// CLI11's help, with a switch's default said in words: CLI11 prints the value a negated switch
+// sets after its name ("--zbuffer,--no-zbuffer{false}"), which reads as the default; here the
+// braces go, and a switch whose default is known gets "(default: on)" or "(default: off)".
+class HelpFormatter : public CLI::Formatter {
+ public:
+  std::string make_option_name(const CLI::Option* opt, bool is_positional) const override {
+    std::string name = CLI::Formatter::make_option_name(opt, is_positional);
+    for (std::size_t a; (a = name.find('{')) != std::string::npos;) {
+      const std::size_t b = name.find('}', a);
+      if (b == std::string::npos) break;
+      name.erase(a, b - a + 1);
+    }
+    return name;
+  }
+  std::string make_option_opts(const CLI::Option* opt) const override {
+    std::string opts = CLI::Formatter::make_option_opts(opt);
+    const std::string shown = "=" + opt->get_default_str();
+    if (opt->get_expected_max() == 0 && !opt->get_default_str().empty())  // a switch: its default goes in words
+      if (const std::size_t at = opts.find(shown); at != std::string::npos) opts.erase(at, shown.size());
+    return opts;
+  }
+  std::string make_option_desc(const CLI::Option* opt) const override {
+    std::string desc = CLI::Formatter::make_option_desc(opt);
+    const std::string d = opt->get_default_str();
+    if (opt->get_expected_max() == 0 && (d == "true" || d == "false" || d == "1" || d == "0"))  // a switch
+      desc += (d == "true" || d == "1") ? " (default: on)" : " (default: off)";
+    return desc;
+  }
+};
+
+}  // namespace
+
 int RunApp(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
+  app.formatter(std::make_shared<HelpFormatter>());
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
+    // A value given as "" (`--out ""`) is an error naming the option: no option of posefilter
+    // takes an empty value, and an empty path would otherwise mean "no output" or ".".
+    for (const CLI::Option* opt : app.get_options())
+      if (opt->count() > 0 && opt->get_expected_max() != 0)  // takes a value (not a switch)
+        for (const std::string& v : opt->results())
+          if (v.empty()) throw Error(opt->get_name() + ": empty value");
     body();
   } catch (const Error& e) {
     std::cerr << "posefilter " << app.get_name() << ": error: " << e.what() << "\n";

@@ -26,7 +26,7 @@ int RunDemo(int argc, char** argv) {
   bool quiet = false;
   FilterOptions opt;
   app.add_option("--out", out_dir, "folder for the scene files, results and overlay")->capture_default_str();
-  app.add_option("--scene-seed", scene_seed, "seed of the synthetic scene")->capture_default_str();
+  app.add_option("--scene-seed", scene_seed, "seed of the synthetic scene")->capture_default_str()->transform(SeedValidator());
   app.add_option("--target", synth.target, "object kind: box, cylinder, lshape or torus")->capture_default_str();
   app.add_option("--occlusion", synth.occlusion, "fraction of the object hidden by an occluder")->capture_default_str();
   app.add_flag("--quiet", quiet, "no progress on stderr");

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -50,7 +51,8 @@ int RunEstimate(int argc, char** argv) {
   FilterOptions opt;
   app.add_option("--depth", depth_path, "depth PNG (16-bit; metres = value x depth scale)")->required();
   app.add_option("--camera", camera_path, "camera JSON (fx, fy, cx, cy, width, height, depth_scale)")->required();
-  app.add_option("--depth-scale", depth_scale, "metres per PNG unit (default: the camera JSON's depth_scale)");
+  auto* depth_scale_opt =
+      app.add_option("--depth-scale", depth_scale, "metres per PNG unit (default: the camera JSON's depth_scale)");
   app.add_option("--mesh", mesh_args, "object mesh, NAME=PATH or PATH (repeatable; NAME = prior class)")->required();
   app.add_option("--unit-scale", unit_scale, "mesh units to metres (0.001 for millimetre meshes)")->capture_default_str();
   app.add_option("--prior", prior_arg,
@@ -72,7 +74,7 @@ int RunEstimate(int argc, char** argv) {
   app.add_flag("--scene-pass,!--no-scene-pass", scene_pass,
                "with several --mesh (not --mask): after the per-object estimates, the joint scene pass re-weighs each "
                "object against the pixels better estimates leave it and re-estimates one whose pixels another claims")
-      ->capture_default_str();
+      ->default_str(scene_pass ? "true" : "false");
   AddFilterOptions(app, &opt);
 
   return RunApp(app, argc, argv, [&] {
@@ -98,8 +100,10 @@ int RunEstimate(int argc, char** argv) {
     for (const auto& [name, path] : mesh_list) inputs.push_back({path, "--mesh"});
     CheckOutputPaths({{out_path, "--out"}, {overlay_path, "--overlay"}}, inputs);
     CameraFile cam = ReadCameraJson(camera_path);
-    if (depth_scale == 0) depth_scale = cam.depth_scale;
-    if (!(depth_scale > 0)) throw Error("--depth-scale must be > 0");
+    if (depth_scale_opt->count() == 0) depth_scale = cam.depth_scale;
+    if (!(depth_scale > 0) || !std::isfinite(depth_scale))
+      throw Error("--depth-scale must be finite and > 0" +
+                  std::string(depth_scale_opt->count() ? "" : " (the camera JSON's depth_scale)"));
     SceneInput scene{LoadDepthPng(depth_path, depth_scale), cam.camera};
     ValidateScene(scene, depth_path);
     // The overlay's background, read now so that a bad --rgb fails before the estimate.

@@ -271,7 +271,8 @@ int RunEval(int argc, char** argv) {
 
   return RunApp(app, argc, argv, [&] {
     {
-      std::vector<NamedPath> inputs = {{results_path, "--results"}, {gt_path, "--gt"}, {targets_path, "--targets"}};
+      std::vector<NamedPath> inputs = {{results_path, "--results"}, {gt_path, "--gt"}, {targets_path, "--targets"},
+                                       {dataset_dir, "--dataset"}};
       for (const auto& spec : mesh_specs) inputs.push_back({spec.substr(spec.find('=') + 1), "--mesh"});
       for (const auto& spec : point_specs) inputs.push_back({spec.substr(spec.find('=') + 1), "--points"});
       CheckOutputPaths({{json_path, "--json"}}, inputs);

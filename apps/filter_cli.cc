@@ -24,6 +24,9 @@ CLI::Validator SeedValidator() {
               return std::isdigit(c) != 0;
             }))
           return range;
+        // Decimal: CLI11 would read a leading 0 as octal ("010" = 8); the zeros go first.
+        const std::size_t nz = text.find_first_not_of('0');
+        text = nz == std::string::npos ? "0" : text.substr(nz);
         if (text.size() == 20 && text > "18446744073709551615") return range;
         return "";
       },
@@ -37,7 +40,7 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
       using T = std::remove_cvref_t<decltype(value)>;
       if constexpr (std::is_same_v<T, bool>) {
         // "--name" sets it, "--no-name" clears it; --help shows the default.
-        return app.add_flag(flag + ",!--no-" + f.name, value, f.help)->capture_default_str();
+        return app.add_flag(flag + ",!--no-" + f.name, value, f.help)->default_str(value ? "true" : "false");
       } else if constexpr (std::is_same_v<T, std::array<double, kNumMoves>>) {
         return app
             .add_option_function<std::vector<double>>(
@@ -53,7 +56,7 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
             ->default_str(f.ValueText(FilterOptions{}));
       } else {
         CLI::Option* opt = app.add_option(flag, value, f.help)->capture_default_str();
-        if constexpr (std::is_same_v<T, std::uint64_t>) opt->check(SeedValidator());
+        if constexpr (std::is_same_v<T, std::uint64_t>) opt->transform(SeedValidator());
         if (const std::vector<std::string> choices = f.Choices(); !choices.empty()) opt->check(CLI::IsMember(choices));
         return opt;
       }

@@ -13,8 +13,9 @@ namespace posefilter::cli {
 // --iterations, --seed, --threads, …; `posefilter options` lists them) on `app`, writing into
 // `opt` (defaults = FilterOptions defaults), in one --help section per group.
 void AddFilterOptions(CLI::App& app, FilterOptions* opt);
-// Checks a --seed value before CLI11 converts it: digits only, at most 2^64 - 1 (so "-1" and
-// "1e23" are errors, not 2^64 - 1).
+// Checks a --seed value before CLI11 converts it (a transform: add it with ->transform):
+// decimal digits only, at most 2^64 - 1 (so "-1" and "1e23" are errors, not 2^64 - 1), leading
+// zeros dropped (so "010" is 10, not CLI11's octal 8).
 CLI::Validator SeedValidator();
 // Validates after parsing; throws Error naming the option ("--alpha must be in [0, 1] (got 2)").
 // Then prints one warning to stderr per option set away from its default that the chosen

@@ -49,7 +49,7 @@ int RunGtDetections(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--jitter", jitter_px, "σ of the box centre and size noise, pixels (0 = exact boxes)")
       ->capture_default_str();
-  app.add_option("--seed", seed, "seed of the jitter (same seed, same boxes)")->capture_default_str()->check(SeedValidator());
+  app.add_option("--seed", seed, "seed of the jitter (same seed, same boxes)")->capture_default_str()->transform(SeedValidator());
   app.add_option("--score", score, "score of every detection, [0, 1]")->capture_default_str();
   app.add_option("--out", out_path, "write the detections JSON here")->required();
   app.add_flag("--quiet", quiet, "print nothing on stdout");
@@ -61,7 +61,7 @@ int RunGtDetections(int argc, char** argv) {
     if (!std::isfinite(score) || score < 0 || score > 1)
       throw Error("--score must be in [0, 1], got " + std::to_string(score));
     std::map<std::string, std::string> mesh_paths;
-    std::vector<NamedPath> inputs = {{gt_path, "--gt"}, {camera_path, "--camera"}};
+    std::vector<NamedPath> inputs = {{gt_path, "--gt"}, {camera_path, "--camera"}, {models_dir, "--models-dir"}};
     for (const auto& [name, path] : ParseNamedPaths(mesh_args, "--mesh")) {
       mesh_paths[name] = path;
       inputs.push_back({path, "--mesh"});

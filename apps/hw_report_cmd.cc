@@ -261,7 +261,7 @@ int RunHwReport(int argc, char** argv) {
                  "gt.json, label.png); the prior is the object's label-mask box");
   app.add_option("--models", models_dir, "meshes of --frame, <obj>.ply in metres (default: FRAME/../../models)");
   app.add_option("--object", object, "object of --frame (default: the first of its gt.json)");
-  app.add_option("--scene-seed", scene_seed, "synthetic scene seed")->capture_default_str();
+  app.add_option("--scene-seed", scene_seed, "synthetic scene seed")->capture_default_str()->transform(SeedValidator());
   app.add_option("--target", target, "synthetic object kind (torus: 1024 vertices, 2048 faces)")->capture_default_str();
   app.add_option("--occlusion", occlusion, "occluded fraction of the target")->capture_default_str();
   app.add_option("--cores", popt.cores, "raster-core counts to model")->delimiter(',')->capture_default_str();

@@ -12,12 +12,16 @@
 // the scene, the image and the target, so a resumed run gives the rows an uninterrupted one
 // would. The estimates made with an image's prior then go through the joint scene pass
 // (--no-scene-pass: not) before the rows are written.
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -32,7 +36,6 @@
 #include "posefilter/bop.h"
 #include "posefilter/scene_pass.h"
 #include "posefilter/error.h"
-#include "posefilter/file_io.h"
 #include "posefilter/file_io.h"
 #include "posefilter/filter.h"
 #include "posefilter/auto_prior.h"
@@ -84,6 +87,35 @@ std::string ImageKeyOfRow(const std::string& row) {
   if (a == std::string::npos) return "";
   const std::size_t b = row.find(',', a + 1);
   return b == std::string::npos ? "" : row.substr(0, b);
+}
+
+// An existing --out is resumed only when it is a results CSV: its first line is the header.
+// Checked before anything in the file changes (the torn-row repair below cuts the file).
+void CheckResultsCsvHeader(const std::string& csv) {
+  std::error_code ec;
+  if (!std::filesystem::exists(csv, ec) || std::filesystem::file_size(csv, ec) == 0) return;
+  std::ifstream in(csv, std::ios::binary);
+  if (!in) throw Error("--out " + csv + ": cannot open it to resume");
+  std::string first;
+  std::getline(in, first);
+  if (!first.empty() && first.back() == '\r') first.pop_back();
+  if (first != kBopCsvHeader)
+    throw Error("--out " + csv + ": exists and is not a results CSV (line 1 is not \"" + std::string(kBopCsvHeader) +
+                "\"); it is left as it is");
+}
+
+// One writer per results CSV: an exclusive advisory lock (flock) on the file, held until the
+// process ends (the kernel releases it, also after a crash). A second run on the same file stops
+// with an error instead of duplicating every row. Returns the descriptor that holds the lock.
+int LockResultsCsv(const std::string& csv) {
+  const int fd = ::open(csv.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
+  if (fd < 0) throw Error("--out " + csv + ": cannot open it (" + std::strerror(errno) + ")");
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd);
+    throw Error("--out " + csv + ": another run-dataset is writing it (it holds the file's lock); wait for it to end or "
+                "give another --out");
+  }
+  return fd;
 }
 
 // Appends write an image's rows with one write and undo a failed one, so only a crash of the
@@ -158,7 +190,7 @@ int RunRunDataset(int argc, char** argv) {
   app.add_flag("--scene-pass,!--no-scene-pass", scene_pass,
                "after an image's per-object estimates, the joint scene pass over those made with the image's prior "
                "(posefilter/scene_pass.h): an object whose pixels a better estimate explains is re-estimated without them")
-      ->capture_default_str();
+      ->default_str(scene_pass ? "true" : "false");
   app.add_flag("--no-time", no_time,
                "write time -1 (BOP: not measured) instead of each image's wall time, so that runs of the same "
                "options write identical rows");
@@ -200,7 +232,16 @@ int RunRunDataset(int argc, char** argv) {
 
     // Resume: a torn last row (a crash mid-append) is removed with its image's rows, then the
     // images already in the CSV are skipped.
+    CheckResultsCsvHeader(out_path);
+    int lock_fd = LockResultsCsv(out_path);
     DropTornImage(out_path, quiet);
+    // The repair may have replaced the file (a new inode): then hold the lock on the new one.
+    struct stat locked {}, now {};
+    if (::fstat(lock_fd, &locked) == 0 && ::stat(out_path.c_str(), &now) == 0 && locked.st_ino != now.st_ino) {
+      const int again = LockResultsCsv(out_path);
+      ::close(lock_fd);
+      lock_fd = again;
+    }
     std::set<std::pair<int, int>> done;
     std::error_code ec;
     if (std::filesystem::exists(out_path, ec) && std::filesystem::file_size(out_path, ec) > 0)

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -330,7 +331,7 @@ int RunSuite(int argc, char** argv) {
       ->check(CLI::IsMember({"shapes", "ycbv"}))
       ->capture_default_str();
   app.add_option("--count", count, "number of scenes")->capture_default_str();
-  app.add_option("--first-seed", first_seed, "scene i uses seed first_seed + i")->capture_default_str()->check(SeedValidator());
+  app.add_option("--first-seed", first_seed, "scene i uses seed first_seed + i")->capture_default_str()->transform(SeedValidator());
   app.add_option("--targets", targets, "shapes: object kinds, used in turn; ycbv: the classes estimated (default all)")
       ->delimiter(',');
   app.add_option("--occlusions", occlusions, "shapes: occlusion levels, used in turn")->delimiter(',');
@@ -355,7 +356,7 @@ int RunSuite(int argc, char** argv) {
                "ycbv (not --prior masks): after the per-object estimates, the joint scene pass (posefilter/scene_pass.h) "
                "re-weighs each object against the pixels better estimates leave it and re-estimates one whose pixels "
                "another claims")
-      ->capture_default_str();
+      ->default_str(ta.scene_pass ? "true" : "false");
   app.add_option("--write-scenes", ta.write_dir, "ycbv: also write every scene to DIR/scene_<seed>/ (for peers)");
   app.add_option("--json", json_path, "also write the table as JSON");
   AddFilterOptions(app, &opt);
@@ -363,6 +364,8 @@ int RunSuite(int argc, char** argv) {
   return RunApp(app, argc, argv, [&] {
     CheckFilterOptions(opt);
     if (count < 1) throw Error("--count must be >= 1");
+    if (first_seed > UINT64_MAX - std::uint64_t(count - 1))
+      throw Error("--first-seed + --count - 1 is above 2^64 - 1: the last scene's seed would wrap to 0");
     CheckOutputPaths({{json_path, "--json"}}, {{ta.models_dir, "--models"}, {ta.write_dir, "--write-scenes"}});
     // The scene pass needs scenes of several objects sharing one prior (--prior masks gives each its own).
     if (app.count("--scene-pass") && ta.scene_pass && (world != "ycbv" || ta.prior_kind == "masks"))

@@ -30,7 +30,7 @@ int RunSynth(int argc, char** argv) {
   bool no_missing_edges = false;
   app.add_option("--out", out_dir, "output folder (scenes go to OUT/scene_000, ...)")->required();
   app.add_option("--count", count, "number of scenes")->capture_default_str();
-  app.add_option("--seed", seed, "seed of the first scene (scene i uses seed + i)")->capture_default_str()->check(SeedValidator());
+  app.add_option("--seed", seed, "seed of the first scene (scene i uses seed + i)")->capture_default_str()->transform(SeedValidator());
   auto* target_opt =
       app.add_option("--target", opt.target, "object kind: box, cylinder, lshape or torus")->capture_default_str();
   auto* mesh_opt = app.add_option("--mesh", mesh_path, "a user mesh (.ply/.obj/.stl) as the target; class = file stem");
@@ -65,6 +65,8 @@ int RunSynth(int argc, char** argv) {
 
   return RunApp(app, argc, argv, [&] {
     if (count < 1 || count > 100000) throw Error("--count must be in [1, 100000]");
+    if (seed > UINT64_MAX - std::uint64_t(count - 1))
+      throw Error("--seed + --count - 1 is above 2^64 - 1: the last scene's seed would wrap to 0");
     opt.missing_edges = !no_missing_edges;
     std::unique_ptr<Mesh> mesh;
     if (!mesh_path.empty()) {

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -80,7 +81,8 @@ int RunTrack(int argc, char** argv) {
   auto* fr_opt = app.add_option("--frames", frames_dir, "folder of 16-bit depth PNGs, tracked in file-name order (with --camera, --mesh)");
   ds_opt->excludes(fr_opt);
   app.add_option("--camera", camera_path, "camera JSON of --frames (fx, fy, cx, cy, width, height, depth_scale)");
-  app.add_option("--depth-scale", depth_scale, "metres per PNG unit of --frames (default: the camera JSON's)");
+  auto* depth_scale_opt =
+      app.add_option("--depth-scale", depth_scale, "metres per PNG unit of --frames (default: the camera JSON's)");
   app.add_option("--mesh", mesh_args, "object mesh of --frames, NAME=PATH or PATH (repeatable)");
   app.add_option("--unit-scale", unit_scale, "--mesh units to metres (0.001 for millimetre meshes)")->capture_default_str();
   app.add_option("--prior", prior_arg,
@@ -99,7 +101,7 @@ int RunTrack(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--scene-pass,!--no-scene-pass", topt.scene_pass,
                "objects estimated from one frame's stage 1 go through the joint scene pass together")
-      ->capture_default_str();
+      ->default_str(topt.scene_pass ? "true" : "false");
   app.add_flag("--no-velocity", no_velocity, "predict the last pose (default: the last pose moved by the last frame-to-frame motion)");
   app.add_option("--csv", csv_path, "write one row per frame and object here");
   app.add_option("--out-dir", out_dir, "write one results JSON per frame here (<frame>.json)");
@@ -125,10 +127,27 @@ int RunTrack(int argc, char** argv) {
     if (!use_dataset && (camera_path.empty() || mesh_args.empty())) throw Error("--frames needs --camera and --mesh");
     if (init_gt && !use_dataset) throw Error("--init-gt needs a --dataset with ground truth");
     if (!(unit_scale > 0) || !std::isfinite(unit_scale)) throw Error("--unit-scale must be finite and > 0");
-    std::vector<NamedPath> inputs = {{camera_path, "--camera"}};
+    // Every input, files and folders: the outputs may overwrite none of them.
+    std::vector<NamedPath> inputs = {{camera_path, "--camera"}, {dataset_dir, "--dataset"}, {frames_dir, "--frames"}};
     if (!named_prior) inputs.push_back({prior_arg, "--prior"});
+    for (const auto& spec : mesh_args) inputs.push_back({spec.substr(spec.find('=') + 1), "--mesh"});
     CheckOutputPaths({{csv_path, "--csv"}}, inputs);
     if (!out_dir.empty()) {
+      // The per-frame JSONs (<out-dir>/NNNNNN.json) go into a folder of their own: not an input
+      // folder or one inside it, and not over an input file of that name.
+      static const std::regex frame_json(R"(\d{6}\.json)");
+      for (const NamedPath& in : inputs) {
+        if (in.path.empty()) continue;
+        std::error_code ec;
+        if (fs::is_directory(in.path, ec) && (SamePath(out_dir, in.path) || InsideFolder(out_dir, in.path)))
+          throw Error("--out-dir " + out_dir + ": is inside the input folder " + in.option + " " + in.path +
+                      "; its files could be overwritten");
+        const fs::path parent = fs::path(in.path).parent_path();
+        if (!fs::is_directory(in.path, ec) && SamePath(parent.empty() ? "." : parent.string(), out_dir) &&
+            std::regex_match(fs::path(in.path).filename().string(), frame_json))
+          throw Error("--out-dir " + out_dir + ": holds the input " + in.option + " " + in.path +
+                      ", a name of the per-frame results; it would be overwritten");
+      }
       std::error_code ec;
       fs::create_directories(out_dir, ec);
       if (ec || !fs::is_directory(out_dir)) throw Error(out_dir + ": cannot create directory (--out-dir)");
@@ -193,7 +212,7 @@ int RunTrack(int argc, char** argv) {
         frames.push_back(std::move(f));
       }
       cam_file = ReadCameraJson(camera_path);
-      if (depth_scale == 0) depth_scale = cam_file.depth_scale;
+      if (depth_scale_opt->count() == 0) depth_scale = cam_file.depth_scale;
       if (!(depth_scale > 0) || !std::isfinite(depth_scale)) throw Error("--depth-scale must be finite and > 0");
       for (const auto& [name, path] : ParseNamedPaths(mesh_args, "--mesh")) {
         meshes.push_back(LoadMesh(path, unit_scale));
@@ -212,12 +231,10 @@ int RunTrack(int argc, char** argv) {
     for (const Mesh& m : meshes) names.push_back(m.name);
     const std::string cache_dir = DefaultPpfCacheDir();
 
-    std::FILE* csv = nullptr;
-    if (!csv_path.empty()) {
-      csv = std::fopen(csv_path.c_str(), "w");
-      if (!csv) throw Error(csv_path + ": cannot write (--csv)");
-      std::fprintf(csv, "frame,scene_id,im_id,obj,status,weight,time_ms,frame_ms,R,t,adds_mm,found\n");
-    }
+    // The CSV's rows, written as one file (atomically) when every frame is done: a run that
+    // fails leaves an existing --csv as it was.
+    std::string csv_text = "frame,scene_id,im_id,obj,status,weight,time_ms,frame_ms,R,t,adds_mm,found\n";
+    const bool csv = !csv_path.empty();
     struct Totals {
       int frames = 0, found = 0, with_gt = 0, lost = 0;
       std::vector<double> ms;
@@ -284,9 +301,12 @@ int RunTrack(int argc, char** argv) {
           std::string rs, ts;
           for (int k = 0; k < 9; ++k) rs += (k ? " " : "") + Num(R(k / 3, k % 3), 9);
           for (int k = 0; k < 3; ++k) ts += (k ? " " : "") + Num(tr[k], 6);
-          std::fprintf(csv, "%zu,%d,%d,%s,%s,%.6f,%.3f,%.3f,%s,%s,%s,%s\n", i, f.scene_id, f.im_id, CsvField(r.obj).c_str(),
-                       TrackStatusName(r.status), r.weight, r.time_ms, frame_ms, rs.c_str(), ts.c_str(), adds.c_str(),
-                       found.c_str());
+          char head[160];
+          std::snprintf(head, sizeof head, "%zu,%d,%d,", i, f.scene_id, f.im_id);
+          char nums[96];
+          std::snprintf(nums, sizeof nums, ",%.6f,%.3f,%.3f,", r.weight, r.time_ms, frame_ms);
+          csv_text += head + CsvField(r.obj) + "," + TrackStatusName(r.status) + nums + rs + "," + ts + "," + adds + "," +
+                      found + "\n";
         }
         if (has_pose) {
           ObjectResult o;
@@ -305,7 +325,7 @@ int RunTrack(int argc, char** argv) {
         WriteResultsJson(json_rows, (fs::path(out_dir) / name).string());
       }
     }
-    if (csv && std::fclose(csv) != 0) throw Error(csv_path + ": write failed (--csv)");
+    if (csv) WriteFileAtomically(csv_path, [&](std::ostream& out) { out << csv_text; });
 
     std::printf("\n%-22s %7s %7s %7s %12s %12s\n", "object", "frames", "found", "lost", "median ms", "mean ms");
     for (const Mesh& m : meshes) {

@@ -43,9 +43,21 @@ struct NamedPath {
 };
 
 // Throws Error naming the option and path unless every non-empty output can be written
-// (its directory exists and is writable; the path is not a directory), no output is one of
-// the inputs, and no two outputs are the same file. Inputs with an empty path are ignored.
+// (its directory exists and is writable; the path is not a directory, nor a symlink, FIFO,
+// device or socket, which the atomic replacement would destroy), no output is one of the
+// inputs or an existing file inside an input that is a folder (a dataset), and no two outputs
+// are the same file. Inputs with an empty path are ignored.
+// WriteFileAtomically and AppendFileDurably refuse such special files too.
 void CheckOutputPaths(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
+
+// What `path` is when it exists and is not a regular file, not following a final symlink ("a
+// symbolic link", "a FIFO", "a character device", "a directory", …); "" for a regular file or
+// a path that does not exist.
+std::string SpecialFileKind(const std::string& path);
+
+// True if `path` lies inside `folder`, at any depth (resolved paths; `folder` itself is not
+// inside).
+bool InsideFolder(const std::string& path, const std::string& folder);
 
 // True if `a` and `b` name the same file (resolved path; the files need not exist).
 bool SamePath(const std::string& a, const std::string& b);

@@ -338,12 +338,16 @@ def _option_flags(options: Mapping[str, Any] | None, known: Sequence[str] | None
 
 
 def _repair_and_read(out: str) -> set[tuple[int, int]]:
-    """Drops a torn last row with its image's rows (as run-dataset's DropTornImage), checks the
-    header, returns the images already in the CSV. Missing or empty file: empty set."""
+    """Checks the header, then drops a torn last row with its image's rows (as run-dataset's
+    DropTornImage), returns the images already in the CSV. Missing or empty file: empty set. A
+    file that does not start with the header is refused before anything in it changes."""
     if not os.path.exists(out):
         return set()
     with open(out, "rb") as f:
         data = f.read()
+    if data and data.split(b"\n", 1)[0].rstrip(b"\r") != BOP_CSV_HEADER.encode("utf-8"):
+        raise ValueError(f"{out}: line 1: header must be exactly \"{BOP_CSV_HEADER}\" (not a run-dataset CSV?); "
+                         "the file is left as it is")
     if data and not data.endswith(b"\n"):
         nl = data.rfind(b"\n")
         keep, torn = data[:nl + 1], data[nl + 1:].decode("utf-8", "replace")

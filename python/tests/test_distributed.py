@@ -274,6 +274,13 @@ def test_errors_name_the_cause(data, client, tmp_path):
     with pytest.raises(RunDatasetError, match=r"scene \d image \d failed: .*--particles"):
         run_dataset(client, ds, out, prior=PRIOR, options=dict(particles=-5), cli=cli, retries=0)
     assert out.read_text() == BOP_CSV_HEADER + "\n"  # no rows, a resumable CSV
+    # An existing file that is not a results CSV (no final newline, what the torn-row repair
+    # would cut): refused before anything in it changes.
+    other = tmp_path / "gt.json"
+    other.write_text('{"objects": []}')
+    with pytest.raises(ValueError, match="header must be exactly .* left as it is"):
+        run_dataset(client, ds, other, prior=PRIOR, cli=cli)
+    assert other.read_text() == '{"objects": []}'
 
 
 def test_worker_needs_no_posefilter_package(data, tmp_path):

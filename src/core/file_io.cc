@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -21,6 +22,10 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string Errno() { return std::strerror(errno); }
+
+// The longest suffix TempPathBeside adds: ".tmp." + a pid (≤ 10 digits) + "." + a counter
+// (≤ 20 digits).
+constexpr std::size_t kTempSuffixMax = 5 + 10 + 1 + 20;
 
 // A fresh name beside `path` ("<path>.tmp.<pid>.<n>"), unique within this process and among
 // processes writing the same target.
@@ -44,8 +49,13 @@ bool WriteAll(int fd, const char* data, std::size_t size) {
 }
 
 // Renames the finished temporary file `tmp` over `path` (removing `tmp` on failure) and syncs
-// the directory so the rename survives a crash (best effort: some file systems refuse).
+// the directory so the rename survives a crash (best effort: some file systems refuse). A path
+// that is not a regular file (a symlink, FIFO, device, socket) is not replaced.
 void Commit(const std::string& tmp, const std::string& path) {
+  if (const std::string kind = SpecialFileKind(path); !kind.empty()) {
+    std::remove(tmp.c_str());
+    throw Error(path + ": is " + kind + ", not a regular file; not replaced");
+  }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     const std::string why = Errno();
     std::remove(tmp.c_str());
@@ -70,6 +80,26 @@ struct TempFile {
 };
 
 }  // namespace
+
+bool InsideFolder(const std::string& path, const std::string& folder) {
+  std::error_code ep, ef;
+  const fs::path p = fs::weakly_canonical(fs::absolute(path), ep), f = fs::weakly_canonical(fs::absolute(folder), ef);
+  if (ep || ef) return false;
+  const auto mismatch = std::mismatch(f.begin(), f.end(), p.begin(), p.end());
+  return mismatch.first == f.end() && p != f;
+}
+
+std::string SpecialFileKind(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return "";
+  if (S_ISLNK(st.st_mode)) return "a symbolic link";
+  if (S_ISDIR(st.st_mode)) return "a directory";
+  if (S_ISFIFO(st.st_mode)) return "a FIFO";
+  if (S_ISCHR(st.st_mode)) return "a character device";
+  if (S_ISBLK(st.st_mode)) return "a block device";
+  if (S_ISSOCK(st.st_mode)) return "a socket";
+  return "a special file";
+}
 
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
   std::ostringstream buffer(std::ios::binary);
@@ -107,10 +137,21 @@ void WriteFileAtomicallyC(const std::string& path, const std::function<bool(std:
 }
 
 void AppendFileDurably(const std::string& path, const std::string& text) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0666);
-  if (fd < 0) throw Error(path + ": cannot open for appending (" + Errno() + ")");
+  // O_NOFOLLOW: not through a symlink; O_NONBLOCK: a FIFO does not block the open (refused below).
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0666);
+  if (fd < 0) {
+    const std::string why = Errno();
+    if (const std::string kind = SpecialFileKind(path); !kind.empty())
+      throw Error(path + ": is " + kind + ", not a regular file; not appended to");
+    throw Error(path + ": cannot open for appending (" + why + ")");
+  }
   struct stat st {};
   const bool sized = ::fstat(fd, &st) == 0;
+  if (sized && !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw Error(path + ": is " + SpecialFileKind(path) + ", not a regular file; not appended to");
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
   bool ok = WriteAll(fd, text.data(), text.size()) && ::fsync(fd) == 0;
   const std::string why = ok ? "" : Errno();
   // A failed append (a full disk) is undone: the file is cut back to its old size.
@@ -150,18 +191,34 @@ void CheckOutputPaths(const std::vector<NamedPath>& outputs, const std::vector<N
     const std::string name = out.option + " " + out.path;
     std::error_code ec;
     if (fs::is_directory(out.path, ec)) throw Error(name + ": is a directory, not a file");
+    // An output is written as a new file that replaces the old one: that would destroy a
+    // symlink, FIFO or device node (and write nothing through it), so such a path is refused.
+    if (const std::string kind = SpecialFileKind(out.path); !kind.empty())
+      throw Error(name + ": is " + kind + ", not a regular file; outputs replace a file whole, so give a regular file's path");
     fs::path dir = fs::path(out.path).parent_path();
     if (dir.empty()) dir = ".";
     if (!fs::is_directory(dir, ec))
       throw Error(name + ": the directory " + dir.string() + " does not exist");
     if (::access(dir.c_str(), W_OK | X_OK) != 0)
       throw Error(name + ": the directory " + dir.string() + " is not writable");
+    // The temporary file beside it (TempPathBeside: "<name>.tmp.<pid>.<n>") must fit the file
+    // system's name limit too, or the write would fail after the work.
+    const long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+    const std::size_t limit = name_max > 0 ? std::size_t(name_max) : 255;
+    const std::size_t file_name = fs::path(out.path).filename().string().size();
+    if (file_name + kTempSuffixMax > limit)
+      throw Error(name + ": the file name is " + std::to_string(file_name) + " bytes; at most " +
+                  std::to_string(limit > kTempSuffixMax ? limit - kTempSuffixMax : 0) +
+                  " fit, with the temporary name <name>.tmp.<pid>.<n> written first");
     if (fs::exists(out.path, ec) && ::access(out.path.c_str(), W_OK) != 0)
       throw Error(name + ": the file exists and is read-only");
     for (const NamedPath& in : inputs) {
       if (in.path.empty()) continue;
       if (SamePath(out.path, in.path))
         throw Error(name + ": is the input " + in.option + " " + in.path + "; it would be overwritten");
+      // An input folder (a dataset, a models folder): none of the files in it is an output.
+      if (fs::is_directory(in.path, ec) && fs::exists(out.path, ec) && InsideFolder(out.path, in.path))
+        throw Error(name + ": is a file of the input folder " + in.option + " " + in.path + "; it would be overwritten");
     }
     for (std::size_t j = 0; j < i; ++j) {
       if (!outputs[j].path.empty() && SamePath(out.path, outputs[j].path))

@@ -83,8 +83,15 @@ std::vector<InstanceMask> MasksFromLabels(const LabelImage& labels, const std::m
       m.box.h = std::max(m.box.h, double(v));
     }
   if (!unknown.empty()) {
+    // The first ten ids, then a count: a 16-bit mask can hold thousands.
+    constexpr std::size_t kShown = 10;
     std::string ids;
-    for (int id : unknown) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+    std::size_t shown = 0;
+    for (int id : unknown) {
+      if (shown++ == kShown) break;
+      ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+    }
+    if (unknown.size() > kShown) ids += " and " + std::to_string(unknown.size() - kShown) + " more";
     throw Error(what + ": mask id" + (unknown.size() > 1 ? "s " : " ") + ids + " not in the class map");
   }
   if (by_id.empty()) throw Error(what + ": the mask is empty (no pixel holds an instance id)");

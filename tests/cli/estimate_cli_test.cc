@@ -369,6 +369,21 @@ TEST_F(CliTest, NoArgumentsPrintsUsage) {
   EXPECT_NE(h.out.find("gt-detections"), std::string::npos) << h.out;
 }
 
+// A switch's help says its default in words; CLI11's "{false}" after a negated name is gone.
+TEST_F(CliTest, HelpSaysEachSwitchsDefault) {
+  const RunResult h = Run({"estimate", "--help"});
+  EXPECT_EQ(h.code, 0);
+  EXPECT_EQ(h.out.find("{false}"), std::string::npos) << h.out;
+  const auto line_after = [&](const std::string& name) {
+    const std::size_t at = h.out.find(name);
+    if (at == std::string::npos) return std::string();
+    const std::size_t end = h.out.find("\n  -", at + name.size());
+    return h.out.substr(at, end == std::string::npos ? std::string::npos : end - at);
+  };
+  EXPECT_NE(line_after("--scene-pass,--no-scene-pass").find("(default: on)"), std::string::npos) << h.out;
+  EXPECT_NE(line_after("--hard-inlier,--no-hard-inlier").find("(default: off)"), std::string::npos) << h.out;
+}
+
 // ---------------------------------------------------------------------------------------------
 // gt-detections.
 
@@ -412,6 +427,13 @@ TEST_F(CliTest, GtDetectionsBoxMatchesTheSynthGtBox) {
                 .code,
             0);
   EXPECT_EQ(ReadFile(out), ReadFile(again));
+  // A mesh that --models-dir finds is an input too: --out over it is refused, the mesh kept.
+  const std::string mesh_before = ReadFile(Scene("box.ply"));
+  const RunResult over = Run({"gt-detections", "--gt", Scene("gt.json"), "--camera", Scene("camera.json"), "--models-dir",
+                              fs::path(Scene("box.ply")).parent_path().string(), "--out", Scene("box.ply")});
+  EXPECT_EQ(over.code, 1);
+  EXPECT_NE(over.err.find("is a file of the input folder --models-dir"), std::string::npos) << over.err;
+  EXPECT_EQ(ReadFile(Scene("box.ply")), mesh_before);
 
   // And `estimate` takes it as its prior.
   std::vector<std::string> extra = {"--mesh", Scene("box.ply"), "--prior", out, "--out", Path("res.json")};

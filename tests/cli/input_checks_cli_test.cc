@@ -104,9 +104,38 @@ TEST_F(CliTest, SeedsOutOfRangeAreUsageErrors) {
     ExpectUsageError(Run({"synth", "--out", Path("s"), "--seed", seed}), "--seed");
   }
   ExpectUsageError(Run({"suite", "--first-seed", "-1", "--scenes", "1"}), "--first-seed");
+  ExpectUsageError(Run({"demo", "--scene-seed", "-1"}), "--scene-seed");
+  // Seeds are decimal: "010" is 10 (CLI11 alone reads a leading 0 as octal, 8).
+  ASSERT_EQ(Run({"synth", "--out", Path("s010"), "--seed", "010", "--target", "box"}).code, 0);
+  ASSERT_EQ(Run({"synth", "--out", Path("s10"), "--seed", "10", "--target", "box"}).code, 0);
+  ASSERT_EQ(Run({"synth", "--out", Path("s8"), "--seed", "8", "--target", "box"}).code, 0);
+  const auto depth_of = [&](const std::string& d) { return ReadFile(fs::path(Path(d)) / "scene_000" / "depth.png"); };
+  EXPECT_EQ(depth_of("s010"), depth_of("s10"));
+  EXPECT_NE(depth_of("s010"), depth_of("s8"));
+  // A seed range that would wrap past 2^64 - 1 is refused.
+  ExpectInputError(Run({"synth", "--out", Path("wrap"), "--seed", "18446744073709551615", "--count", "2"}), "synth",
+                   "would wrap");
+  ExpectInputError(Run({"suite", "--first-seed", "18446744073709551615", "--count", "2"}), "suite", "would wrap");
   // The largest seed is accepted.
   const RunResult r = Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--seed", "18446744073709551615"}));
   EXPECT_EQ(r.code, 0) << r.err;
+}
+
+// --depth-scale 0 given on the command line is an error, not "the camera's scale".
+TEST_F(CliTest, AGivenDepthScaleMustBePositive) {
+  for (const char* v : {"0", "-0.001"}) {
+    SCOPED_TRACE(v);
+    ExpectInputError(Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--depth-scale", v})), "estimate",
+                     "--depth-scale must be finite and > 0");
+  }
+}
+
+// An empty value is an error naming the option, not "no output" or the current folder.
+TEST_F(CliTest, EmptyValuesAreErrorsNamingTheOption) {
+  ExpectInputError(Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--out", ""})), "estimate",
+                   "--out: empty value");
+  ExpectInputError(Run({"synth", "--out", "", "--target", "box", "--count", "1"}), "synth", "--out: empty value");
+  ExpectInputError(Run({"hw-report", "--json", "", "--iterations", "1"}), "hw-report", "--json: empty value");
 }
 
 TEST_F(CliTest, DuplicateMeshNamesAndInapplicableOptions) {

@@ -5,6 +5,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -97,6 +98,17 @@ TEST_F(RunDatasetCliTest, WritesResumesAndMatchesAnUninterruptedRun) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("AR"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0 of 3 gt instance(s) without an estimate"), std::string::npos) << r.out;
+  // eval's --json is never a file of the dataset it reads.
+  fs::path dataset_file;
+  for (const auto& e : fs::recursive_directory_iterator(tiny_->root))
+    if (e.is_regular_file() && e.path().extension() == ".json") dataset_file = e.path();
+  ASSERT_FALSE(dataset_file.empty());
+  const std::string file_before = ReadFile(dataset_file);
+  r = RunCli({"eval", "--dataset", tiny_->root, "--results", csv, "--json", dataset_file.string(), "--quiet"},
+             dir() / "eval_over");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("is a file of the input folder --dataset"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadFile(dataset_file), file_before);
 }
 
 TEST_F(RunDatasetCliTest, RowsWrittenBeforeAnErrorAreKept) {
@@ -230,6 +242,31 @@ TEST_F(RunDatasetCliTest, EmptyDetectionsAndOutputsOverInputsAreRefused) {
   r = Run(tiny_->root, Path("no_dir/r.csv"), {"--gt-boxes", "0"}, "nodir");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+
+  // An existing file that is not a results CSV, without a final newline (what the torn-row
+  // repair cuts): refused, and left byte for byte as it was.
+  const std::string gt = Write("gt.json", "{\"objects\": []}");
+  r = Run(tiny_->root, gt, {"--gt-boxes", "0"}, "not_csv");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("not a results CSV"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("left as it is"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadFile(gt), "{\"objects\": []}");
+}
+
+// One writer per CSV: while another process holds the file's lock, a run stops with an error
+// and the file keeps its bytes; once the lock is released, the run proceeds.
+TEST_F(RunDatasetCliTest, ASecondWriterOfTheSameCsvIsRefused) {
+  const std::string csv = Write("locked.csv", std::string(kBopCsvHeader) + "\n");
+  const int fd = ::open(csv.c_str(), O_RDWR);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  RunResult r = Run(tiny_->root, csv, {"--gt-boxes", "0", "--limit", "1"}, "locked");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("another run-dataset is writing it"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadFile(csv), std::string(kBopCsvHeader) + "\n");
+  ::close(fd);
+  r = Run(tiny_->root, csv, {"--gt-boxes", "0", "--limit", "1"}, "unlocked");
+  EXPECT_EQ(r.code, 0) << r.err;
 }
 
 // Complete data rows of a results CSV as (scene, image, object) keys, and whether any repeats.

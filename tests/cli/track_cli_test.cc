@@ -445,9 +445,38 @@ TEST_F(TrackCliTest, FramesFolderErrors) {
   fs::create_directories(mixed);
   fs::copy_file(fs::path(Seq()) / "scenes" / "synth_0000_000001" / "depth.png", mixed / "a.png");
   SaveDepthPng(DepthImage(320, 240, 0.8f), (mixed / "b.png").string(), 0.0001);
+  // An existing --csv is replaced only by a finished run: the failed one leaves it as it was.
+  const std::string csv = Path("kept.csv");
+  testing_util::WriteFile(csv, "an earlier run\n");
   const RunResult r = Run({"track", "--frames", mixed.string(), "--camera", camera, "--mesh", mesh, "--prior", "none",
-                           "--refresh-weight", "0"});
+                           "--refresh-weight", "0", "--csv", csv});
   ExpectInputError(r, "track", "320x240");
+  EXPECT_EQ(testing_util::ReadFile(csv), "an earlier run\n");
+}
+
+// No output lands on an input: a file of the dataset, a mesh, or a per-frame JSON's name.
+TEST_F(TrackCliTest, OutputsNeverOverwriteInputs) {
+  const fs::path gt = fs::path(Seq()) / "scenes" / "synth_0000_000001" / "gt.json";
+  const std::string gt_before = testing_util::ReadFile(gt);
+  ExpectInputError(Run({"track", "--dataset", Seq(), "--init-gt", "--csv", gt.string()}), "track",
+                   "is a file of the input folder --dataset");
+  EXPECT_EQ(testing_util::ReadFile(gt), gt_before);
+  ExpectInputError(Run({"track", "--dataset", Seq(), "--init-gt", "--out-dir", (fs::path(Seq()) / "scenes").string()}),
+                   "track", "inside the input folder --dataset");
+  const std::string camera = (fs::path(Seq()) / "scenes" / "synth_0000_000001" / "camera.json").string();
+  const std::string mesh_path = Path("lshape.ply");  // outside the frames' folder
+  fs::copy_file(fs::path(Seq()) / "models" / "lshape.ply", mesh_path);
+  ExpectInputError(Run({"track", "--frames", Seq(), "--camera", camera, "--mesh", "lshape=" + mesh_path, "--prior", "none",
+                        "--csv", mesh_path}),
+                   "track", "is the input --mesh");
+  // A camera file named like a per-frame result, in the --out-dir.
+  const fs::path odir = dir_ / "odir";
+  fs::create_directories(odir);
+  fs::copy_file(camera, odir / "000000.json");
+  ExpectInputError(Run({"track", "--frames", Seq(), "--camera", (odir / "000000.json").string(), "--mesh",
+                        "lshape=" + mesh_path, "--prior", "none", "--out-dir", odir.string()}),
+                   "track", "holds the input --camera");
+  EXPECT_EQ(testing_util::ReadFile(odir / "000000.json"), testing_util::ReadFile(camera));
 }
 
 TEST_F(TrackCliTest, SynthSequenceErrors) {

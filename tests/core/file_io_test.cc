@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -172,6 +173,42 @@ TEST_F(FileIoTest, CheckOutputPathsRefusesInputsAndClashes) {
   ExpectError([&] { CheckOutputPaths({{dir().string(), "--json"}}, {}); }, {"--json", "is a directory"});
   ExpectError([&] { CheckOutputPaths({{(dir() / "missing" / "o.json").string(), "--out"}}, {}); },
               {"--out", "does not exist"});
+}
+
+// A symlink, a FIFO or a device node given as an output would be replaced by a regular file
+// (the atomic rename): the check refuses them, and the writers do too, leaving them in place.
+TEST_F(FileIoTest, SpecialFilesAreRefusedAsOutputsAndLeftInPlace) {
+  const fs::path target = dir() / "target.json", link = dir() / "link.json", fifo = dir() / "fifo";
+  WriteFile(target, "old");
+  fs::create_symlink(target, link);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(SpecialFileKind(target.string()), "");
+  EXPECT_EQ(SpecialFileKind((dir() / "none.json").string()), "");
+  EXPECT_EQ(SpecialFileKind(link.string()), "a symbolic link");
+  EXPECT_EQ(SpecialFileKind(fifo.string()), "a FIFO");
+  EXPECT_EQ(SpecialFileKind("/dev/null"), "a character device");
+  ExpectError([&] { CheckOutputPaths({{link.string(), "--out"}}, {}); }, {"--out", "a symbolic link", "regular file"});
+  ExpectError([&] { CheckOutputPaths({{fifo.string(), "--json"}}, {}); }, {"--json", "a FIFO"});
+  ExpectError([&] { CheckOutputPaths({{"/dev/null", "--csv"}}, {}); }, {"--csv", "/dev/null", "a character device"});
+  const int before = Entries();
+  ExpectError([&] { WriteFileAtomically(link.string(), [](std::ostream& o) { o << "new"; }); },
+              {link.string(), "a symbolic link", "not replaced"});
+  ExpectError([&] { WriteFileAtomically(fifo.string(), [](std::ostream& o) { o << "new"; }); }, {"a FIFO"});
+  ExpectError([&] { AppendFileDurably(link.string(), "row\n"); }, {"a symbolic link", "not appended"});
+  ExpectError([&] { AppendFileDurably(fifo.string(), "row\n"); }, {"a FIFO", "not appended"});  // does not block
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(ReadFile(target), "old");
+  EXPECT_EQ(Entries(), before);  // no temporary file left behind
+}
+
+// A name that fits the file system but not with the temporary suffix is refused before work.
+TEST_F(FileIoTest, CheckOutputPathsRefusesANameTooLongForItsTemporaryFile) {
+  const std::string fits = (dir() / (std::string(200, 'a') + ".json")).string();
+  CheckOutputPaths({{fits, "--out"}}, {});
+  WriteFileAtomically(fits, [](std::ostream& o) { o << "x"; });
+  const std::string too_long = (dir() / (std::string(240, 'b') + ".json")).string();  // 245 of 255 bytes
+  ExpectError([&] { CheckOutputPaths({{too_long, "--out"}}, {}); }, {"--out", "the file name is 245 bytes", "at most"});
 }
 
 TEST_F(FileIoTest, CheckOutputPathsRefusesReadOnlyPlaces) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "posefilter/depth_image.h"
+#include "posefilter/error.h"
 #include "test_util.h"
 
 namespace posefilter {
@@ -53,6 +54,17 @@ TEST_F(MaskPriorTest, UnknownIdsAndEmptyMasksAreErrorsNamingTheFile) {
   ExpectError([] { MasksFromLabels(TwoInstances(), {{1, "mug"}}, "seg.png"); }, {"seg.png", "mask ids 3, 7"});
   ExpectError([] { MasksFromLabels(LabelImage{4, 4, std::vector<std::uint16_t>(16, 0)}, {{1, "mug"}}, "seg.png"); },
               {"seg.png", "mask is empty"});
+  // A 16-bit mask with a thousand unmapped ids: the first ten and a count, not a 5 kB line.
+  LabelImage many{100, 10, std::vector<std::uint16_t>(1000)};
+  for (int i = 0; i < 1000; ++i) many.ids[std::size_t(i)] = std::uint16_t(i + 1);
+  try {
+    MasksFromLabels(many, {{5000, "mug"}}, "seg16.png");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("mask ids 1, 2, 3, 4, 5, 6, 7, 8, 9, 10 and 990 more"), std::string::npos) << what;
+    EXPECT_LT(what.size(), 120u) << what;
+  }
 }
 
 TEST_F(MaskPriorTest, ClassMapsAsObjectsListsAndTheYcbVideoDefault) {
