@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -27,8 +28,7 @@ namespace posefilter::cli {
 namespace {
 
 std::vector<std::string> ReadClassList(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open class list");
+  std::istringstream in(ReadSmallFile(path, kMaxSmallFileBytes, "class list"));
   std::vector<std::string> classes;
   std::string line;
   while (std::getline(in, line)) {

@@ -36,6 +36,15 @@ void AppendFileDurably(const std::string& path, const std::string& text);
 // truncates the torn last line and returns it ("" when nothing was cut).
 std::string TrimTornLastLine(const std::string& path);
 
+// The bytes of a small input file (a JSON file, a class list): `path` must be a regular file
+// (or a link to one: a FIFO or a device such as /dev/zero is refused without being opened) of at
+// most `max_bytes`; the error names the file and `what` ("camera JSON"). The read itself stops
+// at the limit too, so a file that grows while it is read cannot exceed it.
+std::string ReadSmallFile(const std::string& path, std::size_t max_bytes, const std::string& what);
+// The byte limit of the JSON and text inputs read with ReadSmallFile (64 MiB: a dataset's
+// detections or results are a few MB).
+inline constexpr std::size_t kMaxSmallFileBytes = std::size_t(64) << 20;
+
 // An input or output of a command: the path and the option that names it ("--out").
 struct NamedPath {
   std::string path;

@@ -89,6 +89,35 @@ bool InsideFolder(const std::string& path, const std::string& folder) {
   return mismatch.first == f.end() && p != f;
 }
 
+std::string ReadSmallFile(const std::string& path, std::size_t max_bytes, const std::string& what) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error(path + ": cannot open " + what + " (no such file)");
+  if (!fs::is_regular_file(path, ec)) {
+    const fs::file_status st = fs::status(path, ec);
+    const std::string kind = fs::is_directory(st)   ? "a directory"
+                             : fs::is_fifo(st)      ? "a FIFO"
+                             : fs::is_character_file(st) ? "a character device"
+                             : fs::is_block_file(st) ? "a block device"
+                             : fs::is_socket(st)    ? "a socket"
+                                                    : "not a regular file";
+    throw Error(path + ": is " + kind + ", not a regular " + what + " file");
+  }
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > max_bytes)
+    throw Error(path + ": " + what + " is " + std::to_string(size) + " bytes, over the limit of " +
+                std::to_string(max_bytes) + " bytes");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": cannot open " + what + " (" + Errno() + ")");
+  std::string bytes(std::size_t(std::min<std::uintmax_t>(ec ? max_bytes : size, max_bytes)) + 1, '\0');
+  in.read(bytes.data(), std::streamsize(bytes.size()));
+  if (in.bad()) throw Error(path + ": cannot read " + what);
+  bytes.resize(std::size_t(in.gcount()));
+  if (bytes.size() > max_bytes)
+    throw Error(path + ": " + what + " is over the limit of " + std::to_string(max_bytes) + " bytes");
+  if (!ec && bytes.size() > size) throw Error(path + ": " + what + " grew while it was read");
+  return bytes;
+}
+
 std::string SpecialFileKind(const std::string& path) {
   struct stat st {};
   if (::lstat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return "";

@@ -33,16 +33,10 @@ using json = nlohmann::ordered_json;
 constexpr double kRotationTolerance = 1e-3;
 
 json ReadJsonFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a JSON file");
-  std::ifstream is(path, std::ios::binary);
-  if (!is) throw Error(path + ": cannot open JSON file");
-  std::ostringstream text;
-  text << is.rdbuf();
-  if (is.bad()) throw Error(path + ": cannot read JSON file");
+  const std::string text = ReadSmallFile(path, kMaxSmallFileBytes, "JSON");
   json root;
   try {
-    root = json::parse(text.str());
+    root = json::parse(text);
   } catch (const json::exception& e) {
     throw Error(path + ": malformed JSON: " + e.what());
   }

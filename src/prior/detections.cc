@@ -49,11 +49,10 @@ double NumberAt(const json& v, const std::string& where) {
 Box DetectionBox(const Detection& d) { return Box{d.x + d.w / 2, d.y + d.h / 2, d.w, d.h}; }
 
 std::vector<Detection> ReadDetectionsJson(const std::string& path, bool allow_empty) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open detections file");
+  const std::string text = ReadSmallFile(path, kMaxSmallFileBytes, "detections JSON");
   json doc;
   try {
-    doc = json::parse(in);
+    doc = json::parse(text);
   } catch (const json::exception& e) {
     throw Error(path + ": malformed JSON: " + e.what());
   }

@@ -6,16 +6,16 @@
 #include <set>
 
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/mask_prior.h"
 
 namespace posefilter {
 
 std::map<int, std::string> ReadMaskClasses(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open the mask class map");
+  const std::string text = ReadSmallFile(path, kMaxSmallFileBytes, "mask class map");
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(in);
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw Error(path + ": malformed mask class map JSON: " + e.what());
   }

@@ -4,6 +4,7 @@
 // options that do not apply, 8-bit depth, implausible intrinsics, degenerate or huge meshes,
 // wrong mesh or depth units, and priors whose classes or boxes match nothing.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <string>
@@ -119,6 +120,14 @@ TEST_F(CliTest, SeedsOutOfRangeAreUsageErrors) {
   // The largest seed is accepted.
   const RunResult r = Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--seed", "18446744073709551615"}));
   EXPECT_EQ(r.code, 0) << r.err;
+}
+
+// A device or a FIFO as a small input is refused by name, never read forever or waited on.
+TEST_F(CliTest, DevicesAndFifosAreNotReadAsInputs) {
+  ExpectInputError(Run(SmallBoxEstimate(Scene("depth.png"), "/dev/zero", {})), "estimate", "/dev/zero: is a character device");
+  const std::string fifo = Path("cam.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  ExpectInputError(Run(SmallBoxEstimate(Scene("depth.png"), fifo, {})), "estimate", "is a FIFO");
 }
 
 // --depth-scale 0 given on the command line is an error, not "the camera's scale".

@@ -211,6 +211,21 @@ TEST_F(FileIoTest, CheckOutputPathsRefusesANameTooLongForItsTemporaryFile) {
   ExpectError([&] { CheckOutputPaths({{too_long, "--out"}}, {}); }, {"--out", "the file name is 245 bytes", "at most"});
 }
 
+// Small inputs are read only from regular files and up to a limit: a FIFO does not block, a
+// device such as /dev/zero is not read forever, an oversized file is refused before it is read.
+TEST_F(FileIoTest, ReadSmallFileTakesRegularFilesUpToItsLimit) {
+  const fs::path f = dir() / "cam.json", fifo = dir() / "fifo.json";
+  WriteFile(f, "{\"fx\": 1}");
+  EXPECT_EQ(ReadSmallFile(f.string(), 100, "camera JSON"), "{\"fx\": 1}");
+  ExpectError([&] { ReadSmallFile(f.string(), 5, "camera JSON"); },
+              {f.string(), "camera JSON is 9 bytes, over the limit of 5 bytes"});
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  ExpectError([&] { ReadSmallFile(fifo.string(), 100, "camera JSON"); }, {fifo.string(), "a FIFO", "camera JSON"});
+  ExpectError([&] { ReadSmallFile("/dev/zero", 100, "class list"); }, {"/dev/zero", "a character device"});
+  ExpectError([&] { ReadSmallFile(dir().string(), 100, "JSON"); }, {"is a directory"});
+  ExpectError([&] { ReadSmallFile((dir() / "none.json").string(), 100, "JSON"); }, {"none.json", "cannot open"});
+}
+
 TEST_F(FileIoTest, CheckOutputPathsRefusesReadOnlyPlaces) {
   if (::geteuid() == 0) GTEST_SKIP() << "root may write anywhere: permissions cannot be tested";
   const fs::path ro = dir() / "ro";
