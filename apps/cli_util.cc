@@ -46,8 +46,12 @@ int RunApp(CLI::App& app, int argc, char** argv, const std::function<void()>& bo
   app.formatter(std::make_shared<HelpFormatter>());
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {  // --help: the help on stdout, exit 0
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    // A usage error: one line, prefixed like every other error of the command, exit 2.
+    std::cerr << "posefilter " << app.get_name() << ": error: " << e.what() << " (--help lists the options)\n";
+    return 2;
   }
   try {
     // A value given as "" (`--out ""`) is an error naming the option: no option of posefilter

@@ -62,12 +62,15 @@ class CliTest : public ::testing::Test {
     EXPECT_EQ(lines[0].rfind("posefilter " + cmd + ": error: ", 0), 0u) << lines[0];
     EXPECT_NE(lines[0].find(needle), std::string::npos) << "'" << needle << "' not in: " << lines[0];
   }
-  // A usage error (CLI11): exit 2, the first stderr line names the option.
+  // A usage error (CLI11's parser): exit 2 and exactly one stderr line "posefilter <cmd>: error:
+  // …<needle>…" (for a command's own options; the top-level dispatcher has its own format).
   static void ExpectUsageError(const testing_util::RunResult& r, const std::string& needle) {
     EXPECT_EQ(r.code, 2) << r.err;
     const auto lines = testing_util::Lines(r.err);
     ASSERT_FALSE(lines.empty());
     EXPECT_NE(lines[0].find(needle), std::string::npos) << "'" << needle << "' not in: " << lines[0];
+    if (lines[0].rfind("posefilter ", 0) == 0 && lines[0].find(": error: ") != std::string::npos)
+      EXPECT_EQ(lines.size(), 1u) << r.err;
   }
 
   // Reads a results JSON written by estimate and checks it holds one finite "box" pose.

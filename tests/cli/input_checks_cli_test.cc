@@ -130,6 +130,20 @@ TEST_F(CliTest, DevicesAndFifosAreNotReadAsInputs) {
   ExpectInputError(Run(SmallBoxEstimate(Scene("depth.png"), fifo, {})), "estimate", "is a FIFO");
 }
 
+// A value CLI11 cannot convert is one line with the command's prefix, exit 2.
+TEST_F(CliTest, ParserErrorsAreOneLineWithTheCommandsPrefix) {
+  const RunResult r = Run({"estimate", "--particles", "abc"});
+  EXPECT_EQ(r.code, 2);
+  const auto lines = testing_util::Lines(r.err);
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_EQ(lines[0].rfind("posefilter estimate: error: ", 0), 0u) << lines[0];
+  EXPECT_NE(lines[0].find("--particles"), std::string::npos) << lines[0];
+  const RunResult unknown = Run({"track", "--frobnicate"});
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_EQ(testing_util::Lines(unknown.err).size(), 1u) << unknown.err;
+  EXPECT_EQ(unknown.err.rfind("posefilter track: error: ", 0), 0u) << unknown.err;
+}
+
 // --depth-scale 0 given on the command line is an error, not "the camera's scale".
 TEST_F(CliTest, AGivenDepthScaleMustBePositive) {
   for (const char* v : {"0", "-0.001"}) {
