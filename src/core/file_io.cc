@@ -93,14 +93,9 @@ std::string ReadSmallFile(const std::string& path, std::size_t max_bytes, const 
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error(path + ": cannot open " + what + " (no such file)");
   if (!fs::is_regular_file(path, ec)) {
-    const fs::file_status st = fs::status(path, ec);
-    const std::string kind = fs::is_directory(st)   ? "a directory"
-                             : fs::is_fifo(st)      ? "a FIFO"
-                             : fs::is_character_file(st) ? "a character device"
-                             : fs::is_block_file(st) ? "a block device"
-                             : fs::is_socket(st)    ? "a socket"
-                                                    : "not a regular file";
-    throw Error(path + ": is " + kind + ", not a regular " + what + " file");
+    // What the path is once its links are followed (an input may be a link to a file).
+    const std::string kind = SpecialFileKind(fs::canonical(path, ec).string());
+    throw Error(path + ": is " + (kind.empty() ? "not a regular file" : kind) + ", not a regular " + what + " file");
   }
   const std::uintmax_t size = fs::file_size(path, ec);
   if (!ec && size > max_bytes)

@@ -395,13 +395,25 @@ EstimateResult RunIn(Mode mode, const SceneInput& scene, const Mesh& mesh, const
 
 // Every top of the engine (HwInitTop, HwWeighTop<10>, HwUpdateTop) on the torus scene with 96
 // particles, and again with every FIFO one deep; the 510-particle runs are HwBoundedLong's.
+// The synthetic torus scene (seed 3, 2048 faces) with its stage-1 prior: the engine runs' scene.
+struct TorusEngineScene {
+  SynthScene scene = MakeSynthScene(TorusOptions(), 3);
+  Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
+  int cls = prior.ClassIndex(scene.target.name);
+  SceneInput in{scene.depth, scene.camera};
+  static SynthOptions TorusOptions() {
+    SynthOptions so;
+    so.target = "torus";
+    return so;
+  }
+};
+
 TEST(HwBoundedTops, EveryTopOfTheEngineOnTheTorusIsBitIdenticalToTheSequentialModel) {
-  SynthOptions so;
-  so.target = "torus";
-  const SynthScene scene = MakeSynthScene(so, 3);
-  const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
-  const int cls = prior.ClassIndex(scene.target.name);
-  const SceneInput in{scene.depth, scene.camera};
+  const TorusEngineScene t;
+  const SynthScene& scene = t.scene;
+  const Prior& prior = t.prior;
+  const int cls = t.cls;
+  const SceneInput& in = t.in;
   ASSERT_EQ(scene.target.faces.size(), 2048u);
   const EstimateResult seq = RunIn(Mode::kSequential, in, scene.target, prior, cls, 96);
   const EstimateResult bounded = RunIn(Mode::kBounded, in, scene.target, prior, cls, 96);
@@ -418,12 +430,11 @@ TEST(HwBoundedTops, EveryTopOfTheEngineOnTheTorusIsBitIdenticalToTheSequentialMo
 // The full particle set (510) through every top, on the torus. ctest LABEL long (outside
 // scripts/test.sh: about 30 s).
 TEST(HwBoundedLong, EveryTopOfTheEngineOnTheTorusWith510ParticlesIsBitIdenticalToTheSequentialModel) {
-  SynthOptions so;
-  so.target = "torus";
-  const SynthScene scene = MakeSynthScene(so, 3);
-  const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
-  const int cls = prior.ClassIndex(scene.target.name);
-  const SceneInput in{scene.depth, scene.camera};
+  const TorusEngineScene t;
+  const SynthScene& scene = t.scene;
+  const Prior& prior = t.prior;
+  const int cls = t.cls;
+  const SceneInput& in = t.in;
   const EstimateResult seq = RunIn(Mode::kSequential, in, scene.target, prior, cls, kHwMaxParticles);
   const EstimateResult bounded = RunIn(Mode::kBounded, in, scene.target, prior, cls, kHwMaxParticles);
   EXPECT_EQ(seq.stats.weighings, 2 * kHwMaxParticles);
