@@ -4,7 +4,7 @@
 // thesis camera, clutter and false detections at their defaults) with a non-convex target at
 // 0.6–1.0 m — by default the 2048-triangle torus — and its detection prior. Each engine runs
 // the particle filter (EstimatePose) on it with --particles particles for exactly --iterations
-// iterations: no early stop (confidence 1, which the weight of eq. 7.4 does not reach with a
+// iterations: no early stop (confidence 1, which the weight of eq. 7.4 [ALGORITHM.md] does not reach with a
 // prior probability < 1; no stall stop), one run (restarts 1), no final polish, every pixel
 // and every particle in every iteration (anneal_subsample 1, fine_particle_fraction 1: the
 // 510-particle, full-resolution weighing the engines are compared on), so every timed

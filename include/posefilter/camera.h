@@ -16,7 +16,7 @@ struct Camera {
   double fy = 537.666;
   double cx = 325.065;  // principal point, pixels
   double cy = 224.214;
-  // C of eq. 6.9: maps points in the robot base frame to the camera frame.
+  // C of eq. 6.9 [ALGORITHM.md]: maps points in the robot base frame to the camera frame.
   Eigen::Isometry3d base_to_camera = Eigen::Isometry3d::Identity();
 
   // True when sizes are positive, the focal lengths give a field of view in [0.5, 175] degrees

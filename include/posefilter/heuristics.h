@@ -1,7 +1,7 @@
 // posefilter/heuristics.h — per-cell heuristic volumes (thesis §1.1.2, §7.4; docs/ALGORITHM.md §3).
 //
 // A heuristic is the axis-aligned volume of the base frame where the object seen in a cell's
-// box can be. Initialisation (Listing 7.5) places a new sample at the volume's x, y centre
+// box can be. Initialisation (Listing 7.5 [ALGORITHM.md]) places a new sample at the volume's x, y centre
 // with z uniform in [z_min, z_max]. We compute it from the depth pixels inside the box:
 // back-project them (camera intrinsics), map them to the base frame
 // (camera.base_to_camera.inverse()), and take robust per-axis percentiles.

@@ -63,7 +63,7 @@ struct HwModuleCycles {
 struct HwCoreModel {
   int cores = 0;
   std::vector<HwModuleCycles> modules;  // weigh + update modules (raster_core: busiest core)
-  double depth_distribution_cycles = 0; // Σ over rounds of the depth distributor's fill (Table 7.2)
+  double depth_distribution_cycles = 0; // Σ over rounds of the depth distributor's fill (Table 7.2 [HARDWARE.md])
   double weigh_cycles = 0;              // the weigh/sort dataflow region (round model)
   double update_cycles = 0;             // resampling + diffusion
   double iteration_cycles = 0;          // weigh + update

@@ -1,7 +1,7 @@
 // posefilter/pose.h — 6-DoF poses as the particle filter stores them.
 //
 // A particle's pose (x, y, z, roll, pitch, yaw) maps object → base frame (docs/ALGORITHM.md §1):
-//   T = Tr(x, y, z) · Rz(yaw) · Ry(pitch) · Rx(roll)            (eq. 6.2, 6.6–6.7, 7.6–7.7)
+//   T = Tr(x, y, z) · Rz(yaw) · Ry(pitch) · Rx(roll)            (eq. 6.2, 6.6–6.7, 7.6–7.7 [ALGORITHM.md])
 // Units: metres and radians.
 #pragma once
 

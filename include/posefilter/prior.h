@@ -97,7 +97,7 @@ Box DecodeBox(const Box& anchor, const float raw[4], int image_width = 640,
               int image_height = 480, double max_box_px = 200);
 void EncodeBox(const Box& anchor, const Box& box, float raw[4]);
 
-// Post-process (eq. 7.1–7.2), per cell:
+// Post-process (eq. 7.1–7.2 [ALGORITHM.md]), per cell:
 //   Prob_j = e^{p_j} / (Σ_i e^{p_i} · (1 + e^c))  =  softmax_j(p) · sigmoid(−c),
 // computed stably (max logit subtracted; sigmoid evaluated on the side that cannot
 // overflow). So c acts as a *background* logit: a large c scales every class of the cell

@@ -11,7 +11,7 @@
 // (src/hw/raster_core.h) computes the same counters in fixed point.
 //
 // Rasterization rules (all backends): pixel (i, j) is sampled at its centre (u = i, v = j);
-// vertices snap to a 1/256-pixel grid; Pineda edge functions (eq. 6.12–6.20) in exact integer
+// vertices snap to a 1/256-pixel grid; Pineda edge functions (eq. 6.12–6.20 [ALGORITHM.md]) in exact integer
 // arithmetic; a pixel on an edge belongs to exactly one of the two triangles sharing it;
 // back faces culled when 2·Area ≤ 0 (§6.2); depth is interpolated perspective-correctly
 // (1/z linear in screen space: the "depth recovery" of §7.5.3); triangles with a vertex
@@ -37,7 +37,7 @@ struct PixelRect {
 struct InlierParams {
   float thr1_m = 1.0f / 256;     // χ = 1 up to here (2^-8 m ≈ 3.9 mm, §7.5.1)
   bool hard = false;             // GRIP's original hard switch instead of the soft ramp
-  float hard_thr_m = 0.005f;     // hard mode: χ = 1 iff d ≤ this (5 mm, eq. 7.4)
+  float hard_thr_m = 0.005f;     // hard mode: χ = 1 iff d ≤ this (5 mm, eq. 7.4 [ALGORITHM.md])
 };
 
 // χ(d) for a depth difference d ≥ 0 in metres (thr2 = 2·thr1; the ramp is 2 − d·(1/thr1),

@@ -19,7 +19,7 @@ class Rng {
   double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
   // Uniform integer in [0, n), n > 0 (unbiased).
   std::uint64_t UniformInt(std::uint64_t n);
-  // Standard normal N(0, 1) by Box–Muller (eq. 5.1); both outputs of a pair are used.
+  // Standard normal N(0, 1) by Box–Muller (eq. 5.1 [ALGORITHM.md]); both outputs of a pair are used.
   double Normal();
   // A new independent stream derived from this one (for per-object or per-worker streams).
   Rng Split();

@@ -31,7 +31,7 @@ struct ScenePassOptions {
   // depth, metres, > 0.
   double band_m = 0.01;
   // Re-estimate an object whose weight, with the pixels better estimates explain masked out,
-  // is this much below its own weight (eq. 7.4 units), (0, 1].
+  // is this much below its own weight (eq. 7.4 [ALGORITHM.md] units), (0, 1].
   double conflict_drop = 0.1;
   bool IsValid(std::string* why) const;
 };

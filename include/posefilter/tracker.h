@@ -47,7 +47,7 @@ struct TrackOptions {
   // The full estimate that starts or re-initialises an object from a stage 1 (FilterOptions
   // defaults). Its seed is replaced per frame and object (derived from filter.seed).
   FilterOptions init = {};
-  // A tracking step whose best weight (eq. 7.4 with filter's α, β, γ) is below this reports
+  // A tracking step whose best weight (eq. 7.4 [ALGORITHM.md] with filter's α, β, γ) is below this reports
   // the object lost; so does a (re-)initialisation below it. In [0, 1].
   double lost_weight = 0.45;
   // A tracked object whose best weight is below this (but not below lost_weight) is uncertain:

@@ -8,7 +8,7 @@
 // Conventions (docs/ALGORITHM.md §1, docs/PYTHON.md): metres, radians; depth arrays are H×W
 // camera z (0 = missing);
 // 4×4 poses map object → camera (T_cam_obj) unless named otherwise; a 6-vector pose is
-// (x, y, z, roll, pitch, yaw), object → base, T = Tr·Rz(yaw)·Ry(pitch)·Rx(roll) (eq. 6.2).
+// (x, y, z, roll, pitch, yaw), object → base, T = Tr·Rz(yaw)·Ry(pitch)·Rx(roll) (eq. 6.2 [ALGORITHM.md]).
 // Errors: posefilter::Error and every bad argument become posefilter.Error, a ValueError;
 // an unknown keyword or a value of the wrong type is a TypeError.
 #pragma once

@@ -176,7 +176,7 @@ void BindPriors(py::module_& m) {
   }, "detections"_a, "path"_a);
   m.def("ycbv_class_names", &YcbVideoClassNames);
 
-  // The initialisation's importance sampling (thesis §7.4, eq. 7.3): CDF of the class's cell
+  // The initialisation's importance sampling (thesis §7.4, eq. 7.3 [ALGORITHM.md]): CDF of the class's cell
   // probabilities and `n` cells drawn from it with the filter's CDF sampler and threshold tracker.
   m.def("sample_cells", [](const Prior& prior, py::handle cls, int n, std::uint64_t seed, int tracker_bins,
                            py::handle depth, std::optional<Camera> camera, std::optional<double> depth_scale) {

@@ -11,7 +11,7 @@ double WrapAngle(double a) {
 }
 
 Eigen::Isometry3d PoseToTransform(const Pose6& p) {
-  // T = Tr·Rz(yaw)·Ry(pitch)·Rx(roll)   (eq. 7.6–7.7)
+  // T = Tr·Rz(yaw)·Ry(pitch)·Rx(roll)   (eq. 7.6–7.7 [ALGORITHM.md])
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = (Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()) *
                 Eigen::AngleAxisd(p.pitch, Eigen::Vector3d::UnitY()) *

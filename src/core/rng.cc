@@ -44,7 +44,7 @@ std::uint64_t Rng::UniformInt(std::uint64_t n) {
 }
 
 double Rng::Normal() {
-  // Box–Muller (eq. 5.1): Z1 = √(−2 ln U1)·sin(2πU2), Z2 = √(−2 ln U1)·cos(2πU2); U1 ∈ (0, 1].
+  // Box–Muller (eq. 5.1 [ALGORITHM.md]): Z1 = √(−2 ln U1)·sin(2πU2), Z2 = √(−2 ln U1)·cos(2πU2); U1 ∈ (0, 1].
   if (has_spare_) {
     has_spare_ = false;
     return spare_;

@@ -10,7 +10,7 @@ namespace posefilter::filter {
 class CdfSampler {
  public:
   // weights ≥ 0, not all zero; tracker_bins ≥ 1 entries of the threshold tracker.
-  // CDF (eq. 7.3): c_i = Σ_{q≤i} w_q / Σ_k w_k, the last entry set to exactly 1.
+  // CDF (eq. 7.3 [ALGORITHM.md]): c_i = Σ_{q≤i} w_q / Σ_k w_k, the last entry set to exactly 1.
   CdfSampler(const std::vector<double>& weights, int tracker_bins);
 
   // The first index i whose c_i ≥ u, u in (0, 1] (so zero-weight entries are never picked).

@@ -20,7 +20,7 @@ namespace posefilter::filter {
 struct Particle {
   Pose6 pose;           // object → base
   int cell = 0;         // absolute index into the prior's cells
-  double weight = 0;    // eq. 7.4
+  double weight = 0;    // eq. 7.4 [ALGORITHM.md]
   bool scored = false;  // weight is current (elite particles are carried unchanged)
   // Mean (scene − rendered) depth over the fragments within the align band at the last
   // weighing, metres (0 when none): what kAlignDepth shifts by.

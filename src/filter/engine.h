@@ -28,7 +28,7 @@ class EngineRuns {
   // polish starts from.
   virtual EstimateResult Run(Rng& rng, const ProgressFn& progress) = 0;
   // The final polish (options.polish.steps > 0) of what the runs so far found: the best pose
-  // and its float weight (eq. 7.4 at the final inlier threshold); counters into *stats.
+  // and its float weight (eq. 7.4 [ALGORITHM.md] at the final inlier threshold); counters into *stats.
   virtual PolishResult PolishRuns(FilterStats* stats) = 0;
   // Whether the polished pose is the answer even when its weight is below the runs' best: the
   // hw engine's runs weigh in fixed point, which the float weight does not compare with.

@@ -1,20 +1,21 @@
-// src/hw/box_muller.h — Gaussian noise for the diffusion (§5.2 eq. 5.1–5.3, §7.6): the
-// Box–Muller transform on LFSR words, in fixed point (fx_math.h: Log, Sqrt, SinCos).
+// src/hw/box_muller.h — Gaussian noise for the diffusion (§5.2 eq. 5.1–5.2 [ALGORITHM.md],
+// eq. 5.3 [HARDWARE.md]; §7.6): the Box–Muller transform on LFSR words, in fixed point
+// (fx_math.h: Log, Sqrt, SinCos).
 //
-//   Z₁ = √(−2 ln U₁)·sin(2πU₂),  Z₂ = √(−2 ln U₁)·cos(2πU₂)            (eq. 5.1)
+//   Z₁ = √(−2 ln U₁)·sin(2πU₂),  Z₂ = √(−2 ln U₁)·cos(2πU₂)            (eq. 5.1 [ALGORITHM.md])
 //
 // U₁: an LFSR18 word read as ap_ufixed<18,0> ∈ [2^-18, 1 − 2^-18] (never 0: the LFSR has no zero
 // state, so the thesis's `if (U != 0)` guard is not needed); U₂: an LFSR15 word read as a
 // fraction of a turn, so 2πU₂ needs no multiplier (SinCosTurns). |Z| ≤ √(36·ln 2) = 4.995.
 //
 // Errata fixed (docs/HARDWARE.md §8):
-//  * Listing 5.2 writes Gauss_fill_h (the sine branch) to BOTH outputs (line 19); here Z₂ is
+//  * Listing 5.2 [HARDWARE.md] writes Gauss_fill_h (the sine branch) to BOTH outputs (line 19); here Z₂ is
 //    the cosine branch, so a pair is two different, uncorrelated numbers.
-//  * eq. 5.3 as printed, cos = +√(1 − sin²), is never negative: the cosine branch would be a
+//  * eq. 5.3 [HARDWARE.md] as printed, cos = +√(1 − sin²), is never negative: the cosine branch would be a
 //    half-normal. With cos_from_sqrt (the thesis's sqrt-recycling path) we give the root the
 //    sign of the quadrant of U₂ (cos < 0 for U₂ ∈ (1/4, 3/4)), which costs one XOR. The default
 //    path reads cos from the second port of the sine ROM (fx_math SinCosPhase24) — exact to
-//    1 ulp where eq. 5.3 loses precision near |sin| → 1.
+//    1 ulp where eq. 5.3 [HARDWARE.md] loses precision near |sin| → 1.
 #pragma once
 
 #include "hw/fx_math.h"
@@ -30,7 +31,7 @@
 
 namespace posefilter::hw {
 
-// ours (not in Table 7.1): one N(0, 1) sample, fixed<18,4> (−8 … 8, LSB 2^-14).
+// ours (not in Table 7.1 [HARDWARE.md]): one N(0, 1) sample, fixed<18,4> (−8 … 8, LSB 2^-14).
 typedef ap_fixed<18, 4> gauss_t;
 
 // One Box–Muller pair from two uniform words (U₁ 18 bits, U₂ 15 bits, as described above).
@@ -47,7 +48,7 @@ inline void BoxMullerPair(ap_uint<18> u1_bits, ap_uint<15> u2_bits, bool cos_fro
   ap_fixed<18, 2> s, c;
   SinCosTurns<15>(UFixedFromRaw<15, 0>(u2_bits), &s, &c);
   if (cos_from_sqrt) {
-    // eq. 5.3 with the quadrant's sign: cos < 0 in quadrants 1 and 2 (top bits 01, 10).
+    // eq. 5.3 [HARDWARE.md] with the quadrant's sign: cos < 0 in quadrants 1 and 2 (top bits 01, 10).
     bool negative = (u2_bits[14] ^ u2_bits[13]) != 0;
     c = CosFromSin(s, negative);
   }
@@ -79,7 +80,7 @@ struct GaussianSource {
   }
 };
 
-// Listing 5.2 as a module (corrected): n pairs from streams of U₁ (LFSR18 words) and U₂
+// Listing 5.2 [HARDWARE.md] as a module (corrected): n pairs from streams of U₁ (LFSR18 words) and U₂
 // (LFSR15 words) to two Gaussian streams, II = 1.
 inline void BoxMuller(hls::stream<ap_uint<18> >& u1_in, hls::stream<ap_uint<15> >& u2_in, hls::stream<gauss_t>& z1_out,
                       hls::stream<gauss_t>& z2_out, int n, bool cos_from_sqrt HW_TRACE_PARAM) {

@@ -1,7 +1,7 @@
 // src/hw/cdf.h — cumulative sum and normalisation of the initialisation (thesis §7.4 item 1,
-// eq. 7.3, Fig. 7.6–7.7; docs/HARDWARE.md §7.1): one class's probabilities over the kNumCells
+// eq. 7.3 [ALGORITHM.md], Fig. 7.6–7.7; docs/HARDWARE.md §7.1): one class's probabilities over the kNumCells
 // cells → the normalised CDF
-//   w_n[i] = (Σ_{q ≤ i} w_q) / (Σ_k w_k),  i = 0 … kNumCells − 1,              (eq. 7.3)
+//   w_n[i] = (Σ_{q ≤ i} w_q) / (Σ_k w_k),  i = 0 … kNumCells − 1,              (eq. 7.3 [ALGORITHM.md])
 // streamed out in cdf_t = ap_ufixed<18,0> (truncated), the last value saturated to
 // 1 − 2^-18 (the thesis's fix for the finite-precision reciprocal, §7.4 item 1).
 //
@@ -24,7 +24,7 @@
 
 namespace posefilter::hw {
 
-// The one-class CDF (eq. 7.3) of prob[·][cls], Σ = class_sum (the post-process's class sum of
+// The one-class CDF (eq. 7.3 [ALGORITHM.md]) of prob[·][cls], Σ = class_sum (the post-process's class sum of
 // `cls`). Writes kNumCells values to `out`. cls must be in [0, NC).
 template <int NC>
 void CdfNormalise(const prob_t prob[kNumCells][NC], int cls, class_sum_t class_sum,

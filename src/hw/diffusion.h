@@ -30,7 +30,7 @@
 // Spread (§7.6, linear decay): σ_t = d·σ_t0, σ_r = d·σ_r0, d = max(1 − w_best, min_fraction)
 // (min_fraction = 0 is the thesis's pure linear decay; ours: a floor, like the reference).
 // Quantization: the noise is rounded to the sample's LSB (xyz 2^-10 m, angles 2^-8 rad), so a
-// σ below ~half an LSB moves most particles by 0 — Table 7.1's resolution. Ours, optional
+// σ below ~half an LSB moves most particles by 0 — Table 7.1 [HARDWARE.md]'s resolution. Ours, optional
 // (sigma_floor_lsb = 1; 0 = thesis): σ_t and σ_r are raised to at least one LSB of their output
 // format (2^-10 m, 2^-8 rad) after the decay, so late diffusion keeps moving: the reference's
 // floor 0.05·σ_t0 = 0.5 mm is about half an xyz_t LSB and would otherwise leave ≈ 2/3 of the
@@ -80,10 +80,10 @@ enum HwMove {
 };
 constexpr int kNumThesisMoves = 13;
 
-// ours (not in Table 7.1): a diffusion σ, metres or radians, ufixed<18,2> (0 … 4, LSB 2^-16).
+// ours (not in Table 7.1 [HARDWARE.md]): a diffusion σ, metres or radians, ufixed<18,2> (0 … 4, LSB 2^-16).
 typedef ap_ufixed<18, 2> sigma_t;
 
-// ours (not in Table 7.1): the per-particle mean depth difference Δ = mean(z_s − z_r) of the
+// ours (not in Table 7.1 [HARDWARE.md]): the per-particle mean depth difference Δ = mean(z_s − z_r) of the
 // sample memory's side-band, metres, fixed<18,3> (±4 m, LSB 2^-15 m ≈ 0.03 mm; |Δ| ≤ the
 // raster core's align_band in practice).
 typedef ap_fixed<18, 3> depth_off_t;

@@ -1,8 +1,8 @@
 // src/hw/distributor.h — the FT distributor and the depth fragment & sample-info distributor of
-// the render/score pipeline (thesis §7.5.3, Fig. 7.17–7.18, Listing 7.7, Table 7.2).
+// the render/score pipeline (thesis §7.5.3, Fig. 7.17–7.18, Listing 7.7, Table 7.2 [HARDWARE.md]).
 //
 // Particles are dealt to the M raster cores in rounds: core c of round r renders particle
-// r·M + c (the weight merger reads them back in the same order, Listing 7.8). The last round
+// r·M + c (the weight merger reads them back in the same order, Listing 7.8 [HARDWARE.md]). The last round
 // may be partial (N not a multiple of M): only its active cores get data.
 #pragma once
 
@@ -78,13 +78,13 @@ FTD_ELEMENTS:
   HW_TRACE("ft_distributor", "FTD_ELEMENTS", uint64_t(num_particles) * kFtElements, 1, kFtdElementsDepth);
 }
 
-// Depth-read counts of one call, for hw-report (Table 7.2, Fig. 7.19a).
+// Depth-read counts of one call, for hw-report (Table 7.2 [HARDWARE.md], Fig. 7.19a).
 struct DepthDistributionCounts {
   ap_uint<32> reads_shared;    // depth pixels read by this module (each shared pixel once per round)
-  ap_uint<32> reads_unshared;  // Σ window areas: what a per-core sequential copy reads (eq. 7.8)
+  ap_uint<32> reads_unshared;  // Σ window areas: what a per-core sequential copy reads (eq. 7.8 [HARDWARE.md])
 };
 
-// ---- Depth fragment & sample-info distributor (§7.5.3, Listing 7.7) ----
+// ---- Depth fragment & sample-info distributor (§7.5.3, Listing 7.7 [HARDWARE.md]) ----
 // Per round: the active cores' windows are sorted by row (insertion sort), the rows are cut
 // into intervals where the set of windows covering a row does not change, and in each
 // interval the covering windows' column ranges are sorted and merged into disjoint column
@@ -119,7 +119,7 @@ DD_ROUNDS:
 #pragma HLS ARRAY_PARTITION variable = v_lo complete
 #pragma HLS ARRAY_PARTITION variable = v_hi complete
     // Row breakpoints: every window's first row and one-past-last row, sorted (insertion
-    // sort limited to the current size, as Listing 7.7's Limited_Insertion_Sort).
+    // sort limited to the current size, as Listing 7.7 [HARDWARE.md]'s Limited_Insertion_Sort).
     int breaks[2 * kMaxRasterCores];
     int num_breaks = 0;
   DD_LOAD:

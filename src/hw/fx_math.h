@@ -8,7 +8,7 @@
 // the output format's LSB):
 //   SinCos(angle_t)            ≤ 1 ulp of ap_fixed<18,2> (2^-16), exhaustive over angle_t
 //   SinCosTurns<W>             ≤ 1 ulp of ap_fixed<18,2>
-//   CosFromSin (eq. 5.3)       ≤ 1 ulp of the rounded sqrt of 1 − s², where s carries its own
+//   CosFromSin (eq. 5.3 [HARDWARE.md])       ≤ 1 ulp of the rounded sqrt of 1 − s², where s carries its own
 //                              ±0.5 ulp — so up to ~2^-8 absolute near |s| → 1 (ill-conditioned)
 //   Sqrt<W,I>                  ≤ 0.5 ulp (exact round-to-nearest of the true root)
 //   Log(ap_ufixed<18,0>)       ≤ 0.52 ulp of ap_fixed<18,5> (2^-13), exhaustive over 2^18−1
@@ -275,7 +275,7 @@ inline ap_ufixed<W, I> Sqrt(ap_ufixed<W, I> x) {
   return UFixedFromRaw<W, I>(out);
 }
 
-// cos from sin by eq. 5.3, cos = ±√(1 − sin²), sign given by the caller (the quadrant: the
+// cos from sin by eq. 5.3 [HARDWARE.md], cos = ±√(1 − sin²), sign given by the caller (the quadrant: the
 // thesis's listing always takes +, which folds the cosine branch of Box–Muller onto
 // positive values — fixed here, see box_muller.h). 1 − s² is formed with 32 fraction bits so
 // only s's own rounding limits the result.

@@ -1,4 +1,4 @@
-// src/hw/hw_types.h — the `hw` engine's data types (thesis Table 7.1, §7.1) and compile-time
+// src/hw/hw_types.h — the `hw` engine's data types (thesis Table 7.1 [HARDWARE.md], §7.1) and compile-time
 // bounds (thesis Ch. 7; docs/HARDWARE.md §1), shared by every kernel of src/hw/.
 //
 // Synthesizable subset: the kernels of src/hw/ use only these types, fixed-size arrays and
@@ -29,7 +29,7 @@ constexpr int kImageWidth = 640;      // depth image, pixels
 constexpr int kImageHeight = 480;
 constexpr int kMaxRasterCores = 10;   // M (results for 1, 5 and 10 cores)
 
-// ---- Data types of Table 7.1 ----
+// ---- Data types of Table 7.1 [HARDWARE.md] ----
 // Depth pixel, metres: ufixed<12,2> (0 … 4 m − 2^-10, ≈ 1 mm; clipped to 4 m on input).
 typedef ap_ufixed<12, 2> depth_t;
 // Positions x, y, z (sample memory, heuristic volumes, model vertices), metres: fixed<13,3>
@@ -41,17 +41,17 @@ typedef ap_fixed<12, 4> angle_t;
 typedef ap_ufixed<8, 0> prob_t;
 // Normalised CDF entry: ufixed<18,0> (last value saturated to 1 − 2^-18).
 typedef ap_ufixed<18, 0> cdf_t;
-// Bounding box of a cell, 18 bits (packed centre + size fields, Table 7.1).
+// Bounding box of a cell, 18 bits (packed centre + size fields, Table 7.1 [HARDWARE.md]).
 typedef ap_uint<18> bbox_t;
 // Absolute cell index (0 … 6299): 13 bits.
 typedef ap_uint<13> cell_index_t;
 // Relative particle index (0 … N−1).
 typedef ap_uint<10> particle_index_t;
-// Model vertex index (≤ 1024 vertices) and a face packed as 3 × 10 bits (Listing 7.1).
+// Model vertex index (≤ 1024 vertices) and a face packed as 3 × 10 bits (Listing 7.1 [HARDWARE.md]).
 typedef ap_uint<10> vertex_index_t;
 typedef ap_uint<30> face_t;
 
-// Particle weight (eq. 7.4) in [0, 1] (ours: the thesis does not list it in Table 7.1).
+// Particle weight (eq. 7.4 [ALGORITHM.md]) in [0, 1] (ours: not in Table 7.1 [HARDWARE.md]).
 typedef ap_ufixed<18, 1> weight_t;
 
 // One particle of the sample memory (ping-pong, 2 × N): position, angles, cell.

@@ -1,4 +1,4 @@
-// src/hw/lfsr.h — the thesis's linear feedback shift registers (§5.1, Listing 5.1 and 7.6).
+// src/hw/lfsr.h — the thesis's linear feedback shift registers (§5.1, Listing 5.1 and 7.6 [HARDWARE.md]).
 //
 // Two Fibonacci LFSRs, as the thesis builds them: the register shifts right by one each step
 // and the XOR of the taps enters at the top bit (register numbering of Fig. 5.1: cell 1 is the
@@ -6,7 +6,7 @@
 //   LFSR18: p(x) = 1 + x^11 + x^18, taps 18 and 11 → bits 0 and 7; period 2^18 − 1 = 262143.
 //   LFSR15: taps 15 and 14 → bits 0 and 1; period 2^15 − 1 = 32767.
 // The all-zero state is the XOR LFSR's lock-up state: a zero seed is replaced by a default seed
-// (§5.1, Listing 5.1 line 3). The defaults are ours (the thesis does not print seed_default).
+// (§5.1, Listing 5.1 [HARDWARE.md] line 3). The defaults are ours (the thesis does not print seed_default).
 //
 // Next() is one shift per call (the thesis's one step per clock: consecutive outputs share
 // W−1 bits, i.e. u[n+1] ≈ u[n]/2 + bit/2). Leap<K>() advances K steps in one call — in
@@ -41,15 +41,15 @@ constexpr int kLfsr15Leap = 16;
 constexpr unsigned kLfsr18Period = 262143;
 constexpr unsigned kLfsr15Period = 32767;
 
-// A W-bit Fibonacci LFSR with taps at bits 0 and kTap (Listing 5.1 lines 9–13 for W = 18,
-// Listing 7.6 lines 5–9 for W = 15): each step shifts right and the XOR of the two taps enters
+// A W-bit Fibonacci LFSR with taps at bits 0 and kTap (Listing 5.1 [HARDWARE.md] lines 9–13 for W = 18,
+// Listing 7.6 [HARDWARE.md] lines 5–9 for W = 15): each step shifts right and the XOR of the two taps enters
 // at bit W−1. kSeed replaces a zero seed; kLeap is the step count of Draw().
 template <int W, int kTap, unsigned kSeed, int kLeap>
 struct FibonacciLfsr {
   ap_uint<W> state;
 
   explicit FibonacciLfsr(unsigned seed = kSeed) { Seed(seed); }
-  // Loads a seed (low W bits); zero is replaced by kSeed (Listing 5.1 line 3).
+  // Loads a seed (low W bits); zero is replaced by kSeed (Listing 5.1 [HARDWARE.md] line 3).
   void Seed(unsigned seed) {
     ap_uint<W> s = seed & ((1u << W) - 1u);
     state = (s == 0) ? ap_uint<W>(kSeed) : s;
@@ -84,12 +84,12 @@ struct FibonacciLfsr {
   ap_uint<W> Draw() { return Leap<kLeap>(); }
 };
 
-// 18-bit LFSR, p(x) = 1 + x^11 + x^18 (§5.1, Fig. 5.2, Listing 5.1): taps 18 and 11 = bits 0, 7.
+// 18-bit LFSR, p(x) = 1 + x^11 + x^18 (§5.1, Fig. 5.2, Listing 5.1 [HARDWARE.md]): taps 18 and 11 = bits 0, 7.
 using Lfsr18 = FibonacciLfsr<18, 7, kLfsr18DefaultSeed, kLfsr18Leap>;
-// 15-bit LFSR, taps 15 and 14 = bits 0, 1 (Listing 7.6 lines 5–9).
+// 15-bit LFSR, taps 15 and 14 = bits 0, 1 (Listing 7.6 [HARDWARE.md] lines 5–9).
 using Lfsr15 = FibonacciLfsr<15, 1, kLfsr15DefaultSeed, kLfsr15Leap>;
 
-// Listing 5.1 as a module: n successive LFSR18 states (one step each) written to a stream,
+// Listing 5.1 [HARDWARE.md] as a module: n successive LFSR18 states (one step each) written to a stream,
 // II = 1. The generator keeps its state across calls (the caller owns it).
 inline void Lfsr18Generate(Lfsr18& gen, hls::stream<ap_uint<18> >& out, int n HW_TRACE_PARAM) {
   int trips = 0;
@@ -104,7 +104,7 @@ LFSR18_GEN:
   HW_TRACE("lfsr18", "LFSR18_GEN", trips, 1, kLfsr18GenDepth);
 }
 
-// Listing 7.6 style angle source: n uniform angles in [−π, π) from an LFSR15 (its 15 bits read
+// Listing 7.6 [HARDWARE.md] style angle source: n uniform angles in [−π, π) from an LFSR15 (its 15 bits read
 // as fixed<15,1> ∈ [−1, 1) and multiplied by π, quantized to angle_t by truncation).
 // ours vs thesis: the thesis multiplies by angle_t(π) = 3.140625 in angle_t precision; we use
 // π with 16 fraction bits (0x3243F / 2^16) before the truncation, so ±π is reached evenly.

@@ -1,10 +1,10 @@
 // src/hw/postprocess.h — the stage-1 post-process of the hw engine (thesis §7.3, Fig. 7.3–7.4,
-// eq. 7.1–7.2; docs/HARDWARE.md §7.1): raw pyramid values → per-cell class probabilities (prob_t),
-// per-cell boxes (bbox_t, Table 7.1) and the cells' render windows, plus the per-class probability
+// eq. 7.1–7.2 [ALGORITHM.md]; docs/HARDWARE.md §7.1): raw pyramid values → per-cell class probabilities (prob_t),
+// per-cell boxes (bbox_t, Table 7.1 [HARDWARE.md]) and the cells' render windows, plus the per-class probability
 // sums the CDF module needs (§7.3: "the new sum of probabilities … is evaluated concurrently").
 //
 // Semantics mirror the float PostProcessPyramid / DecodeBox (src/prior/pyramid.cc):
-//   Prob_j = e^{p_j} / (Σ_i e^{p_i} · (1 + e^c))                           (eq. 7.1–7.2)
+//   Prob_j = e^{p_j} / (Σ_i e^{p_i} · (1 + e^c))                           (eq. 7.1–7.2 [ALGORITHM.md])
 //   cx = a.cx + tx·a.w, cy = a.cy + ty·a.h, w = a.w·e^tw, h = a.h·e^th, w, h clipped to
 //   [1, max_box_px], centre clamped into the image (prior.h "Box decoding").
 //
@@ -19,7 +19,7 @@
 //     (1 + r + r²/2) (two small multiplies; relative error ≤ |r|³/6 ≈ 2^-14.6, 3.3e-4 in the
 //     top 1/16 of the range where the last entry is used with r < 1/8); `exp_interpolate =
 //     false` gives the thesis's plain ROM read of the rounded 8-bit argument.
-//   * Softmax with the max logit subtracted first (Prob is invariant to it, eq. 7.2 holds
+//   * Softmax with the max logit subtracted first (Prob is invariant to it, eq. 7.2 [ALGORITHM.md] holds
 //     exactly): every e^{p_j − m} ∈ (0, 1], so Σ ∈ [1, 21] and nothing under- or overflows
 //     whatever the logits. The thesis feeds e^{p_j} directly, which needs ≈ 80-bit
 //     accumulators to cover e^±16; ours costs one 21-input compare while reading.
@@ -31,10 +31,10 @@
 //   * class_sum[j] = Σ_cells Prob_j in class_sum_t = ap_ufixed<21,13> (exact: 6300·255/256
 //     < 2^13; thesis §7.4 "ufixed<13+8,8>" is this format, its notation's I and F swapped).
 //
-// Boxes (Table 7.1, §7.1): a cell's box is two bbox_t words, each an 18-bit pack of a
+// Boxes (Table 7.1 [HARDWARE.md], §7.1): a cell's box is two bbox_t words, each an 18-bit pack of a
 // 10-bit centre (pixels, rounded, 0 … 1023) and an 8-bit size (pixels, rounded, 1 … 255):
 //   xw = cx << 8 | w,  yh = cy << 8 | h.
-// (Table 7.1's third 18-bit word "h_indx + w_indx" is the window origin; ours is Window.)
+// (Table 7.1 [HARDWARE.md]'s third 18-bit word "h_indx + w_indx" is the window origin; ours is Window.)
 // Windows (§7.5.3; docs/ALGORITHM.md §5): Window of distributor.h — the box centred, each side
 // max(size, min_window_px) clipped to [1, min(max_window_px, image side)], then shifted to
 // lie inside the image. min_window_px = 0 is the thesis (our float engine widens small
@@ -140,7 +140,7 @@ inline exp_t ExpRom(exp_arg_t x, bool interpolate) {
 // m ∈ [0.5, 1) (leading-one detector), so 1/x = inv_m·2^-s, inv_m = 1/m ∈ (1, 2] from
 // fx_math.h Reciprocal (≤ 1 ulp = 2^-30). Needed because Reciprocal's 32-bit output cannot hold
 // 1/x over the dynamic ranges here (D ∈ [1, 2^28), Σ prob ∈ [2^-8, 6300]) at the precision
-// eq. 7.3 needs. x = 0 gives inv_m = max, s = 0 (callers avoid it). Latency: kWideRecipDepth
+// eq. 7.3 [ALGORITHM.md] needs. x = 0 gives inv_m = max, s = 0 (callers avoid it). Latency: kWideRecipDepth
 // (latency.h: Reciprocal + leading-one and normalising shift).
 template <int W, int I>
 inline void WideReciprocal(ap_ufixed<W, I> x, recip_mant_t* inv_m, int* s) {
@@ -265,7 +265,7 @@ PP_CELLS:
       sum = sum + ej;
       ++exp_trips;
     }
-    // eq. 7.1: 1 + e^c; D = Σ·(1 + e^c) ∈ [1, 21·(1 + e^16)) < 2^28.
+    // eq. 7.1 [ALGORITHM.md]: 1 + e^c; D = Σ·(1 + e^c) ∈ [1, 21·(1 + e^16)) < 2^28.
     exp_t ec = ExpRom(exp_arg_t(v[NC + 4]), interp);
     ap_ufixed<49, 25> onep = ec + ap_ufixed<1, 1>(1);
     ap_ufixed<56, 29> den = sum * onep;

@@ -1,14 +1,14 @@
 // src/hw/raster_core.h — one raster core of the render/score pipeline (thesis §7.5.3 "Raster
-// Core (partial inlier)", Fig. 7.20; rasterization eq. 6.12–6.22; soft inlier §7.5.1).
+// Core (partial inlier)", Fig. 7.20; rasterization eq. 6.12–6.22 [ALGORITHM.md]; soft inlier §7.5.1).
 //
 // For each of its particles a core: stores the particle's depth fragment (the window's
 // pixels, from the depth distributor) and counts its valid pixels (N_depth); reads the
 // particle's FT (3×4, from the FT distributor); for each model face (three vertices from the
 // vertex multiplier) transforms and projects the vertices, culls back faces (2·Area ≤ 0,
 // §6.2), rasterizes the face inside the window with Pineda edge functions in exact integer
-// arithmetic (eq. 6.12–6.20), recovers the perspective-correct depth (eq. 6.21–6.22 on 1/z)
+// arithmetic (eq. 6.12–6.20), recovers the perspective-correct depth (eq. 6.21–6.22 [ALGORITHM.md] on 1/z)
 // and compares it with the scene depth (soft inlier, §7.5.1) — and outputs the numerator and
-// denominators of the weight (eq. 7.4) plus our extensions' counters.
+// denominators of the weight (eq. 7.4 [ALGORITHM.md]) plus our extensions' counters.
 //
 // It implements exactly the rasterization rules of include/posefilter/render.h (pixel
 // centres at integer coordinates, vertices snapped to 1/256 px with round-half-away-from-
@@ -104,7 +104,7 @@ inline bool RasterParamsAreValid(const RasterParams& p, std::string* why) {
 }
 #endif
 
-// One core's result for one particle (the numerator and denominators of eq. 7.4 and the
+// One core's result for one particle (the numerator and denominators of eq. 7.4 [ALGORITHM.md] and the
 // counters of the reference's ScoreKernelResult).
 struct RasterCoreOutput {
   inlier_t inlier_sum;         // I = Σχ over counted fragments
@@ -190,7 +190,7 @@ inline int BitLength(const ap_int<50>& a) {
   return len;
 }
 
-// Depth recovery (§7.5.3, eq. 6.21–6.22 applied to 1/z): with the normalised edge values
+// Depth recovery (§7.5.3, eq. 6.21–6.22 [ALGORITHM.md] applied to 1/z): with the normalised edge values
 // e_k' = e_k >> sh (λ_k = e_k' / Σe'), 1/z_r = Σ λ_k/W_k, so z_r = Σe' / Σ(e_k'·(1/W_k)).
 // Returns z_r in F20, floor, saturated to 16 m.
 inline ap_uint<24> RecoverDepth(const ap_int<50> e[3], int sh, const ap_uint<32> iz[3]) {
@@ -260,8 +260,8 @@ inline ap_uint<24> DepthF20(const depth_t& z) {
 // the pixel stage of the core's internal dataflow (Fig. 7.20). Positions are relative to the
 // window: the clipped bounding box starts at (x0, y0) and is w × h pixels (≥ 1 each).
 struct TriangleSetup {
-  ap_int<24> A[3], B[3];  // edge steps per pixel column / row, F8 (eq. 6.19–6.20)
-  ap_int<50> e0[3];       // edge functions at the box's first pixel, F16 (eq. 6.16–6.18)
+  ap_int<24> A[3], B[3];  // edge steps per pixel column / row, F8 (eq. 6.19–6.20 [ALGORITHM.md])
+  ap_int<50> e0[3];       // edge functions at the box's first pixel, F16 (eq. 6.16–6.18 [ALGORITHM.md])
   ap_uint<1> own[3];      // 1: E_k = 0 is inside (owned edge: A > 0, or A = 0 and B > 0)
   ap_uint<32> iz[3];      // 1/W of the vertices, F26
   ap_uint<6> sh;          // normalisation of the barycentric weights (RecoverDepth)
@@ -316,8 +316,8 @@ RC_VERTICES:
     if (u_hi > u0 + ww - 1) u_hi = u0 + ww - 1;
     if (v_hi > v0 + wh - 1) v_hi = v0 + wh - 1;
     if (u_lo > u_hi || v_lo > v_hi) continue;
-    // Edge j opposite vertex j, from Va = V[j+1] to Vb = V[j+2] (eq. 6.13): A = Vb.y − Va.y,
-    // B = −(Vb.x − Va.x); E_j at the first pixel (eq. 6.16–6.18).
+    // Edge j opposite vertex j, from Va = V[j+1] to Vb = V[j+2] (eq. 6.13 [ALGORITHM.md]): A = Vb.y − Va.y,
+    // B = −(Vb.x − Va.x); E_j at the first pixel (eq. 6.16–6.18 [ALGORITHM.md]).
     TriangleSetup t;
     for (int j = 0; j < 3; ++j) {
 #pragma HLS UNROLL
@@ -355,7 +355,7 @@ RC_VERTICES:
 // Pixel stage (Fig. 7.20 "pixel"): every pixel of every triangle's clipped box, one pixel per
 // clock, rows and triangles back to back (one flattened loop; the next triangle is read in the
 // clock after the previous one's last pixel). Inside test on the incremental edge functions
-// (+A·256 per column, +B·256 per row, eq. 6.19–6.20), depth recovery (eq. 6.21–6.22), then
+// (+A·256 per column, +B·256 per row, eq. 6.19–6.20), depth recovery (eq. 6.21–6.22 [ALGORITHM.md]), then
 // zbuffer = 0: the soft inlier of the fragment (§7.5.1); zbuffer = 1: the z-buffer's
 // read-modify-write (min). The z-buffer write of a fragment lands kZbufWriteLag clocks after
 // its read (latency.h; the RTL twin: one, a read-first BRAM written in the clock the next

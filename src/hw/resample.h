@@ -12,15 +12,15 @@
 //     axis the object's z axis points along most × which of the 4 remaining signed axes its x
 //     axis points along most = the 24 rotations of a cube). The bin is computed from the
 //     sample's angles in the pool loop: 3 SinCos (fx_math), 6 multiplies for R's columns 0
-//     and 2 (R = Rz·Ry·Rx, eq. 7.6–7.7), |·| compares; a 24-bank counter memory (one bank per
+//     and 2 (R = Rz·Ry·Rx, eq. 7.6–7.7 [ALGORITHM.md]), |·| compares; a 24-bank counter memory (one bank per
 //     bin, cleared with the hypothesis counters in 256 clocks).
 //  2. Elitism: out[0 .. num_elite−1] = the head of the pool, unchanged (diffusion copies them).
-//  3. CDF of the pool weights (eq. 7.3 on the weights): exact running sum, one reciprocal of
+//  3. CDF of the pool weights (eq. 7.3 [ALGORITHM.md] on the weights): exact running sum, one reciprocal of
 //     the total (fx_math Reciprocal on the leading-one-normalised total), c_i = S_i·(1/S) in
 //     cdf_t (truncated, saturating), the LAST entry saturated to 1 − 2^-18 so every draw finds
 //     an entry, and the FIRST entry set like every other (GRIP's base port never sets it — bug
 //     not copied). A pool whose weights are all 0 is sampled uniformly (c_i = (i+1)/pool).
-//  4. Threshold tracker (Listing 7.2, adapted): while the CDF streams out, a register file of
+//  4. Threshold tracker (Listing 7.2 [HARDWARE.md], adapted): while the CDF streams out, a register file of
 //     2^kTrackerBits entries records, for every threshold b/2^kTrackerBits, the first index
 //     whose CDF's top kTrackerBits bits reach b; one CDF entry that jumps several thresholds
 //     fills all of them in the same clock (parallel compare, the thesis's adaptive step).

@@ -1,15 +1,15 @@
 // src/hw/sample_gen.h — sample generation of the initialisation (thesis §7.4 item 5,
-// Listing 7.5; docs/HARDWARE.md §7.1) and the whole initialisation chain (Fig. 7.5) as one dataflow
+// Listing 7.5 [ALGORITHM.md]; docs/HARDWARE.md §7.1) and the whole initialisation chain (Fig. 7.5) as one dataflow
 // region: CDF + normalisation → threshold tracker → bound generator → sampling → sample
 // generation, fed by the LFSR generators.
 //
-// Sample generation (Listing 7.5): for each sampled cell index, read the cell's heuristic
+// Sample generation (Listing 7.5 [ALGORITHM.md]): for each sampled cell index, read the cell's heuristic
 // volume and write a Sample:
 //   x = (x_min + x_max)/2, y = (y_min + y_max)/2   (full-precision sum, one shift, truncated
 //                                                   to xyz_t: floor to 2^-10, in [min, max])
 //   z = z_min + (z_max − z_min)·u_z, u_z ∈ [2^-18, 1) from an LFSR18 (truncated to xyz_t, so
 //       z ∈ [z_min, z_max] when z_min ≤ z_max)
-//   roll, pitch, yaw from three LFSR15 angle generators (lfsr.h AngleGenerate, Listing 7.6)
+//   roll, pitch, yaw from three LFSR15 angle generators (lfsr.h AngleGenerate, Listing 7.6 [HARDWARE.md])
 //   cell = the index.
 // The thesis also writes the index to two absolute-index memories (Sample_abs_inx and its
 // copy for the dataflow); ours keeps it in Sample::cell (hw_types.h).

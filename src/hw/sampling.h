@@ -4,7 +4,7 @@
 // Importance sampling: for a uniform u ∈ (0, 1) pick the first index j with w_n[j] ≥ u
 // (§7.4: NewSample_i = w_n_i | w_n_i ≥ U_i ∧ w_n_i < w_n_j for j > i … i.e. the first one).
 //
-// Bound generator (Listing 7.3, rewritten): it loads the 2^P threshold words of the tracker
+// Bound generator (Listing 7.3 [HARDWARE.md], rewritten): it loads the 2^P threshold words of the tracker
 // (threshold_tracker.h), then for each draw u with level k = floor(u·2^P) gives
 //   bottom = the index of the first recorded level ≥ k   (0 when k = 0),
 //   top    = the index of the first recorded level ≥ k+1 (N − 1 when there is none),
@@ -15,7 +15,7 @@
 // matches; neither is copied.
 // `use_tracker = false` gives [0, n − 1] for every draw (the base/GPU version's full scan).
 //
-// Sampling (Listing 7.4): stores the CDF in the sampling memory while it streams in, then
+// Sampling (Listing 7.4 [HARDWARE.md]): stores the CDF in the sampling memory while it streams in, then
 // for each draw scans [bottom, top] one read per cycle and writes the first index whose
 // value ≥ u. Counters: `reads` (memory reads done) and `reads_linear` (the reads a scan
 // from entry 0 would have done: j + 1) — the thesis's 2520 → 61.5 comparison (Fig. 7.11).
@@ -35,7 +35,7 @@ namespace posefilter::hw {
 // Uniform draws of the sampling and of z: 18 LFSR bits read as ufixed<18,0> ∈ [2^-18, 1).
 typedef ap_ufixed<18, 0> unif18_t;
 
-// A draw and its scan interval (Listing 7.3's BOUNDS_RAND word, as a struct).
+// A draw and its scan interval (Listing 7.3 [HARDWARE.md]'s BOUNDS_RAND word, as a struct).
 template <int IB, int CDF_W>
 struct SampleBounds {
   ap_uint<IB> bottom, top;
@@ -49,7 +49,7 @@ struct SamplingCounters {
   ap_uint<32> draws;         // indices written
 };
 
-// ---- LFSR18 uniform source (§5.1, Listing 5.1) ----
+// ---- LFSR18 uniform source (§5.1, Listing 5.1 [HARDWARE.md]) ----
 // n draws to `out`. leap = false: one shift per draw (the thesis: consecutive draws share 17
 // bits, u[t+1] ≈ u[t]/2 + bit/2); leap = true (ours, default of our kernels): kLfsr18Leap
 // shifts per draw (lfsr.h), nearly independent consecutive draws. Never 0 (the LFSR state is
@@ -70,7 +70,7 @@ UNIFORM_GEN:
   HW_TRACE("uniform_gen", "UNIFORM_GEN", trips, 1, kUniformDepth);
 }
 
-// ---- Bound generator (Listing 7.3) ----
+// ---- Bound generator (Listing 7.3 [HARDWARE.md]) ----
 // Pipelines: BOUND_LOAD read+store (1); BOUND_GEN read, 2^P parallel compares and two priority
 // encoders (2), write (1). (Depths: latency.h.)
 
@@ -128,7 +128,7 @@ BOUND_GEN:
   HW_TRACE("bound_gen", "BOUND_GEN", trips, 1, kBoundGenDepth);
 }
 
-// ---- Sampling (Listing 7.4) ----
+// ---- Sampling (Listing 7.4 [HARDWARE.md]) ----
 // Pipelines: SAMPLE_STORE read+store (1). SAMPLE_SCAN: memory read (1), compare (1), index
 // write (1): depth 3. Each draw re-enters SAMPLE_SCAN: the draw loop (SAMPLE_DRAWS) costs
 // the scan's fill (3) + reading the bounds and writing the index (2) per draw. (Depths and

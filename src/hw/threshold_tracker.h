@@ -47,7 +47,7 @@ inline ap_uint<IB> ThrIndex(const ap_uint<P + IB>& w) {
   return i;
 }
 
-// Listing 7.2 (corrected): copies `n` CDF values from cdf_in to cdf_out and writes exactly
+// Listing 7.2 [HARDWARE.md] (corrected): copies `n` CDF values from cdf_in to cdf_out and writes exactly
 // 2^P threshold words to thr_out. n ≤ N (runtime length: the resampling CDF is shorter
 // when fewer particles are resampled).
 template <int N, int P, int IB, int CDF_W>

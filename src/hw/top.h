@@ -30,7 +30,7 @@
 //                      depth_diff_count → the sample memory's side-band (depth_off_t), which
 //                      the diffusion's align-depth move reads at the next update.
 //
-// Interfaces (Ch. 7 does not list them; as the thesis's §4.4.3, Listing 4.1 and the second-stage
+// Interfaces (Ch. 7 does not list them; as the thesis's §4.4.3, Listing 4.1 [HARDWARE.md] and the second-stage
 // code's Init_Crt_Distr: m_axi with depth, offset = slave and a bundle, s_axilite return):
 // every memory argument is an AXI4 master (m_axi, offset = slave, one bundle per dataflow
 // process that reads or writes it, depth = the compile-time bound for co-simulation); scalars,

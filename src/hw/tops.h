@@ -30,7 +30,7 @@ struct WeighConfig {
                       // (the synthesized tops take M as a template parameter, not this field)
   int num_faces;      // model faces, 1 … kMaxFaces
   int img_width;      // depth image width, pixels (≤ kImageWidth); height·width ≤ the buffer
-  CameraParams cam;   // P and C (eq. 6.9), host-quantized
+  CameraParams cam;   // P and C (eq. 6.9 [ALGORITHM.md]), host-quantized
   RasterParams raster;  // z-buffer / inlier mode, thresholds (thr1 annealed per iteration)
   WeightParams weight;  // α β γ δ, occlusion-aware N_raster
   // ours, optional: grow each particle's window to its bounding-box projection (0 = thesis).

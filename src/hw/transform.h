@@ -1,5 +1,5 @@
 // src/hw/transform.h — the full-transformation-matrix chain and the vertex multiplier of the
-// render/score pipeline (thesis §7.5.2–7.5.3, Fig. 7.15–7.17, Listing 7.1), plus the small
+// render/score pipeline (thesis §7.5.2–7.5.3, Fig. 7.15–7.17, Listing 7.1 [HARDWARE.md]), plus the small
 // fixed-point helpers the render kernels share (raw-bit views, the restoring divider).
 //
 // Full transformation (thesis §7.5.2): FT = P·C·(Tr·Rz)·(Ry·Rx), a 3×4 matrix that
@@ -35,11 +35,11 @@ typedef ap_fixed<18, 2> trig_t;
 typedef ap_fixed<24, 4> ctrans_t;
 typedef ap_fixed<36, 14, AP_RND, AP_SAT> ft_t;
 constexpr int kFtFracBits = 22;     // fractional bits of ft_t
-constexpr int kXyzFracBits = 10;    // fractional bits of xyz_t (Table 7.1)
-constexpr int kDepthFracBits = 10;  // fractional bits of depth_t (Table 7.1)
+constexpr int kXyzFracBits = 10;    // fractional bits of xyz_t (Table 7.1 [HARDWARE.md])
+constexpr int kDepthFracBits = 10;  // fractional bits of depth_t (Table 7.1 [HARDWARE.md])
 constexpr int kFtElements = 12;     // a 3×4 matrix, streamed row-major
 
-// Camera of the chain: intrinsics P and the base→camera extrinsic C (eq. 6.9), host-quantized.
+// Camera of the chain: intrinsics P and the base→camera extrinsic C (eq. 6.9 [ALGORITHM.md]), host-quantized.
 struct CameraParams {
   intr_t fx, fy, cx, cy;   // pixels
   trig_t rot[9];           // C's rotation, row-major
@@ -112,7 +112,7 @@ PC_ROWS:
   pc[11] = cam.trans[2];
 }
 
-// FT of one sample from PC (eq. 7.6–7.7): TrRz needs no multiplication, RyRx four; the
+// FT of one sample from PC (eq. 7.6–7.7 [ALGORITHM.md]): TrRz needs no multiplication, RyRx four; the
 // output is (PC·TrRz) row by row times the columns of RyRx, element by element (Fig. 7.15).
 inline void SampleTransform(const Sample& s, const ft_t pc[kFtElements], ft_t ft[kFtElements]) {
 #pragma HLS INLINE
@@ -120,12 +120,12 @@ inline void SampleTransform(const Sample& s, const ft_t pc[kFtElements], ft_t ft
   SinCos(s.roll, &sx, &cx);
   SinCos(s.pitch, &sy, &cy);
   SinCos(s.yaw, &sz, &cz);
-  // RyRx (eq. 7.7): [cy, sy·sx, sy·cx; 0, cx, −sx; −sy, cy·sx, cy·cx] — the four products.
+  // RyRx (eq. 7.7 [ALGORITHM.md]): [cy, sy·sx, sy·cx; 0, cx, −sx; −sy, cy·sx, cy·cx] — the four products.
   const trig_t sysx = sy * sx, sycx = sy * cx, cysx = cy * sx, cycx = cy * cx;
 FT_ROWS:
   for (int r = 0; r < 3; ++r) {
 #pragma HLS PIPELINE II = 4
-    // M = PC·TrRz (eq. 7.6): columns (c_z, s_z, 0), (−s_z, c_z, 0), (0, 0, 1), (x, y, z, 1).
+    // M = PC·TrRz (eq. 7.6 [ALGORITHM.md]): columns (c_z, s_z, 0), (−s_z, c_z, 0), (0, 0, 1), (x, y, z, 1).
     const ft_t p0 = pc[4 * r], p1 = pc[4 * r + 1], p2 = pc[4 * r + 2], p3 = pc[4 * r + 3];
     const ft_t m0 = p0 * cz + p1 * sz;
     const ft_t m1 = p1 * cz - p0 * sz;
@@ -164,9 +164,9 @@ FT_SAMPLES:
   HW_TRACE("ft_chain", "FT_ELEMENTS", uint64_t(num_samples) * kFtElements, 1, kFtElementsDepth);
 }
 
-// ---- Vertex multiplier (§7.5.3, Listing 7.1) ----
+// ---- Vertex multiplier (§7.5.3, Listing 7.1 [HARDWARE.md]) ----
 
-// A face packs its three 10-bit vertex indices: corner k in bits [10k+9 : 10k] (Listing 7.1).
+// A face packs its three 10-bit vertex indices: corner k in bits [10k+9 : 10k] (Listing 7.1 [HARDWARE.md]).
 inline face_t PackFace(vertex_index_t a, vertex_index_t b, vertex_index_t c) {
   face_t f = 0;
   f.range(9, 0) = a;
@@ -176,7 +176,7 @@ inline face_t PackFace(vertex_index_t a, vertex_index_t b, vertex_index_t c) {
 }
 
 // Reads the model once per round — per face three vertex reads (the case_select FSM of
-// Listing 7.1: a face word, then one vertex per cycle) — and writes each vertex to the
+// Listing 7.1 [HARDWARE.md]: a face word, then one vertex per cycle) — and writes each vertex to the
 // streams of every core that has a particle in that round (num_particles may not be a
 // multiple of num_cores: the last round feeds only its active cores). Core c of round r
 // renders particle r·num_cores + c.

@@ -1,15 +1,16 @@
 // src/hw/weight_merger.h — the weight merger (thesis §7.5.3 "Weigh/Inlier merger and final
-// composition", Listing 7.8): reads the raster cores' numerators and denominators in
-// particle order (round by round, core by core) and composes the weight of eq. 7.4 with ONE
+// composition", Listing 7.8 [HARDWARE.md]): reads the raster cores' numerators and denominators in
+// particle order (round by round, core by core) and composes the weight of eq. 7.4 [ALGORITHM.md] with ONE
 // divider shared by all cores, instead of one per core.
 //
 //   w = max(0, α·min(1, I/N_raster) + β·min(1, I/N_depth) + γ·ρ − δ·n_edge_continued/n_edge)
 //
 // (docs/ALGORITHM.md §5; each ratio is 0 when its denominator is 0). N_raster = n_raster −
 // n_occluded when occlusion_aware is set (ours, docs/ALGORITHM.md), n_raster otherwise; δ = 0 and
-// occlusion_aware = 0 give the thesis's eq. 7.4. Deviations from Listing 7.8: its weight is
-// (Numerator/Denominator + ρ) >> 2 — one ratio, fixed coefficients — while ours has the
-// three terms of eq. 7.4 with runtime α, β, γ (and δ).
+// occlusion_aware = 0 give the thesis's eq. 7.4 [ALGORITHM.md]. Deviations from
+// Listing 7.8 [HARDWARE.md]: its weight is (Numerator/Denominator + ρ) >> 2 — one ratio, fixed
+// coefficients — while ours has the three terms of eq. 7.4 [ALGORITHM.md] with runtime α, β, γ
+// (and δ).
 #pragma once
 
 #include "hw/burst.h"
@@ -30,12 +31,12 @@ typedef ap_ufixed<18, 1> ratio_t; // a ratio of the divider, [0, 1] after the ca
 
 // Runtime parameters of the merger (the host converts the filter's options).
 struct WeightParams {
-  coef_t alpha, beta, gamma;  // eq. 7.4 (defaults 0.2, 0.5, 0.3)
+  coef_t alpha, beta, gamma;  // eq. 7.4 [ALGORITHM.md] (defaults 0.2, 0.5, 0.3)
   coef_t delta;               // silhouette edge penalty (default 0.3; 0 = off, the thesis)
   ap_uint<1> occlusion_aware; // 1: N_raster excludes occluded fragments (default; 0 = thesis)
 };
 
-// One weighed particle for the sorting network: weight and relative index (Listing 7.8).
+// One weighed particle for the sorting network: weight and relative index (Listing 7.8 [HARDWARE.md]).
 struct WeightOut {
   weight_t weight;
   particle_index_t index;

@@ -1,4 +1,4 @@
-// Pyramid layout, box coding, the stage-1 post-process (thesis §7.1, §7.3, eq. 7.1–7.2) and
+// Pyramid layout, box coding, the stage-1 post-process (thesis §7.1, §7.3, eq. 7.1–7.2 [ALGORITHM.md]) and
 // raw pyramid file I/O. See include/posefilter/prior.h for the conventions.
 #include <algorithm>
 #include <bit>
@@ -277,12 +277,12 @@ Prior PostProcessPyramid(const std::vector<float>& raw, const PyramidLayout& lay
   std::vector<double> e(nc);
   for (int cell = 0; cell < cells; ++cell) {
     const float* r = &raw[size_t(cell) * per];
-    // eq. 7.2 as softmax(p)·sigmoid(−c): subtract the max logit so e^{p_j − m} ≤ 1.
+    // eq. 7.2 [ALGORITHM.md] as softmax(p)·sigmoid(−c): subtract the max logit so e^{p_j − m} ≤ 1.
     double m = r[0];
     for (int j = 1; j < nc; ++j) m = std::max(m, double(r[j]));
     double sum = 0;
     for (int j = 0; j < nc; ++j) sum += e[j] = std::exp(double(r[j]) - m);
-    // eq. 7.1: 1/(1 + e^c) = sigmoid(−c), evaluated without overflow for either sign of c.
+    // eq. 7.1 [ALGORITHM.md]: 1/(1 + e^c) = sigmoid(−c), evaluated without overflow for either sign of c.
     const double c = r[nc + 4];
     const double sig = c > 0 ? std::exp(-c) / (1 + std::exp(-c)) : 1 / (1 + std::exp(c));
     const double scale = sig / sum;

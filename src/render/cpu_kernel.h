@@ -128,7 +128,7 @@ ScoreKernelResult ScoreCpuWith(CpuTarget target, const ScoreKernelParams& params
 bool PreCullConstants(const ScoreKernelParams& params, const FacePlanes& planes, float c[3], float* k1, float* k0);
 
 // Summed-area table of the valid-depth mask (depth > 0): the number of valid depth pixels in
-// any rectangle in O(1) (N_depth of eq. 7.4).
+// any rectangle in O(1) (N_depth of eq. 7.4 [ALGORITHM.md]).
 class ValidDepthSat {
  public:
   ValidDepthSat() = default;

@@ -1,8 +1,8 @@
 // src/render/raster.h — the triangle rasterizer every float engine shares (internal).
 //
 // Screen coordinates are fixed point with kSubpixelBits fractional bits (1/256 pixel); the
-// centre of pixel (i, j) is at (i·256, j·256). Edge functions (Pineda, eq. 6.12–6.13) are
-// evaluated in exact int64 arithmetic and stepped incrementally (eq. 6.19–6.20), so any
+// centre of pixel (i, j) is at (i·256, j·256). Edge functions (Pineda, eq. 6.12–6.13 [ALGORITHM.md]) are
+// evaluated in exact int64 arithmetic and stepped incrementally (eq. 6.19–6.20 [ALGORITHM.md]), so any
 // backend that snaps vertices the same way covers exactly the same pixels.
 #pragma once
 
@@ -63,7 +63,7 @@ inline std::int64_t TwiceArea(const ScreenTriangle& t) {
 
 // Rasterizes a front-facing triangle (TwiceArea > 0) inside `clip` and calls
 // fn(u, v, z) for every covered pixel centre, z the perspective-correct depth in metres
-// (barycentric λ_k = E_k / 2Area, eq. 6.21–6.22, applied to 1/z).
+// (barycentric λ_k = E_k / 2Area, eq. 6.21–6.22 [ALGORITHM.md], applied to 1/z).
 //
 // Depth arithmetic is float, in exactly this order (binding for every float engine):
 //   1/z = ((float(E0)·iz0 + float(E1)·iz1) + float(E2)·iz2) · (1 / float(2Area)),  z = 1 / (1/z),
@@ -83,7 +83,7 @@ void RasterizeTriangle(const ScreenTriangle& t, std::int64_t area2, const PixelR
   const std::int64_t v_hi = std::min<std::int64_t>(clip.v0 + clip.height - 1, FloorDiv(max_y, kSubpixelOne));
   if (u_lo > u_hi || v_lo > v_hi) return;
 
-  // Edge k lies opposite vertex k, from Va = V[k+1] to Vb = V[k+2] (eq. 6.13):
+  // Edge k lies opposite vertex k, from Va = V[k+1] to Vb = V[k+2] (eq. 6.13 [ALGORITHM.md]):
   //   E_k(P) = (Px − Va.x)(Vb.y − Va.y) − (Py − Va.y)(Vb.x − Va.x) = A·(Px − Va.x) + B·(Py − Va.y).
   // Inside: E_k > 0 for all k. A pixel exactly on an edge (E_k = 0) belongs to the triangle
   // only when the edge "owns" it (A > 0, or A = 0 and B > 0): of two triangles sharing the
@@ -106,9 +106,9 @@ void RasterizeTriangle(const ScreenTriangle& t, std::int64_t area2, const PixelR
             ((float(e[0]) * t.inv_z[0] + float(e[1]) * t.inv_z[1]) + float(e[2]) * t.inv_z[2]) * inv_area2;
         fn(int(u), int(v), 1.0f / inv_z);
       }
-      for (int k = 0; k < 3; ++k) e[k] += A[k] * kSubpixelOne;  // step in x (eq. 6.20)
+      for (int k = 0; k < 3; ++k) e[k] += A[k] * kSubpixelOne;  // step in x (eq. 6.20 [ALGORITHM.md])
     }
-    for (int k = 0; k < 3; ++k) row_e[k] += B[k] * kSubpixelOne;  // step in y (eq. 6.19)
+    for (int k = 0; k < 3; ++k) row_e[k] += B[k] * kSubpixelOne;  // step in y (eq. 6.19 [ALGORITHM.md])
   }
 }
 

@@ -40,7 +40,7 @@ TEST_F(HwCliTest, HwReportPrintsTheTableAndWritesJson) {
   EXPECT_NE(r.out.find("configuration \"thesis\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("side by side"), std::string::npos) << r.out;
   const nlohmann::json all = nlohmann::json::parse(ReadFile(json));
-  // Table 7.2/7.3's figures and both configurations.
+  // Table 7.2/7.3 [HARDWARE.md]'s figures and both configurations.
   ASSERT_EQ(all["thesis"]["tables"].size(), 3u);
   EXPECT_EQ(all["thesis"]["tables"][1]["average_iteration_ms"], 120.0);
   EXPECT_TRUE(all["thesis"]["tables"][0]["first_iteration_ms"].get<double>() < 0);  // not reported

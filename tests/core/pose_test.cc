@@ -18,8 +18,8 @@ TEST(PoseTest, MatchesTheThesisMatrices) {
   const double cp = std::cos(p.pitch), sp = std::sin(p.pitch);
   const double cy = std::cos(p.yaw), sy = std::sin(p.yaw);
   Eigen::Matrix3d Rz, RyRx;
-  Rz << cy, -sy, 0, sy, cy, 0, 0, 0, 1;  // eq. 6.6 / 7.6
-  RyRx << cp, sp * sr, sp * cr, 0, cr, -sr, -sp, cp * sr, cp * cr;  // eq. 7.7
+  Rz << cy, -sy, 0, sy, cy, 0, 0, 0, 1;  // eq. 6.6 / 7.6 [ALGORITHM.md]
+  RyRx << cp, sp * sr, sp * cr, 0, cr, -sr, -sp, cp * sr, cp * cr;  // eq. 7.7 [ALGORITHM.md]
   EXPECT_TRUE(T.linear().isApprox(Rz * RyRx, 1e-12));
   EXPECT_TRUE(T.translation().isApprox(Eigen::Vector3d(0.1, -0.2, 0.7)));
 }

@@ -136,7 +136,7 @@ TEST(HwRandomBoxMuller, Eq53PathWithQuadrantSignIsNormalToo) {
   ExpectStandardNormal(z2, "Z2 (eq. 5.3 cos)");
   int negative = 0;
   for (double x : z2) negative += (x < 0);
-  EXPECT_NEAR(negative / double(kPairs), 0.5, 0.01);  // printed eq. 5.3 gives 0 negatives
+  EXPECT_NEAR(negative / double(kPairs), 0.5, 0.01);  // printed eq. 5.3 [HARDWARE.md] gives 0 negatives
   EXPECT_LT(std::fabs(Correlation(z1, z2)), 0.01);
 }
 

@@ -1,5 +1,5 @@
 // Tests of src/hw/lfsr.h: exact periods, zero-seed handling, the bit-level recurrence of
-// Listing 5.1 / 7.6, leap stepping, and the angle source.
+// Listing 5.1 / 7.6 [HARDWARE.md], leap stepping, and the angle source.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -64,10 +64,10 @@ TEST(HwRandomLfsr, LeapKeepsFullPeriodWhenCoprime) {
 }
 
 TEST(HwRandomLfsr, MatchesListingRecurrence) {
-  // Listing 5.1: new = b_18 ^ b_11 = bit 0 ^ bit 7, shift right, new bit at 17.
+  // Listing 5.1 [HARDWARE.md]: new = b_18 ^ b_11 = bit 0 ^ bit 7, shift right, new bit at 17.
   uint32_t s18 = 0x1D2C3;
   Lfsr18 g18(0x1D2C3);
-  // Listing 7.6: new = bit 0 ^ bit 1, new bit at 14.
+  // Listing 7.6 [HARDWARE.md]: new = bit 0 ^ bit 1, new bit at 14.
   uint32_t s15 = 0x2345;
   Lfsr15 g15(0x2345);
   for (int i = 0; i < 2000; ++i) {

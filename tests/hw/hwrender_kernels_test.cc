@@ -1,7 +1,7 @@
 // Tests of the hw render pipeline's small kernels: the full-transformation-matrix chain vs
 // PoseToTransform, the vertex multiplier, the FT distributor, the depth fragment distributor
 // (exact window contents, one read per shared pixel and round), the weight merger vs the
-// double formula of eq. 7.4, and the software checks of the kernels' parameters.
+// double formula of eq. 7.4 [ALGORITHM.md], and the software checks of the kernels' parameters.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -348,7 +348,7 @@ TEST(HwRenderWeightMerger, MatchesDoubleFormulaInParticleOrder) {
   }
   for (int variant = 0; variant < 2; ++variant) {
     WeightParams prm = DefaultWeightParams();
-    if (variant == 1) {  // the thesis's eq. 7.4: no edge penalty, plain N_raster
+    if (variant == 1) {  // the thesis's eq. 7.4 [ALGORITHM.md]: no edge penalty, plain N_raster
       Set(prm.alpha, 0.25);
       Set(prm.beta, 0.25);
       Set(prm.gamma, 0.5);

@@ -1,4 +1,4 @@
-// Tests of src/hw/cdf.h (thesis §7.4 item 1, eq. 7.3): monotone, last value saturated,
+// Tests of src/hw/cdf.h (thesis §7.4 item 1, eq. 7.3 [ALGORITHM.md]): monotone, last value saturated,
 // within 2^-17 of the double CDF of the same (quantized) probabilities; zero mass.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Tests of src/hw/sample_gen.h (thesis §7.4 item 5, Listing 7.5) and of the whole
+// Tests of src/hw/sample_gen.h (thesis §7.4 item 5, Listing 7.5 [ALGORITHM.md]) and of the whole
 // initialisation chain InitSamples (Fig. 7.5).
 #include <gtest/gtest.h>
 

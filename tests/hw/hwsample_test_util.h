@@ -99,7 +99,7 @@ class_sum_t ClassSum(const prob_t prob[kNumCells][NC], int cls) {
   return s;
 }
 
-// Double-precision reference of eq. 7.3 over the given (quantized) weights, no saturation.
+// Double-precision reference of eq. 7.3 [ALGORITHM.md] over the given (quantized) weights, no saturation.
 inline std::vector<double> DoubleCdf(const std::vector<double>& w) {
   double total = 0;
   for (double x : w) total += x;

@@ -1,4 +1,4 @@
-// Tests of the pyramid layout, box coding, the post-process (eq. 7.1–7.2) and raw file I/O.
+// Tests of the pyramid layout, box coding, the post-process (eq. 7.1–7.2 [ALGORITHM.md]) and raw file I/O.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -182,7 +182,7 @@ TEST(BoxCoding, IoU) {
   EXPECT_DOUBLE_EQ(BoxCoverage({0, 0, 0, 10}, {0, 0, 10, 10}), 0);
 }
 
-// Hand-computed eq. 7.2: Prob_j = e^{p_j} / (Σ e^{p_i}·(1 + e^c)).
+// Hand-computed eq. 7.2 [ALGORITHM.md]: Prob_j = e^{p_j} / (Σ e^{p_i}·(1 + e^c)).
 TEST(PostProcess, MatchesHandComputedSoftmaxTimesSigmoid) {
   const PyramidLayout l = SmallLayout(3);
   const int per = l.RawValuesPerCell();

@@ -2,9 +2,9 @@
 // raster.comp — pass 2 of the gpu score kernel: one invocation per (face, particle) runs
 // render::RasterizeMesh / RasterizeTriangle for that face inside the particle's window:
 // near-plane test, back-face culling (2·Area ≤ 0), Pineda edge functions in exact integers with
-// the top-left ownership rule (eq. 6.12–6.20), perspective-correct 1/z in the reference's float
+// the top-left ownership rule (eq. 6.12–6.20 [ALGORITHM.md]), perspective-correct 1/z in the reference's float
 // order. A face whose clipped box holds at most kInlineBox pixels is rastered here, stepping
-// the edge functions (eq. 6.19–6.20); a larger one is listed for raster_big.comp, which spreads
+// the edge functions (eq. 6.19–6.20 [ALGORITHM.md]); a larger one is listed for raster_big.comp, which spreads
 // its pixels over a workgroup (one invocation per face would serialise a large triangle, and
 // Mesa's lavapipe caps the loop iterations of an invocation). Grid: x = face, y = particle.
 #extension GL_GOOGLE_include_directive : require
@@ -31,8 +31,8 @@ void RasterFace(uint f, uint p, inout int64_t s[kNumSums]) {
   int64_t row_e[3], step_x[3], step_y[3];
   for (int k = 0; k < 3; ++k) {
     row_e[k] = EdgeAt(r, k, r.u_lo, r.v_lo);
-    step_x[k] = Mul64(r.A[k], 256);  // eq. 6.20
-    step_y[k] = Mul64(r.B[k], 256);  // eq. 6.19
+    step_x[k] = Mul64(r.A[k], 256);  // eq. 6.20 [ALGORITHM.md]
+    step_y[k] = Mul64(r.B[k], 256);  // eq. 6.19 [ALGORITHM.md]
   }
   for (int v = r.v_lo; v <= r.v_hi; ++v) {
     int64_t e0 = row_e[0], e1 = row_e[1], e2 = row_e[2];

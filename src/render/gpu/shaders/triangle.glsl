@@ -23,7 +23,7 @@ bool LoadFace(uint f, uint p, out Face t) {
   return a.w != 0 && b.w != 0 && c.w != 0;
 }
 
-// The pixel box of a front face clipped to the window, and its edge functions (eq. 6.13):
+// The pixel box of a front face clipped to the window, and its edge functions (eq. 6.13 [ALGORITHM.md]):
 // edge k lies opposite vertex k, from Va = V[k+1] to Vb = V[k+2];
 // E_k(P) = A_k·(Px − Va.x) + B_k·(Py − Va.y); a pixel with E_k = 0 belongs to the triangle only
 // when the edge owns it (A > 0, or A = 0 and B > 0): min_e = 0, else 1.
@@ -59,7 +59,7 @@ int64_t EdgeAt(Raster r, int k, int u, int v) {
   return Mul64(r.A[k], u * 256 - r.xa[k]) + Mul64(r.B[k], v * 256 - r.ya[k]);
 }
 
-// Pixel (u, v) with edge values e: when covered, its perspective-correct 1/z (eq. 6.21–6.22, the
+// Pixel (u, v) with edge values e: when covered, its perspective-correct 1/z (eq. 6.21–6.22 [ALGORITHM.md], the
 // reference's float order) goes to the z-buffer (largest 1/z wins) or, in thesis mode, the
 // fragment is compared at once.
 void Fragment(Face t, Raster r, uint p, ivec4 w, int u, int v, int64_t e0, int64_t e1, int64_t e2,
