@@ -18,5 +18,9 @@ int RunTrack(int argc, char** argv);     // apps/track_cmd.cc
 int RunBench(int argc, char** argv);     // apps/bench_cmd.cc
 int RunHwReport(int argc, char** argv);  // apps/hw_report_cmd.cc
 int RunOptions(int argc, char** argv);   // apps/options_cmd.cc
+int RunView(int argc, char** argv);      // apps/view_cmd.cc
+
+// `estimate` (view_command false) or `view` (true): one parser and body, apps/estimate_cmd.cc.
+int RunEstimateCommand(int argc, char** argv, bool view_command);
 
 }  // namespace posefilter::cli

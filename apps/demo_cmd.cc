@@ -10,15 +10,17 @@
 #include "commands.h"
 #include "filter_cli.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/metrics.h"
 #include "posefilter/overlay.h"
 #include "posefilter/synth.h"
+#include "view_cli.h"
 
 namespace posefilter::cli {
 
 int RunDemo(int argc, char** argv) {
   CLI::App app{"Estimate a pose on a built-in synthetic scene and compare with the ground truth", "demo"};
-  std::string out_dir = "demo";
+  std::string out_dir = "demo", view_path;
   std::uint64_t scene_seed = 7;
   SynthOptions synth;
   synth.target = "lshape";
@@ -29,15 +31,23 @@ int RunDemo(int argc, char** argv) {
   app.add_option("--scene-seed", scene_seed, "seed of the synthetic scene")->capture_default_str()->transform(SeedValidator());
   app.add_option("--target", synth.target, "object kind: box, cylinder, lshape or torus")->capture_default_str();
   app.add_option("--occlusion", synth.occlusion, "fraction of the object hidden by an occluder")->capture_default_str();
+  app.add_option("--view", view_path,
+                 "also write the 3D viewer page here (HTML: point cloud, estimate, ground truth, support plane, "
+                 "particles per iteration; docs/VIEWER.md)");
   app.add_flag("--quiet", quiet, "no progress on stderr");
   AddFilterOptions(app, &opt);
 
   return RunApp(app, argc, argv, [&] {
     CheckFilterOptions(opt);
+    if (!view_path.empty()) {
+      RequireViewer("--view");
+      opt.record_particles = true;
+    }
     std::string why;
     if (!synth.IsValid(&why)) throw Error("invalid scene option: " + why);
     const SynthScene scene = MakeSynthScene(synth, scene_seed);
     WriteSynthScene(scene, out_dir);
+    if (!view_path.empty()) CheckOutputPaths({{view_path, "--view"}}, {});
     std::printf("scene: %s (%s at %.2f m, %.0f%% occluded, %zu detections) written to %s/\n", synth.target.c_str(),
                 scene.target.name.c_str(), scene.distance_m, 100 * scene.occlusion_achieved, scene.detections.size(),
                 out_dir.c_str());
@@ -65,6 +75,16 @@ int RunDemo(int argc, char** argv) {
     const std::string overlay = (std::filesystem::path(out_dir) / "overlay.png").string();
     SaveRgbPng(img, overlay);
     std::printf("overlay (green: estimate, blue: ground truth): %s\n", overlay.c_str());
+    if (!view_path.empty()) {
+      ObjectResult o;
+      o.obj = scene.target.name;
+      o.T_cam_obj = r.T_cam_obj;
+      o.weight = r.weight;
+      WriteFrameView({"demo scene " + std::to_string(scene_seed), &input, nullptr, {&scene.target}, {o},
+                      {r.particle_history}, {{scene.target.name, scene.gt[0].T_cam_obj}}, opt.support.plane},
+                     view_path);
+      std::printf("viewer page: %s\n", view_path.c_str());
+    }
   });
 }
 

@@ -41,6 +41,7 @@
 #include "posefilter/auto_prior.h"
 #include "posefilter/prior.h"
 #include "posefilter/rng.h"
+#include "view_cli.h"
 
 namespace posefilter::cli {
 namespace {
@@ -154,13 +155,65 @@ void DropTornImage(const std::string& csv, bool quiet) {
                  csv.c_str(), torn.size(), dropped);
 }
 
+// --view-images: "SCENE:IMAGE" or "IMAGE" (that image id in every scene) → is `key` chosen?
+bool ViewChosen(const std::vector<std::string>& ids, const std::pair<int, int>& key) {
+  for (const std::string& id : ids) {
+    const std::size_t colon = id.find(':');
+    try {
+      if (colon == std::string::npos ? std::stoi(id) == key.second
+                                     : std::stoi(id.substr(0, colon)) == key.first && std::stoi(id.substr(colon + 1)) == key.second)
+        return true;
+    } catch (const std::exception&) {
+      throw Error("--view-images: '" + id + "' is not IMAGE or SCENE:IMAGE (integers)");
+    }
+  }
+  return false;
+}
+
+// The viewer page of one image (--view-dir): DIR/view_SSSSSS_IIIIII.html, with the image's
+// estimates (rows, each with its mesh and particle sets), its ground truth and, where a
+// colour image lies beside the depth (rgb.png for depth.png, rgb/ for depth/), its colours.
+void WriteImageView(const std::string& dir, const Dataset& ds, const DatasetImage& im, const SceneInput& scene,
+                    const std::vector<BopResult>& rows, const std::vector<const Mesh*>& meshes,
+                    const std::vector<std::vector<ParticleSet>>& particles, bool support_plane) {
+  char name[64];
+  std::snprintf(name, sizeof name, "view_%06d_%06d.html", im.scene_id, im.im_id);
+  FrameView v;
+  v.title = "scene " + std::to_string(im.scene_id) + ", image " + std::to_string(im.im_id);
+  v.scene = &scene;
+  v.meshes = meshes;
+  v.particles = particles;
+  v.support_plane = support_plane;
+  for (const BopResult& r : rows) {
+    ObjectResult o;
+    o.obj = ds.Model(r.obj_id)->name;
+    o.T_cam_obj = r.T_cam_obj;
+    o.weight = r.score;
+    v.results.push_back(o);
+  }
+  for (const GtInstance& g : im.gt) v.gt.push_back({ds.Model(g.obj_id)->name, g.T_cam_obj});
+  namespace fs = std::filesystem;
+  const fs::path depth(im.depth_path);
+  fs::path colour;  // YCB-Video: rgb.png beside depth.png; BOP: rgb/ beside depth/
+  if (depth.filename() == "depth.png") colour = depth.parent_path() / "rgb.png";
+  else if (depth.parent_path().filename() == "depth") colour = depth.parent_path().parent_path() / "rgb" / depth.filename();
+  RgbImage rgb;
+  std::error_code ec;
+  if (!colour.empty() && fs::is_regular_file(colour, ec)) {
+    rgb = LoadRgbPng(colour.string());
+    if (rgb.width == scene.camera.width && rgb.height == scene.camera.height) v.rgb = &rgb;
+  }
+  WriteFrameView(v, (fs::path(dir) / name).string());
+}
+
 }  // namespace
 
 int RunRunDataset(int argc, char** argv) {
   CLI::App app{"Estimate every target of a dataset (BOP split or YCB-Video folder) and append the poses "
                "to a BOP results CSV (resumable)",
                "run-dataset"};
-  std::string dataset_dir, split = "test", detections_path, out_path, targets_path;
+  std::string dataset_dir, split = "test", detections_path, out_path, targets_path, view_dir;
+  std::vector<std::string> view_images;
   double jitter_px = 0;
   double gt_box_score = 0.9;
   bool uniform = false, auto_prior = false, quiet = false, no_time = false, scene_pass = true;
@@ -186,6 +239,11 @@ int RunRunDataset(int argc, char** argv) {
                  "targets JSON (BOP test_targets_bop19 format; default: <dataset>/test_targets_bop19.json if "
                  "present, else every gt object)");
   app.add_option("--limit", limit, "only the first N images with targets (already done ones included)");
+  app.add_option("--view-dir", view_dir,
+                 "write the 3D viewer page (docs/VIEWER.md) of each --view-images image into this folder, as "
+                 "view_SCENE_IMAGE.html (6 digits each)");
+  app.add_option("--view-images", view_images, "images whose viewer page is written: IMAGE or SCENE:IMAGE, comma-separated")
+      ->delimiter(',');
   app.add_flag("--quiet", quiet, "no progress bar on stderr");
   app.add_flag("--scene-pass,!--no-scene-pass", scene_pass,
                "after an image's per-object estimates, the joint scene pass over those made with the image's prior "
@@ -208,6 +266,14 @@ int RunRunDataset(int argc, char** argv) {
       throw Error("--gt-box-score must be in [0, 1], got " + std::to_string(gt_box_score));
     if (app.count("--limit") && limit < 1) throw Error("--limit must be ≥ 1, got " + std::to_string(limit));
     const bool use_dets = det_opt->count() > 0, use_gt = gt_opt->count() > 0;
+    if (view_dir.empty() != view_images.empty()) throw Error("--view-dir and --view-images go together: give both");
+    if (!view_dir.empty()) {
+      RequireViewer("--view-dir");
+      std::error_code ec;
+      if (!std::filesystem::is_directory(view_dir, ec) || ::access(view_dir.c_str(), W_OK) != 0)
+        throw Error("--view-dir " + view_dir + ": not a writable folder");
+      ViewChosen(view_images, {0, 0});  // checks the ids' syntax before any work
+    }
     // The CSV is appended to (it is its own resume state), never one of the other inputs.
     CheckOutputPaths({{out_path, "--out"}}, {{detections_path, "--detections"}, {targets_path, "--targets"}});
 
@@ -309,6 +375,9 @@ int RunRunDataset(int argc, char** argv) {
       const Prior image_prior =
           uniform ? UniformPrior(layout, classes) : PriorFromDetections(dets, layout, classes);
 
+      const bool view = !view_dir.empty() && ViewChosen(view_images, key);
+      std::vector<const Mesh*> row_meshes;                 // --view-dir: each row's mesh and particles
+      std::vector<std::vector<ParticleSet>> row_particles;
       std::vector<BopResult> rows;
       std::vector<SceneObject> shared;  // --scene-pass: the estimates made with the image's prior
       std::vector<std::size_t> shared_row;
@@ -331,9 +400,12 @@ int RunRunDataset(int argc, char** argv) {
           }
           FilterOptions o = opt;
           o.seed = MixSeed(opt.seed, t.scene_id, t.im_id, t.obj_id, inst);
+          o.record_particles = o.record_particles || view;
           scene.seeds = seeds_of.count(model.name) ? seeds_of[model.name] : std::vector<PoseSeed>{};
           try {
-            const EstimateResult r = EstimatePose(scene, mesh_of(t.obj_id), *prior, cls, o);
+            EstimateResult r = EstimatePose(scene, mesh_of(t.obj_id), *prior, cls, o);
+            if (view) row_meshes.push_back(&mesh_of(t.obj_id)), row_particles.push_back(std::move(r.particle_history));
+            r.particle_history.clear();
             BopResult row;
             row.scene_id = t.scene_id;
             row.im_id = t.im_id;
@@ -362,6 +434,7 @@ int RunRunDataset(int argc, char** argv) {
       const double image_s = std::chrono::duration<double>(Clock::now() - t_image).count();
       for (auto& r : rows) r.time_s = no_time ? -1.0 : image_s;
       AppendBopResultsCsv(rows, out_path);
+      if (view) WriteImageView(view_dir, ds, *im, scene, rows, row_meshes, row_particles, opt.support.plane);
       rows_written += static_cast<int>(rows.size());
       ++n_done;
       if (!quiet)

@@ -20,6 +20,7 @@ PACKAGES=(
   libsystemc-dev libmeshoptimizer-dev libqhull-dev clang-tools clang libclang-rt-dev libomp-dev
   libvulkan-dev glslang-tools mesa-vulkan-drivers vulkan-validationlayers
   verilator
+  libjs-three chromium  # three.js of the viewer page (inlined at build time); its browser tests
 )
 
 case "${1:-}" in

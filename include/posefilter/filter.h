@@ -2,10 +2,10 @@
 //
 // Algorithm (thesis §2.2, §7.4–7.6, App. B; docs/ALGORITHM.md §4–9), per object:
 //   1. initialise N particles by importance sampling the prior's cells (normalised CDF,
-//      eq. 7.3, with a threshold tracker) and placing each in its cell's heuristic volume
-//      (x, y at the centre, z uniform, Listing 7.5), angles uniform in ±π;
+//      eq. 7.3 [ALGORITHM.md], with a threshold tracker) and placing each in its cell's heuristic volume
+//      (x, y at the centre, z uniform, Listing 7.5 [ALGORITHM.md]), angles uniform in ±π;
 //   2. weigh each particle: render the mesh in its window and sum soft inliers,
-//      w = α·I/N_raster + β·I/N_depth + γ·ρ (eq. 7.4);
+//      w = α·I/N_raster + β·I/N_depth + γ·ρ (eq. 7.4 [ALGORITHM.md]);
 //   3. sort online (insertion, like the macro sorting cells of §7.5.4);
 //   4. stop when the best weight ≥ confidence or after max_iterations (FilterOptions, filter_options.h);
 //   5. resample: keep the elite, importance-sample the rest from the sorted weights' CDF;
@@ -54,17 +54,30 @@ struct FilterStats {
   }
 };
 
+// One iteration's particle set, recorded when FilterOptions::record_particles is on: every
+// particle as weighed in that iteration, best first. Weights of annealing iterations are
+// measured at that iteration's looser inlier threshold (and on the coarse pixel grid).
+struct ParticleSet {
+  int run = 0;                     // restart, from 0
+  int iteration = 0;               // iteration within the run, from 0
+  std::vector<Pose6> poses;        // object → base
+  std::vector<double> weights;     // eq. 7.4 [ALGORITHM.md], same order as poses (descending)
+};
+
 struct EstimateResult {
   std::string obj;
   Pose6 pose_base;                                              // object → base
   Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();  // object → camera
-  double weight = 0;            // best weight, eq. 7.4
+  double weight = 0;            // best weight, eq. 7.4 [ALGORITHM.md]
   int cell = -1;                // prior cell of the best particle
   int iterations = 0;           // weighings of the whole set (summed over restarts)
   bool converged = false;       // weight reached the confidence threshold
   double time_ms = 0;           // wall time
   std::vector<double> best_weight_history;   // best weight after each iteration
   std::vector<double> iteration_ms;          // wall time of each iteration
+  // With FilterOptions::record_particles (float engines): the particle set of every
+  // iteration of every run, in order (run 0's iterations first); empty otherwise.
+  std::vector<ParticleSet> particle_history;
   FilterStats stats;
 };
 
@@ -118,7 +131,7 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
                             const FilterOptions& options, const ProgressFn& progress = nullptr);
 
 // Weighs given hypotheses (pose object → base, prior cell whose window is used) exactly as
-// the filter would with `options` (final inlier thresholds): eq. 7.4 per hypothesis.
+// the filter would with `options` (final inlier thresholds): eq. 7.4 [ALGORITHM.md] per hypothesis.
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses);
 

@@ -4,7 +4,7 @@
 // that read it (`posefilter options` prints that table; docs/OPTIONS.md is it).
 //
 // Defaults are the tuned product settings; the thesis's own settings are named in each comment
-// ("the thesis"). Units: metres, radians, pixels; weights are eq. 7.4 units in [0, 1].
+// ("the thesis"). Units: metres, radians, pixels; weights are eq. 7.4 [ALGORITHM.md] units in [0, 1].
 #pragma once
 
 #include <array>
@@ -34,7 +34,7 @@ enum class Move : int {
 };
 inline constexpr int kNumMoves = static_cast<int>(Move::kCount);
 
-// The weight of a pose, eq. 7.4: α·I/N_raster + β·I/N_depth + γ·ρ − δ·(edge term) − contact.
+// The weight of a pose, eq. 7.4 [ALGORITHM.md]: α·I/N_raster + β·I/N_depth + γ·ρ − δ·(edge term) − contact.
 struct ScoreOptions {
   // Each ≥ 0, α + β + γ = 1.
   double alpha = 0.2;
@@ -71,7 +71,7 @@ struct SupportOptions {
   // Stable starts (only where a plane was found): this fraction of the initial particles rest
   // on the plane in one of the mesh's stable poses (posefilter/stable_poses.h, drawn by
   // probability) with a uniform yaw, above the point of the plane below their cell's volume
-  // centre; the others start as Listing 7.5 says. 0 = off (the thesis).
+  // centre; the others start as Listing 7.5 [ALGORITHM.md] says. 0 = off (the thesis).
   double stable_start = 0.5;
 };
 
@@ -113,7 +113,7 @@ struct AnnealOptions {
   // Coarse pixels: in the iterations whose inlier threshold is still above its final value —
   // except a run's last possible iteration, whose weights are the answer's — particles are
   // weighed on every subsample-th pixel of every subsample-th row (SubsampleScene: the depth
-  // image and the camera subsampled by that factor; the ratios of eq. 7.4 keep their scale).
+  // image and the camera subsampled by that factor; the ratios of eq. 7.4 [ALGORITHM.md] keep their scale).
   // Every weighing after annealing, the polish and WeighPoses use every pixel. 1 = off (the
   // thesis); 1..4.
   int subsample = 3;
@@ -157,7 +157,7 @@ struct StopOptions {
   // particle, so the best weight does not fall there). 0 = off: run until confidence or
   // max_iterations (the thesis).
   int stall_iterations = 3;
-  double stall_gain = 0.01;          // weight (eq. 7.4 units)
+  double stall_gain = 0.01;          // weight (eq. 7.4 [ALGORITHM.md] units)
 };
 
 // Final polish (ours): the best pose of every run, and each of those turned about the model's
@@ -209,6 +209,10 @@ struct FilterOptions {
   // Worker threads (scoring, scene normals, heuristic volumes); 0 = all cores, at most 4 per
   // hardware thread. The result does not depend on it.
   int threads = 0;
+  // Record every iteration's particle set (poses and weights, EstimateResult::particle_history)
+  // for the viewer (posefilter/view.h). The float engines record; the hw engine does not. It
+  // changes no pose; false records nothing and costs nothing.
+  bool record_particles = false;
 
   ScoreOptions score;
   SupportOptions support;

@@ -8,6 +8,7 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+__git_revision__: str
 
 ArrayLike = npt.ArrayLike
 F32 = npt.NDArray[np.float32]
@@ -36,7 +37,7 @@ class Camera:
     @property
     def height(self) -> int: ...
     @property
-    def base_to_camera(self) -> F64: ...  # 4x4, maps base -> camera (eq. 6.9)
+    def base_to_camera(self) -> F64: ...  # 4x4, maps base -> camera (eq. 6.9 [ALGORITHM.md])
     @property
     def K(self) -> F64: ...  # 3x3 intrinsic matrix
     def project(self, points: ArrayLike) -> F64: ...  # N x 3 camera frame -> N x 2 (u, v)
@@ -188,6 +189,11 @@ class Result:
     def iteration_ms(self) -> F64: ...
     @property
     def stats(self) -> dict[str, int]: ...
+    @property
+    def particle_history(self) -> list[dict[str, Any]]: ...  # run, iteration, poses6 N x 6, weights N
+    def view(self, path: StrPath, depth: ArrayLike, camera: Camera, mesh: Mesh, *, depth_scale: float | None = None,
+             rgb: ArrayLike | None = None, gt: ArrayLike | None = None, support_plane: bool = True,
+             title: str = "") -> None: ...  # the 3D viewer page, docs/VIEWER.md
 
 class BatchResult:
     def __len__(self) -> int: ...
@@ -201,6 +207,9 @@ class BatchResult:
     def poses6(self) -> F64: ...  # N x 6
     @property
     def weights(self) -> F64: ...
+    def view(self, path: StrPath, depth: ArrayLike, camera: Camera, meshes: Sequence[Mesh], *,
+             depth_scale: float | None = None, rgb: ArrayLike | None = None, gt: ArrayLike | None = None,
+             support_plane: bool = True, title: str = "") -> None: ...
 
 PriorLike = None | Literal["auto"] | Prior | StrPath | Sequence[DetectionLike]
 ProgressFn = Callable[[str, int, float], object]
@@ -217,6 +226,7 @@ class Estimator:
         threads: int = ...,  # 0, >= 0
         seed: int = ...,  # 1, [0, 2^64 - 1]
         restarts: int = ...,  # 4, [1, 100]
+        record_particles: bool = ...,  # False
         particles: int = ...,  # 510, [2, 1000000]
         elite: int = ...,  # 10, [0, 1000000]
         pool: float = ...,  # 0.25, (0, 1]

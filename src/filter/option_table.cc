@@ -72,6 +72,8 @@ const std::vector<OptionInfo>& Table() {
           "random seed (same seed, same poses), an integer in [0, 2^64 - 1]"),
       Row("restarts", POSEFILTER_FIELD(restarts), "Engine", Closed(1, 100), kAllEngines,
           "independent runs, the best weight wins (time x restarts)"),
+      Row("record-particles", POSEFILTER_FIELD(record_particles), "Engine", kAny, kFloatEngines,
+          "record each iteration's particle set (poses, weights) for the viewer; changes no pose"),
       // ---- particles and resampling
       Row("particles", POSEFILTER_FIELD(num_particles), "Particles", Closed(2, 1'000'000), kAllEngines,
           "number of particles N (the hw engine: at most 510)"),
@@ -88,7 +90,7 @@ const std::vector<OptionInfo>& Table() {
           "it has any"),
       Row("tracker-bins", POSEFILTER_FIELD(tracker_bins), "Particles", Closed(1, 4096), kFloatEngines,
           "threshold-tracker entries of the CDF samplers (thesis 7.4; the hw engine has 32)"),
-      // ---- weight, eq. 7.4
+      // ---- weight, eq. 7.4 [ALGORITHM.md]
       Row("alpha", POSEFILTER_FIELD(score.alpha), "Weight", kFraction, kAllEngines,
           "weight of I/N_raster (eq. 7.4); alpha + beta + gamma = 1"),
       Row("beta", POSEFILTER_FIELD(score.beta), "Weight", kFraction, kAllEngines, "weight of I/N_depth (eq. 7.4)"),

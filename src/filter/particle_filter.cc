@@ -115,7 +115,7 @@ PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cel
   return r;
 }
 
-// Listing 7.5: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
+// Listing 7.5 [ALGORITHM.md]: x, y at the volume centre, z uniform in [z_min, z_max]; angles uniform in ±π.
 // Or (ours, FilterOptions::support.stable_start, with a support plane): resting on the plane in one of
 // the mesh's stable poses (drawn by probability), turned by a uniform yaw about the plane's
 // normal, its centre of mass above the point of the plane below the centre of the cell's
@@ -222,7 +222,7 @@ ScoreKernelParams ParticleParams(const Context& ctx, const Particle& p, const Ei
   return k;
 }
 
-// Weight of eq. 7.4 of particle p at T (object → camera) from its kernel result on the
+// Weight of eq. 7.4 [ALGORITHM.md] of particle p at T (object → camera) from its kernel result on the
 // current level, whose window is `window`.
 double WeightFromScore(const Context& ctx, const Particle& p, const Eigen::Isometry3d& T, const PixelRect& window,
                        const ScoreKernelResult* out) {
@@ -239,7 +239,7 @@ double WeightFromScore(const Context& ctx, const Particle& p, const Eigen::Isome
                            ContactPenalty(ctx, T));
 }
 
-// Weight of eq. 7.4 for one particle, scored on the cpu kernel (the cpu engine, and the gpu
+// Weight of eq. 7.4 [ALGORITHM.md] for one particle, scored on the cpu kernel (the cpu engine, and the gpu
 // engine's ICP weighings) or the reference kernel (the reference engine, and the hw engine's
 // float polish); `ws` is the calling worker's own scratch memory. With `icp`, the kernel also
 // sums the ICP normal equations (scene normals passed); the weight does not depend on it.
@@ -606,6 +606,14 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     best = current[ranked[0].index];
     res.best_weight_history.push_back(best.weight);
     res.iterations = it + 1;
+    if (options.record_particles) {  // the set as weighed, best first
+      ParticleSet& set = res.particle_history.emplace_back();
+      set.iteration = it;
+      for (const auto& r : ranked) {
+        set.poses.push_back(current[r.index].pose);
+        set.weights.push_back(current[r.index].weight);
+      }
+    }
     // 4. Converged, stalled or out of iterations: the last set is already weighed; report its best.
     if (filter::RunEnds(options, it, anneal_its, res.best_weight_history, &res.converged)) {
       std::set<std::pair<int, int>> niches;
@@ -707,7 +715,7 @@ class FloatEngine final : public filter::EngineRuns {
     for (int c = 0; c < prior.layout.CellCount(); ++c)
       if (ctx_.volumes.Valid(c)) cell_mass_[std::size_t(c)] = prior.Prob(c, cls);
     if (!(std::accumulate(cell_mass_.begin(), cell_mass_.end(), 0.0) > 0))
-      throw filter::NoInitialMassError(prior, cls, options);
+      throw filter::NoInitialMassError(prior, cls, options, &prep);
   }
 
   EstimateResult Run(Rng& rng, const ProgressFn& progress) override {
