@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -87,6 +88,9 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
   const std::vector<std::string> ycbv = YcbVideoClassNames();
   for (const std::string& c : a.classes)
     if (std::find(ycbv.begin(), ycbv.end(), c) == ycbv.end()) throw Error("--targets: '" + c + "' is not a YCB-Video class");
+  if (a.models_dir.empty())
+    throw Error("--world ycbv needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA "
+                "(scripts/get_data.sh ycbv DIR fetches them; README \"Data\")");
   const TableWorld world = TableWorld::LoadYcbVideo(a.models_dir);
   const std::vector<std::string> classes = world.ClassNames();
   // Model points for ADD-S: the dataset's official point sets where present, else the mesh's.
@@ -324,7 +328,9 @@ int RunSuite(int argc, char** argv) {
   SynthOptions synth;
   TableSceneOptions table;
   TableSuiteArgs ta;
-  ta.models_dir = "../shared/data/ycbv/models";
+  // $POSEFILTER_DATA/ycbv/models (README "Data"); without POSEFILTER_DATA, --models is needed.
+  if (const char* data = std::getenv("POSEFILTER_DATA"); data != nullptr && *data != '\0')
+    ta.models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
   ta.prior_kind = "boxes";
   FilterOptions opt;
   app.add_option("--world", world, "shapes: one procedural shape per scene; ycbv: several YCB-Video objects on a table")
@@ -339,7 +345,9 @@ int RunSuite(int argc, char** argv) {
   app.add_option("--false-positives", synth.false_positives, "false detections per scene")->capture_default_str();
   app.add_option("--min-distance", synth.min_distance_m, "min camera→target distance, m (ycbv: 0.6)")->capture_default_str();
   app.add_option("--max-distance", synth.max_distance_m, "max camera→target distance, m (ycbv: 1.3)")->capture_default_str();
-  app.add_option("--models", ta.models_dir, "ycbv: folder of the 21 YCB-Video meshes <class>.ply (and points/<class>.xyz)")
+  app.add_option("--models", ta.models_dir,
+                 "ycbv: folder of the 21 YCB-Video meshes, <class>.ply in metres (and points/<class>.xyz) or a BOP "
+                 "ycbv models folder (default: $POSEFILTER_DATA/ycbv/models)")
       ->capture_default_str();
   app.add_option("--prior", ta.prior_kind,
                  "ycbv: boxes (jittered, with false boxes), masks (noisy instance masks), auto (no detector: regions "

@@ -27,7 +27,8 @@
 # ignored folders named in its `carry` list, and nothing of the bundle belongs in a commit.
 #
 # Environment:
-#   YCBV_DATA   the YCB-Video folder (default: ../shared/data/ycbv from the repository root)
+#   YCBV_DATA   the YCB-Video folder (default: $POSEFILTER_DATA/ycbv, else ../shared/data/ycbv from the
+#               repository root)
 #   YCB_OBJECT  the object (default 025_mug), YCB_FRAME the frame folder (default ycbv_0000_000001)
 set -euo pipefail
 
@@ -35,7 +36,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 abs() { if [[ "$1" == /* ]]; then echo "$1"; else echo "$ROOT/$1"; fi; }
 BUILD="$(abs "${1:-build/release}")"
 BUNDLE="$(abs "${2:-.gpu_bundle}")"
-DATA="${YCBV_DATA:-$ROOT/../shared/data/ycbv}"
+DATA="${YCBV_DATA:-${POSEFILTER_DATA:-$ROOT/../shared/data}/ycbv}"
 [[ -d "$DATA" ]] && DATA="$(cd "$DATA" && pwd)"
 OBJ="${YCB_OBJECT:-025_mug}"
 FRAME="${YCB_FRAME:-ycbv_0000_000001}"

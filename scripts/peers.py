@@ -292,7 +292,9 @@ def main():
     ap.add_argument("--opencv-scene-sampling", choices=["model", "scene"], default="model",
                     help="opencv-ppf: the scene's grid: the model's step, diameter/20 (default), or "
                          "0.05 of the scene's extent (OpenCV's usual relativeSceneDistance)")
-    ap.add_argument("--models", default=os.path.join(ROOT, "..", "shared", "data", "ycbv", "models"))
+    ap.add_argument("--models", default=os.path.join(os.environ.get("POSEFILTER_DATA") or os.path.join(ROOT, "..", "shared", "data"),
+                                                     "ycbv", "models"),
+                    help="the YCB-Video meshes (default: $POSEFILTER_DATA/ycbv/models, else ../shared/data/ycbv/models)")
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "peers"), help="scenes and results folder")
     ap.add_argument("--posefilter", default=os.path.join(ROOT, "build", "release", "posefilter"))
     ap.add_argument("--json", help="also write the comparison as JSON")

@@ -68,7 +68,9 @@ def main():
     ap.add_argument("--first-seed", type=int, default=501)
     ap.add_argument("--speed", type=float, default=0.01, help="slide per frame, m")
     ap.add_argument("--turn", type=float, default=0.05, help="turn per frame, rad")
-    ap.add_argument("--models", default=os.path.join(HERE, "..", "..", "shared", "data", "ycbv", "models"))
+    ap.add_argument("--models", default=os.path.join(os.environ.get("POSEFILTER_DATA") or os.path.join(HERE, "..", "..", "shared", "data"),
+                                                     "ycbv", "models"),
+                    help="the YCB-Video meshes (default: $POSEFILTER_DATA/ycbv/models, else ../shared/data/ycbv/models)")
     ap.add_argument("--out", default="/tmp/posefilter_track_bench")
     ap.add_argument("--json", help="also write the table as JSON")
     a = ap.parse_args()

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Pose estimation on real YCB-Video frames with a ground-truth-derived stage-1 prior.
 #
-# usage: scripts/ycbv_example.sh [DATA]      DATA default: ../shared/data/ycbv (from the repo root)
+# usage: scripts/ycbv_example.sh [DATA]      DATA default: $POSEFILTER_DATA/ycbv, else ../shared/data/ycbv
+#                                            (from the repo root; README "Data")
 #
 # For each DATA/scenes/<frame>/ (depth.png, rgb.png, camera.json, gt.json):
 #   1. posefilter gt-detections: each gt object's silhouette box, jittered (σ 8 px, seed 1);
@@ -20,7 +21,7 @@
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-DATA="${1:-$ROOT/../shared/data/ycbv}"
+DATA="${1:-${POSEFILTER_DATA:-$ROOT/../shared/data}/ycbv}"
 POSEFILTER="${POSEFILTER:-$ROOT/build/release/posefilter}"
 OUT="${OUT:-$ROOT/build/ycbv_example}"
 FRAMES="${FRAMES:-0}"

@@ -88,8 +88,14 @@ class ScratchDirTest : public ::testing::Test, public ScratchDir {
   explicit ScratchDirTest(const std::string& tag) : ScratchDir(tag) {}
 };
 
-// The YCB-Video part of the shared data (optional: tests using it skip when it is absent).
-inline fs::path YcbvDataDir() { return fs::path(POSEFILTER_SHARED_DIR) / "data" / "ycbv"; }
+// The real YCB-Video data (README "Data"): $POSEFILTER_DATA/ycbv when POSEFILTER_DATA is set,
+// else the shared folder's data/ycbv. Optional: tests using it skip, naming this folder, when it
+// is absent.
+inline fs::path YcbvDataDir() {
+  const char* data = std::getenv("POSEFILTER_DATA");
+  if (data != nullptr && *data != '\0') return fs::path(data) / "ycbv";
+  return fs::path(POSEFILTER_SHARED_DIR) / "data" / "ycbv";
+}
 
 // ---- Errors ----------------------------------------------------------------------------------
 

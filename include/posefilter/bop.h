@@ -1,5 +1,5 @@
 // posefilter/bop.h — pose-estimation datasets: the BOP format, the YCB-Video folder of
-// ../shared/data/ycbv presented through the same interface, BOP detections and the BOP
+// $POSEFILTER_DATA/ycbv presented through the same interface, BOP detections and the BOP
 // results CSV (docs/DATASETS.md has the full description and examples).
 //
 // Units: everything this header returns is in metres and radians (the BOP files are in
@@ -117,7 +117,7 @@ struct Dataset {
 Dataset ReadBopDataset(const std::string& root, const std::string& split,
                        const std::string& targets_path = "");
 
-// Reads a YCB-Video style folder (../shared/data/ycbv layout): scenes/<name>/{depth.png,
+// Reads a YCB-Video style folder ($POSEFILTER_DATA/ycbv layout, README "Data"): scenes/<name>/{depth.png,
 // camera.json, gt.json}, models/<name>.ply (metres), optional models/points/<name>.xyz.
 // obj_id: the official YCB-Video id (1..21 in YcbVideoClassNames order) for the 21 YCB-Video
 // names, 22, 23, … for other models in name order. scene_id/im_id: the two trailing numbers

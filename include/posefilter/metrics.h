@@ -55,7 +55,7 @@ PoseErrors ComputePoseErrors(const std::vector<Eigen::Vector3f>& pts, double dia
 // Throws Error (naming the mesh) when it has no vertices or max_points < 1.
 std::vector<Eigen::Vector3f> SamplePoints(const Mesh& mesh, int max_points = 2000);
 
-// Reads an "x y z" per line point file (metres, as ../shared/data/ycbv/models/points/*.xyz).
+// Reads an "x y z" per line point file (metres, as $POSEFILTER_DATA/ycbv/models/points/*.xyz).
 // Blank lines are skipped. Throws Error naming the file (and the 1-based line) when the file is
 // missing, a line does not hold exactly three numbers, a value is NaN/inf, or there are no points.
 std::vector<Eigen::Vector3f> ReadXyzPoints(const std::string& path);

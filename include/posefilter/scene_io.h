@@ -1,6 +1,6 @@
 // posefilter/scene_io.h — JSON files for cameras, ground truth and results (nlohmann-json).
 //
-// camera.json (same keys as ../shared/data/ycbv): {"fx","fy","cx","cy","width","height",
+// camera.json (same keys as the YCB-Video frames of $POSEFILTER_DATA/ycbv): {"fx","fy","cx","cy","width","height",
 //   "depth_scale" (metres per PNG unit), optional "base_to_camera": 4×4 row-major nested array}.
 // gt.json: {"objects": [{"obj": name, "R": 3×3 row-major (nested or flat 9), "t": [x,y,z] m}]},
 //   x_cam = R·x_model + t.
@@ -33,7 +33,7 @@ struct ObjectResult {
   std::string obj;
   Pose6 pose_base;                                             // object → base (x..yaw)
   Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();  // object → camera (R, t)
-  double weight = 0;       // best particle weight, eq. 7.4, in [0, 1]
+  double weight = 0;       // best particle weight, eq. 7.4 [ALGORITHM.md], in [0, 1]
   int iterations = 0;      // filter iterations run
   double time_ms = 0;      // wall time for this object
 };

@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -370,13 +371,25 @@ TableWorld::TableWorld(std::vector<Mesh> meshes) {
 TableWorld TableWorld::LoadYcbVideo(const std::string& models_dir) {
   namespace fs = std::filesystem;
   if (!fs::is_directory(models_dir))
-    throw Error(models_dir + ": not a folder (the YCB-Video meshes <class>.ply, e.g. ../shared/data/ycbv/models)");
+    throw Error(models_dir + ": not a folder (the YCB-Video meshes: <class>.ply in metres, or BOP's obj_000001.ply "
+                "... in millimetres; scripts/get_data.sh ycbv fetches them)");
   std::vector<Mesh> meshes;
-  for (const std::string& cls : YcbVideoClassNames()) {
-    const std::string path = (fs::path(models_dir) / (cls + ".ply")).string();
-    if (!fs::exists(path)) throw Error(path + ": missing YCB-Video mesh");
-    meshes.push_back(LoadMesh(path));
-    meshes.back().name = cls;
+  const std::vector<std::string> classes = YcbVideoClassNames();
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    // A YCB-Video folder names the mesh by class (metres); BOP's ycbv models folder by the
+    // class's 1-based id in the same order (millimetres).
+    const std::string named = (fs::path(models_dir) / (classes[i] + ".ply")).string();
+    char bop_name[32];
+    std::snprintf(bop_name, sizeof bop_name, "obj_%06zu.ply", i + 1);
+    const std::string bop = (fs::path(models_dir) / bop_name).string();
+    if (fs::exists(named)) {
+      meshes.push_back(LoadMesh(named));
+    } else if (fs::exists(bop)) {
+      meshes.push_back(LoadMesh(bop, 0.001));
+    } else {
+      throw Error(named + ": missing YCB-Video mesh (nor " + bop_name + " of a BOP models folder)");
+    }
+    meshes.back().name = classes[i];
   }
   return TableWorld(std::move(meshes));
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -319,6 +320,10 @@ TEST_F(CliTest, SynthAndSuiteNameTheSceneOption) {
   ExpectInputError(Run({"suite", "--world", "ycbv", "--max-distance", "0.4"}), "suite", "--max-distance");
   ExpectInputError(Run({"suite", "--world", "ycbv", "--targets", "giraffe"}), "suite", "'giraffe'");
   ExpectInputError(Run({"suite", "--world", "ycbv", "--models", Path("no_models")}), "suite", Path("no_models"));
+  // No product default points beside the checkout: without --models the meshes come from
+  // $POSEFILTER_DATA, and without that the error says where to get them.
+  if (std::getenv("POSEFILTER_DATA") == nullptr)
+    ExpectInputError(Run({"suite", "--world", "ycbv", "--count", "1"}), "suite", "set POSEFILTER_DATA");
   ExpectUsageError(Run({"suite", "--world", "moon"}), "--world");
   ExpectUsageError(Run({"suite", "--world", "ycbv", "--prior", "hints"}), "--prior");
 }

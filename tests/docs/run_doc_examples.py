@@ -19,8 +19,9 @@ directive each; blank lines may separate them from the block, nothing else may:
                                          MULTILINE, search); several may be given
     <!-- doc-test: setup COMMANDS -->    bash run before the block (may span lines), e.g. to
                                          make the input files an example names
-    <!-- doc-test: needs PATH ... -->    skip the block when PATH (relative to its folder, e.g.
-                                         ../shared/data/ycbv) does not exist
+    <!-- doc-test: needs PATH ... -->    skip the block when PATH (relative to its folder, with
+                                         $POSEFILTER_DATA expanded, e.g. $POSEFILTER_DATA/ycbv)
+                                         does not exist
     <!-- doc-test: continue -->          put the code, env and needs of the file's previous block
                                          of the same kind (shell, Python; it must run too) in
                                          front: examples that use an earlier one's variables
@@ -30,10 +31,12 @@ Where blocks run: the blocks of one markdown file run in order in one fresh temp
 T/repo (so a block may use the files an earlier one wrote), which looks like the repository
 root: a symlink to every top-level entry of $POSEFILTER_SOURCE_DIR except build/ and .git,
 build/release/posefilter -> $POSEFILTER_CLI_PATH, build/release/python -> the PYTHONPATH entry
-that holds the posefilter package, and T/shared -> the shared folder ($POSEFILTER_SHARED_DIR,
-default $POSEFILTER_SOURCE_DIR/../shared), so `scripts/...`, `build/release/...` and
-`../shared/data/...` resolve as in a checkout while everything written stays in T (write
-under build/ or a new path: the linked folders are the source tree's).
+that holds the posefilter package, T/shared -> the shared folder ($POSEFILTER_SHARED_DIR,
+default $POSEFILTER_SOURCE_DIR/../shared), and T/data -> the real data folder with POSEFILTER_DATA
+set to it (the caller's $POSEFILTER_DATA, else T/shared/data: README "Data"), so `scripts/...`,
+`build/release/...`, `../shared/...` and `$POSEFILTER_DATA/ycbv` resolve as in a checkout while
+everything written stays in T (write under build/ or a new path: the linked folders are the
+source tree's).
 `posefilter` and `python3` (this interpreter) are first on PATH. Shell blocks run with
 `bash -e`, Python blocks with this interpreter; PYTHONDONTWRITEBYTECODE=1, MPLBACKEND=Agg and
 PYTEST_ADDOPTS=-p no:cacheprovider keep the source tree clean.
@@ -296,7 +299,7 @@ def python_package_dir():
     return None
 
 
-def make_workdir(source_dir, shared_dir, cli, pydir, name):
+def make_workdir(source_dir, shared_dir, data_dir, cli, pydir, name):
     """T/repo that looks like a checkout (see the module docstring); returns (T, T/repo, env)."""
     root = tempfile.mkdtemp(prefix=f"doc_examples_{name}_")
     repo = os.path.join(root, "repo")
@@ -310,6 +313,8 @@ def make_workdir(source_dir, shared_dir, cli, pydir, name):
         os.symlink(pydir, os.path.join(repo, "build", "release", "python"))
     if shared_dir and os.path.isdir(shared_dir):
         os.symlink(shared_dir, os.path.join(root, "shared"))
+    if data_dir and os.path.isdir(data_dir):
+        os.symlink(data_dir, os.path.join(root, "data"))
     bindir = os.path.join(root, "bin")
     os.makedirs(bindir)
     os.symlink(cli, os.path.join(bindir, "posefilter"))
@@ -321,6 +326,7 @@ def make_workdir(source_dir, shared_dir, cli, pydir, name):
     env.setdefault("MPLBACKEND", "Agg")
     env["PYTEST_ADDOPTS"] = (env.get("PYTEST_ADDOPTS", "") + " -p no:cacheprovider").strip()
     env["POSEFILTER_SOURCE_DIR"] = source_dir
+    env["POSEFILTER_DATA"] = os.path.join(root, "data")
     return root, repo, env
 
 
@@ -398,6 +404,7 @@ def main():
     source_dir = os.path.abspath(os.environ.get("POSEFILTER_SOURCE_DIR") or os.path.join(here, "..", ".."))
     shared_dir = os.path.abspath(os.environ.get("POSEFILTER_SHARED_DIR") or
                                  os.path.join(source_dir, "..", "shared"))
+    data_dir = os.path.abspath(os.environ.get("POSEFILTER_DATA") or os.path.join(shared_dir, "data"))
     files = args.files or (["README.md"] + sorted(
         os.path.relpath(p, source_dir) for p in glob.glob(os.path.join(source_dir, "docs", "*.md"))))
 
@@ -439,7 +446,7 @@ def main():
         runnable = [b for b in blocks if b.kind in ("sh", "python") and not b.errors]
         root = repo = env = None
         if runnable:
-            root, repo, env = make_workdir(source_dir, shared_dir, cli, pydir,
+            root, repo, env = make_workdir(source_dir, shared_dir, data_dir, cli, pydir,
                                            re.sub(r"\W", "_", os.path.splitext(os.path.basename(rel))[0]))
         for index, b in enumerate(blocks):
             head = f"{b.where():28s} {b.kind or '??':6s}"
@@ -454,7 +461,8 @@ def main():
                 print(f"[skip] {head} {b.reason}")
                 counts["skipped"] += 1
                 continue
-            missing = [p for p in b.needs if not os.path.exists(os.path.join(repo, p))]
+            missing = [p for p in b.needs
+                       if not os.path.exists(os.path.join(repo, p.replace("$POSEFILTER_DATA", env["POSEFILTER_DATA"])))]
             if missing:
                 print(f"[skip] {head} needs {', '.join(missing)}: absent")
                 counts["skipped"] += 1

@@ -6,7 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
 
+#include "posefilter/mesh.h"
+#include "posefilter/prior.h"
 #include "posefilter/synth.h"
 #include "test_util.h"
 
@@ -145,6 +151,28 @@ TEST(TableWorldTest, BadOptionsAndMeshesAreErrors) {
   ExpectError([&] { World().MakeScene(o, 1); }, {"max_objects", "5 classes"});
   ExpectError([] { TableWorld({MakeBox(0.1, 0.1, 0.1, "a"), MakeBox(0.1, 0.1, 0.1, "a")}); }, {"'a'", "twice"});
   ExpectError([] { TableWorld::LoadYcbVideo("/nonexistent/models"); }, {"/nonexistent/models"});
+}
+
+// A BOP ycbv models folder (obj_000001.ply … obj_000021.ply, millimetres) is read as the same
+// world: class i + 1's mesh, scaled to metres and named by its class; a missing id is named.
+TEST(TableWorldTest, ABopModelsFolderIsReadInMillimetres) {
+  testing_util::ScratchDir dir("table_world_bop");
+  const std::vector<std::string> classes = YcbVideoClassNames();
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    const double mm = 40.0 + 5.0 * double(i);  // one box size per class
+    char name[32];
+    std::snprintf(name, sizeof name, "obj_%06zu.ply", i + 1);
+    SaveMeshPly(MakeBox(mm, mm, 2 * mm, "b"), dir.Path(name));
+  }
+  const TableWorld w = TableWorld::LoadYcbVideo(dir.dir().string());
+  ASSERT_EQ(w.models().size(), classes.size());
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    EXPECT_EQ(w.models()[i].mesh.name, classes[i]);
+    const double m = (40.0 + 5.0 * double(i)) / 1000.0;
+    EXPECT_NEAR(w.models()[i].diameter, std::sqrt(6.0) * m, 1e-6) << classes[i];
+  }
+  std::filesystem::remove(dir.Path("obj_000007.ply"));
+  ExpectError([&] { TableWorld::LoadYcbVideo(dir.dir().string()); }, {classes[6] + ".ply", "obj_000007.ply"});
 }
 
 // The 21 YCB-Video meshes of the shared data (skipped without them): every class has stable
