@@ -6,6 +6,8 @@
 
 #include "commands.h"
 #include "posefilter/version.h"
+#include "render/cpu_kernel.h"
+#include "render/gpu_kernel.h"
 
 namespace {
 
@@ -35,17 +37,33 @@ constexpr Command kCommands[] = {
      "speed of the scoring engines on a fixed synthetic workload (ms per iteration, throughput)"},
     {"hw-report", posefilter::cli::RunHwReport,
      "cycle model of the hw engine (FPGA C simulation) on a synthetic scene, vs the thesis's figures"},
+    {"view", posefilter::cli::RunView,
+     "write a frame's 3D viewer page (HTML): point cloud, estimated and true poses, support plane, particles"},
     {"options", posefilter::cli::RunOptions,
      "every filter option: default, range, the engines that read it, meaning (--markdown: docs/OPTIONS.md)"},
 };
 
 void PrintUsage(std::ostream& os) {
   os << "usage: posefilter <command> [options]   (posefilter <command> --help for options)\n"
-        "       posefilter --version\n"
+        "       posefilter --version   (or: posefilter version; the build's commit and engines too)\n"
         "commands:\n";
   std::size_t width = 0;
   for (const auto& c : kCommands) width = std::max(width, std::strlen(c.name));
   for (const auto& c : kCommands) os << "  " << c.name << std::string(width + 2 - std::strlen(c.name), ' ') << c.help << "\n";
+}
+
+// `posefilter --version`: the version, the commit of the build and the scoring engines it has
+// (--engine values). The gpu line says whether the build has Vulkan, not whether this machine
+// has a device (the gpu engine's own error says that, when asked for).
+void PrintVersion(std::ostream& os) {
+  using namespace posefilter::render;
+  os << "posefilter " << posefilter::Version() << " (git " << posefilter::GitRevision() << ")\n";
+  os << "engines:\n  reference  scalar float renderer\n  cpu        instruction sets built: portable";
+  if (cpu_detail::BuiltAvx2()) os << ", avx2";
+  if (cpu_detail::BuiltAvx512()) os << ", avx512";
+  os << "; this CPU runs " << CpuTargetName(BestCpuTarget()) << "\n";
+  os << "  gpu        " << (GpuBuilt() ? "Vulkan compute" : "not built (no Vulkan headers or glslang at build time)")
+     << "\n  hw         C simulation of the FPGA design (fixed point)\n";
 }
 
 }  // namespace
@@ -55,12 +73,12 @@ int main(int argc, char** argv) {
     PrintUsage(argc < 2 ? std::cerr : std::cout);
     return argc < 2 ? 2 : 0;
   }
-  if (std::strcmp(argv[1], "--version") == 0) {
+  if (std::strcmp(argv[1], "--version") == 0 || std::strcmp(argv[1], "version") == 0) {
     if (argc > 2) {
-      std::cerr << "posefilter: error: --version takes no arguments (got '" << argv[2] << "')\n";
+      std::cerr << "posefilter: error: " << argv[1] << " takes no arguments (got '" << argv[2] << "')\n";
       return 2;
     }
-    std::cout << "posefilter " << posefilter::Version() << "\n";
+    PrintVersion(std::cout);
     return 0;
   }
   for (const auto& c : kCommands) {

@@ -10,6 +10,7 @@ PYBIND11_MODULE(_posefilter, m) {
   // posefilter::Error → posefilter.Error, a ValueError (bad input: files, arrays, options).
   py::register_exception<Error>(m, "Error", PyExc_ValueError);
   m.attr("__version__") = Version();
+  m.attr("__git_revision__") = GitRevision();
 
   BindGeometry(m);
   BindIoAndMetrics(m);

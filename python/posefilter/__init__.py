@@ -67,5 +67,6 @@ from ._posefilter import (  # noqa: F401
 )
 
 from ._posefilter import __version__  # the C++ build's version (posefilter/version.h)
+from ._posefilter import __git_revision__  # the commit it was built from, "unknown" outside git
 
 __all__ = [name for name in dir() if not name.startswith("_")]

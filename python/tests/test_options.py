@@ -142,4 +142,4 @@ def test_version_is_the_clis():
     if not cli:
         pytest.skip("POSEFILTER_CLI_PATH is not set (ctest sets it)")
     out = subprocess.run([cli, "--version"], capture_output=True, text=True, check=True).stdout
-    assert out == f"posefilter {pf.__version__}\n"
+    assert out.splitlines()[0] == f"posefilter {pf.__version__} (git {pf.__git_revision__})"
