@@ -10,10 +10,13 @@ images), the rows appended to one BOP results CSV on the client as they arrive.
 
 Each task runs the ``posefilter`` CLI on a worker (``run-dataset --targets`` holding only its
 images' targets) and returns the CSV rows; the workers need the CLI, the dataset at the same
-path, and Dask, but not this Python package (the task functions travel by value). The client
-reads the dataset's target list, skips the images already in ``out`` (resume), and appends and
-fsyncs each image's rows when its task finishes, so an interrupted client loses no finished
-image. Tasks of a worker that dies are rerun elsewhere by Dask. Rows do not depend on which
+path, and Dask, but not this Python package (the task functions travel by value). The CLI is
+``cli=`` when given, else the worker's $POSEFILTER_CLI, else the CLI built with this module
+(``build/release/posefilter`` beside ``build/release/python``) where that path exists on the
+worker, else ``posefilter`` on the worker's PATH. The client reads the dataset's target list,
+skips the images already in ``out`` (resume), holds an exclusive lock on ``out`` (flock, as the
+CLI does), and appends and fsyncs each image's rows when its task finishes, so an interrupted
+client loses no finished image; an error before the first row leaves no new file behind. Tasks of a worker that dies are rerun elsewhere by Dask. Rows do not depend on which
 images run together (each target's seed derives from --seed, scene, image, object), so the CSV
 holds the rows of a single-process ``posefilter run-dataset`` run, in another order.
 
@@ -25,12 +28,13 @@ from __future__ import annotations
 import json
 import os
 import re
+import stat
 import uuid
 import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
-__all__ = ["RunDatasetError", "RunSummary", "list_targets", "run_dataset", "BOP_CSV_HEADER"]
+__all__ = ["RunDatasetError", "RunSummary", "built_cli", "list_targets", "run_dataset", "BOP_CSV_HEADER"]
 
 # The header `posefilter run-dataset` writes (kBopCsvHeader, include/posefilter/bop.h).
 BOP_CSV_HEADER = "scene_id,im_id,obj_id,score,R,t,time"
@@ -75,17 +79,23 @@ class RunSummary:
 # module is registered with cloudpickle to travel by value, so a worker needs no posefilter
 # Python package, only the CLI.
 
-def _resolve_cli(cli):
-    """The CLI on this worker: `cli`, else $POSEFILTER_CLI, else `posefilter` on PATH."""
+def _resolve_cli(cli, built=None):
+    """The CLI on this worker: `cli`, else $POSEFILTER_CLI, else `built` (the CLI built with the
+    client's module) when it exists here, else `posefilter` on PATH."""
     import os
     import shutil
     import socket
 
-    path = cli or os.environ.get("POSEFILTER_CLI") or shutil.which("posefilter")
+    path = cli or os.environ.get("POSEFILTER_CLI")
+    if not path and built and os.access(built, os.X_OK):
+        path = built
+    path = path or shutil.which("posefilter")
     if not path:
         raise FileNotFoundError(
-            f"no posefilter CLI on worker host {socket.gethostname()}: pass cli=PATH to run_dataset, set "
-            "POSEFILTER_CLI in the worker's environment, or put posefilter on the worker's PATH")
+            f"no posefilter CLI on worker host {socket.gethostname()}"
+            + (f" (nor the client's build, {built})" if built else "")
+            + ": pass cli=PATH to run_dataset, set POSEFILTER_CLI in the worker's environment, or put "
+            "posefilter on the worker's PATH")
     if os.sep in path and not os.access(path, os.X_OK):
         raise FileNotFoundError(f"{path}: posefilter CLI not found or not executable on worker host "
                                 f"{socket.gethostname()}")
@@ -97,12 +107,12 @@ def _resolve_cli(cli):
     return path
 
 
-def _probe_cli(cli):
+def _probe_cli(cli, built=None):
     """(the CLI's path, run-dataset's option names) on the worker that runs this."""
     import re
     import subprocess
 
-    path = _resolve_cli(cli)
+    path = _resolve_cli(cli, built)
     p = subprocess.run([path, "run-dataset", "--help"], capture_output=True, text=True)
     if p.returncode != 0:
         raise RuntimeError(f"{path} run-dataset --help failed (exit {p.returncode}): {p.stderr.strip()[-2000:]}")
@@ -110,7 +120,7 @@ def _probe_cli(cli):
     return path, names
 
 
-def _run_images(cli, dataset, split, flags, targets, where):
+def _run_images(cli, built, dataset, split, flags, targets, where):
     """Runs `posefilter run-dataset` on the targets of some images; returns {"rows": CSV rows
     without the header (text), "stderr": the CLI's warnings}."""
     import json
@@ -118,7 +128,7 @@ def _run_images(cli, dataset, split, flags, targets, where):
     import subprocess
     import tempfile
 
-    path = _resolve_cli(cli)
+    path = _resolve_cli(cli, built)
     with tempfile.TemporaryDirectory(prefix="posefilter-dask-") as tmp:
         targets_path = os.path.join(tmp, "targets.json")
         csv_path = os.path.join(tmp, "rows.csv")
@@ -154,6 +164,29 @@ def _register_by_value():
 
 
 # ---- Client side.
+
+def built_cli() -> str | None:
+    """The `posefilter` CLI built together with this module: in a build tree the module is
+    <build>/python/posefilter and the CLI <build>/posefilter. None when there is none (an
+    installed module: then the CLI comes from PATH or $POSEFILTER_CLI)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    path = os.path.join(os.path.dirname(os.path.dirname(here)), "posefilter")
+    return path if os.path.isfile(path) and os.access(path, os.X_OK) else None
+
+
+def _lock(path: str) -> int:
+    """An exclusive advisory lock (flock) on the results CSV `path`, as run-dataset takes; a
+    second writer, CLI or Python, is refused. Returns the descriptor that holds it."""
+    import fcntl
+
+    fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise RuntimeError(f"{path}: another process is writing this results CSV (it holds its lock); "
+                           "wait for it to finish") from None
+    return fd
 
 def _image_key(row: str) -> str:
     """"scene_id,im_id" of a CSV row, or "" when it has fewer than two fields (as the CLI)."""
@@ -427,8 +460,9 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
       `posefilter run-dataset --help`. Set 'threads' (the CLI's default, 0, is every core of the
       worker's machine, for each task the worker runs at once).
     - targets: a test_targets_bop19-style JSON file or list (default: list_targets's rule).
-    - cli: the CLI's path on the workers (default: the worker's $POSEFILTER_CLI, else
-      `posefilter` on its PATH).
+    - cli: the CLI's path on the workers (default: the worker's $POSEFILTER_CLI, else the CLI
+      built with this module where it exists on the worker (built_cli()), else `posefilter` on
+      the worker's PATH).
     - chunk: images per task (fewer CLI starts and mesh loads; a lost task reruns them all).
     - retries: reruns of a failed task before run_dataset gives up (a task of a worker that dies
       is rerun by Dask without counting).
@@ -440,8 +474,6 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
     workers (a shared file system); relative paths are made absolute on the client. A failed
     task raises RunDatasetError naming its image(s) with the CLI's stderr, after the remaining
     tasks are cancelled; the rows already appended stay, and a rerun resumes."""
-    from distributed import as_completed
-
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise ValueError(f"chunk must be an integer >= 1, got {chunk!r}")
     if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
@@ -457,6 +489,8 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
     out_dir = os.path.dirname(out)
     if os.path.isdir(out):
         raise IsADirectoryError(f"{out}: is a directory, not a results CSV")
+    if os.path.islink(out) or (os.path.exists(out) and not stat.S_ISREG(os.stat(out).st_mode)):
+        raise ValueError(f"{out}: not a regular file (a symlink, FIFO or device is never written); give a file path")
     if not os.path.isdir(out_dir):
         raise FileNotFoundError(f"{out}: the directory {out_dir} does not exist")
 
@@ -467,19 +501,43 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
     for t in all_targets:
         by_image.setdefault((t["scene_id"], t["im_id"]), []).append(t)
 
-    # Resume: a torn last row is dropped with its image, images in the CSV are skipped.
+    # Resume: a torn last row is dropped with its image, images in the CSV are skipped. The
+    # lock is taken before the repair, so two clients never repair or append at once.
+    lock_fd = _lock(out) if os.path.exists(out) else None
+    try:
+        return _run_locked(client, root, out, split, by_image, prior_flags, options, cli, chunk, retries,
+                           no_time, progress, lock_fd)
+    finally:
+        if lock_fd is not None:
+            os.close(lock_fd)
+
+
+def _run_locked(client, root, out, split, by_image, prior_flags, options, cli, chunk, retries, no_time, progress,
+                lock_fd):
+    """run_dataset after its argument checks; `lock_fd` holds the lock on an existing `out`."""
+    from distributed import as_completed
+
     done_before = _repair_and_read(out)
     todo = [key for key in sorted(by_image) if key not in done_before]
     skipped = len(by_image) - len(todo)
-    if not os.path.exists(out) or os.path.getsize(out) == 0:
-        _append_durably(out, (BOP_CSV_HEADER + "\n").encode("utf-8"))
     summary = RunSummary(out=out, images=len(by_image), done=0, skipped=skipped, rows=0)
+    lock = [lock_fd]
+
+    def start_file():
+        # The header goes in with the first rows (or at the end of a run without rows), so an
+        # error before then leaves no new file; a new file is locked as soon as it exists.
+        if not os.path.exists(out) or os.path.getsize(out) == 0:
+            _append_durably(out, (BOP_CSV_HEADER + "\n").encode("utf-8"))
+        if lock[0] is None:
+            lock[0] = _lock(out)
+
     if not todo:
         return summary
 
     _register_by_value()
+    built = built_cli()
     # One worker checks the CLI and lists its options (each task resolves `cli` on its own worker).
-    _, known = client.submit(_probe_cli, cli, pure=False).result()
+    _, known = client.submit(_probe_cli, cli, built, pure=False).result()
     flags = prior_flags + _option_flags(options, known) + (["--no-time"] if no_time else [])
 
     run_id = uuid.uuid4().hex[:12]
@@ -490,7 +548,7 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
         where = _where(images)
         key = f"posefilter-run-dataset-{run_id}-{images[0][0]}_{images[0][1]}" + \
             (f"+{len(images) - 1}" if len(images) > 1 else "")
-        fut = client.submit(_run_images, cli, root, split, flags, tasks, where, key=key, pure=False,
+        fut = client.submit(_run_images, cli, built, root, split, flags, tasks, where, key=key, pure=False,
                             retries=retries)
         futures[fut] = images
     appended: set[tuple[int, int]] = set()
@@ -522,6 +580,7 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
                     continue
                 appended.add(key)
                 if rows_of[key]:
+                    start_file()
                     _append_durably(out, "".join(r + "\n" for r in rows_of[key]).encode("utf-8"))
                 summary.rows += len(rows_of[key])
                 summary.done += 1
@@ -530,4 +589,8 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
     finally:
         if pending:
             client.cancel(list(pending))
+        if lock[0] is not None and lock[0] != lock_fd:
+            os.close(lock[0])
+    if not os.path.exists(out):  # every image ran and none gave a row: a resumable, empty results CSV
+        _append_durably(out, (BOP_CSV_HEADER + "\n").encode("utf-8"))
     return summary

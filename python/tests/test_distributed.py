@@ -21,7 +21,8 @@ import pytest
 distributed = pytest.importorskip("distributed")
 
 import posefilter as pf  # noqa: E402
-from posefilter.distributed import BOP_CSV_HEADER, RunDatasetError, list_targets, run_dataset  # noqa: E402
+from posefilter.distributed import (  # noqa: E402
+    BOP_CSV_HEADER, RunDatasetError, _probe_cli, built_cli, list_targets, run_dataset)
 
 # The cheapest filter (tens of ms per target): the tests compare runs, not accuracy.
 OPTIONS = dict(particles=60, restarts=1, iterations=6, polish_steps=0, threads=1, seed=3)
@@ -273,7 +274,7 @@ def test_errors_name_the_cause(data, client, tmp_path):
     # The CLI rejects a value: the error names an image and carries the CLI's message.
     with pytest.raises(RunDatasetError, match=r"scene \d image \d failed: .*--particles"):
         run_dataset(client, ds, out, prior=PRIOR, options=dict(particles=-5), cli=cli, retries=0)
-    assert out.read_text() == BOP_CSV_HEADER + "\n"  # no rows, a resumable CSV
+    assert not out.exists()  # an error before the first row leaves no file behind
     # An existing file that is not a results CSV (no final newline, what the torn-row repair
     # would cut): refused before anything in it changes.
     other = tmp_path / "gt.json"
@@ -281,6 +282,38 @@ def test_errors_name_the_cause(data, client, tmp_path):
     with pytest.raises(ValueError, match="header must be exactly .* left as it is"):
         run_dataset(client, ds, other, prior=PRIOR, cli=cli)
     assert other.read_text() == '{"objects": []}'
+
+
+def test_the_cli_built_with_the_module_is_found_without_cli(data, client, tmp_path):
+    """As docs/DATASETS.md runs it after the README's build: no cli=, no posefilter on PATH."""
+    cli, ds, ref = data
+    built = built_cli()
+    if built is None:
+        pytest.skip("the module is not in a build tree (installed): no CLI beside it")
+    assert os.path.samefile(built, cli)
+    # The workers (started without $POSEFILTER_CLI) resolve to the client's build.
+    assert not any(client.run(os.environ.get, "POSEFILTER_CLI").values())
+    assert client.submit(_probe_cli, None, built, pure=False).result()[0] == built
+    out = tmp_path / "nocli.csv"
+    s = run_dataset(client, ds, out, prior=PRIOR, options=OPTIONS, no_time=True)
+    assert s.done == 6 and _lines(out) == _lines(ref)
+
+
+def test_a_second_writer_is_refused_and_the_file_kept(data, client, tmp_path):
+    import fcntl
+
+    cli, ds, _ = data
+    out = tmp_path / "locked.csv"
+    out.write_text(BOP_CSV_HEADER + "\n")
+    with open(out, "rb") as held:
+        fcntl.flock(held.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with pytest.raises(RuntimeError, match="another process is writing this results CSV"):
+            run_dataset(client, ds, out, prior=PRIOR, options=OPTIONS, cli=cli)
+    assert out.read_text() == BOP_CSV_HEADER + "\n"
+    fifo = tmp_path / "fifo.csv"
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match="not a regular file"):
+        run_dataset(client, ds, fifo, prior=PRIOR, options=OPTIONS, cli=cli)
 
 
 def test_worker_needs_no_posefilter_package(data, tmp_path):
