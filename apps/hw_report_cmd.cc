@@ -1,5 +1,5 @@
 // posefilter hw-report — the hw engine's cycle model, side by side with the thesis's figures
-// (thesis Ch. 7: Tables 7.2, 7.3, Fig. 7.11, 7.21), on one of two scenes:
+// (thesis Ch. 7: Tables 7.2, 7.3 [HARDWARE.md], Fig. 7.11, 7.21), on one of two scenes:
 //   - a synthetic scene comparable to the thesis's (640×480, thesis camera, N = 510, windows
 //     capped at 200×200, a model of 1024 vertices / 2048 faces — the synthetic torus);
 //   - --frame DIR: a real frame (a YCB-Video scene folder: depth.png, camera.json, gt.json,
@@ -35,7 +35,7 @@
 namespace posefilter::cli {
 namespace {
 
-// The thesis's figures (Tables 7.2, 7.3) for M = 1, 5, 10 cores; < 0 = not reported.
+// The thesis's figures (Tables 7.2, 7.3 [HARDWARE.md]) for M = 1, 5, 10 cores; < 0 = not reported.
 struct ThesisRow {
   int cores;
   double depth_distribution_ms, first_iteration_ms, average_iteration_ms;
@@ -105,7 +105,7 @@ ReportScene FrameScene(const std::string& dir, const std::string& models_arg, co
   ReportScene r;
   const CameraFile cam = ReadCameraJson((frame / "camera.json").string());
   r.input.camera = cam.camera;
-  r.input.depth = LoadDepthPng((frame / "depth.png").string(), cam.depth_scale);
+  r.input.depth = LoadDepthPng((frame / "depth.png").string(), cam.depth_scale, cam.camera.width, cam.camera.height);
   ValidateScene(r.input, (frame / "depth.png").string());
   const std::vector<GtObject> gt = ReadGtJson((frame / "gt.json").string());
   if (gt.empty()) throw Error((frame / "gt.json").string() + ": no object");
@@ -252,7 +252,7 @@ int RunHwReport(int argc, char** argv) {
   opt.stop.max_iterations = 50;  // the thesis's 50-iteration figures
   opt.stop.confidence = 1.0;     // run all of them
   opt.restarts = 1;
-  // The thesis's depth fragments are 200×200 for every particle (eq. 7.8, Table 7.2): windows of
+  // The thesis's depth fragments are 200×200 for every particle (eq. 7.8, Table 7.2 [HARDWARE.md]): windows of
   // at least 4 object diameters are clipped to the 200-pixel cap.
   opt.render.min_window_diameters = 4;
   std::string frame_dir, models_dir, object;
@@ -313,7 +313,7 @@ int RunHwReport(int argc, char** argv) {
                 scene.input.camera.height, p0.num_particles, p0.clock_mhz);
     for (const Configuration& c : runs) PrintProfile(c);
 
-    // Side by side: Table 7.2 (depth distribution) and 7.3 (iterations) against each configuration.
+    // Side by side: Table 7.2 [HARDWARE.md] (depth distribution) and 7.3 (iterations) against each configuration.
     std::printf("side by side [ms]            %10s", "thesis");
     for (const Configuration& c : runs) std::printf(" %10s", c.name.c_str());
     std::printf("\n");

@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "filter_cli.h"
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 #include "posefilter/mesh.h"
 #include "posefilter/synth.h"
 
@@ -70,6 +71,25 @@ int RunSynth(int argc, char** argv) {
     opt.missing_edges = !no_missing_edges;
     std::unique_ptr<Mesh> mesh;
     if (!mesh_path.empty()) {
+      // The folders this run writes: OUT itself for --sequence, OUT/scene_NNN otherwise. A --mesh
+      // inside one of them could be replaced by the scene's copy of it, so it is refused.
+      const std::filesystem::path mesh_dir = std::filesystem::absolute(mesh_path).parent_path();
+      bool written = false;
+      if (app.count("--sequence")) {
+        for (auto d = mesh_dir; !written; d = d.parent_path()) {
+          written = SamePath(d.string(), out_dir);
+          if (d == d.parent_path()) break;  // the root
+        }
+      } else {
+        char name[32];
+        for (int i = 0; i < count && !written; ++i) {
+          std::snprintf(name, sizeof name, "scene_%03d", i);
+          written = SamePath(mesh_dir.string(), (std::filesystem::path(out_dir) / name).string());
+        }
+      }
+      if (written)
+        throw Error("--mesh " + mesh_path + ": lies in a folder this run writes (--out " + out_dir +
+                    "), where it could be overwritten; copy it elsewhere or give another --out");
       if (!std::isfinite(unit_scale) || unit_scale <= 0) throw Error("--unit-scale must be finite and > 0");
       mesh = std::make_unique<Mesh>(LoadMesh(mesh_path, unit_scale));
       opt.target_mesh = mesh.get();

@@ -248,7 +248,7 @@ int RunTrack(int argc, char** argv) {
     int stage1_calls = 0;
     for (std::size_t i = 0; i < frames.size(); ++i) {
       const Frame& f = frames[i];
-      const SceneInput scene_in = f.image ? LoadDatasetScene(*f.image) : SceneInput{LoadDepthPng(f.depth_path, depth_scale), cam_file.camera};
+      const SceneInput scene_in = f.image ? LoadDatasetScene(*f.image) : SceneInput{LoadDepthPng(f.depth_path, depth_scale, cam_file.camera.width, cam_file.camera.height), cam_file.camera};
       ValidateScene(scene_in, f.image ? f.image->depth_path : f.depth_path);
       Stage1Fn stage1 = [&](const SceneInput& fr) {
         const auto t0 = std::chrono::steady_clock::now();

@@ -44,10 +44,18 @@ struct LabelImage {
   std::vector<std::uint16_t> ids;  // width × height
 };
 
+// The most pixels any PNG reader here decodes (8192 × 8192; a depth image that size is 268 MB
+// of floats). A header that declares more is refused before a pixel buffer exists.
+inline constexpr long long kMaxPngPixels = 8192LL * 8192LL;
+
 // Reads a 16-bit single-channel PNG; metres = value × depth_scale.
 // Throws Error naming the file if missing, not a PNG, corrupt, not single-channel, not 16-bit
-// (an 8-bit PNG is a preview image, not depth), or if depth_scale is not finite and positive.
+// (an 8-bit PNG is a preview image, not depth), larger than kMaxPngPixels, or if depth_scale is
+// not finite and positive.
 DepthImage LoadDepthPng(const std::string& path, double depth_scale);
+// The same for a camera of width × height pixels: a PNG of another size is refused from its
+// header, before anything is decoded (the error names the file and both sizes).
+DepthImage LoadDepthPng(const std::string& path, double depth_scale, int width, int height);
 // Writes a 16-bit PNG with value = round(metres / depth_scale), clamped to 65535; missing → 0.
 void SaveDepthPng(const DepthImage& depth, const std::string& path, double depth_scale);
 // Reads an 8-bit RGB/RGBA/gray PNG as RGB. Throws Error naming the file on failure.

@@ -1,5 +1,7 @@
 // python/bindings/estimator.cc — the Estimator class (Python's entry to EstimatePose) and its Result and BatchResult.
 #include "bindings.h"
+#include "posefilter/support_plane.h"
+#include "posefilter/view.h"
 
 namespace posefilter::python {
 
@@ -95,8 +97,14 @@ class Estimator {
       if (objs.size() != meshes.size())
         Fail("obj: " + std::to_string(objs.size()) + " names for " + std::to_string(meshes.size()) + " meshes");
     }
-    for (std::size_t i = 0; i < objs.size(); ++i)
+    for (std::size_t i = 0; i < objs.size(); ++i) {
       if (objs[i].empty()) Fail("obj: mesh " + std::to_string(i) + " has no name; pass obj=...");
+      // As the CLI's --mesh: one name per object (the prior's classes and the results' keys).
+      for (std::size_t j = 0; j < i; ++j)
+        if (objs[j] == objs[i])
+          Fail("obj: name '" + objs[i] + "' given twice (meshes " + std::to_string(j) + " and " + std::to_string(i) +
+               "); give each object its own name (load_mesh(..., name=...) or obj=[...])");
+    }
 
     // The prior: None (uniform), a Prior, a detections JSON path, or a list of detections.
     const int W = camera.width, H = camera.height;
@@ -169,6 +177,69 @@ class Estimator {
   FilterOptions options_;
 };
 
+// Result.view / BatchResult.view: the viewer page (posefilter/view.h) of `results` on their
+// frame. `meshes`: a Mesh or a sequence of them (one per result); `gt`: None, a 4×4 T_cam_obj
+// (one result) or a sequence with one 4×4 or None per result.
+void WriteResultsView(const std::vector<const EstimateResult*>& results, const std::string& path, py::handle depth,
+                      const Camera& camera, py::handle meshes, std::optional<double> depth_scale, py::handle rgb,
+                      py::handle gt, bool support_plane, const std::string& title) {
+  ViewScene v;
+  v.title = title;
+  v.camera = CheckedCamera(camera, "camera");
+  v.depth = DepthFrom(depth, depth_scale, &v.camera, "depth");
+  if (!rgb.is_none()) v.rgb = RgbFrom(rgb, "rgb");
+  if (support_plane) v.planes.push_back(FindSupportPlane(v.depth, v.camera));
+  std::vector<Mesh> ms;
+  if (py::isinstance<Mesh>(meshes)) ms.push_back(meshes.cast<Mesh>());
+  else if (py::isinstance<py::sequence>(meshes) && !py::isinstance<py::str>(meshes))
+    for (py::handle m : meshes) {
+      if (!py::isinstance<Mesh>(m)) throw py::type_error("mesh: every element must be a Mesh");
+      ms.push_back(m.cast<Mesh>());
+    }
+  else throw py::type_error("mesh: expected a Mesh or a sequence of Mesh");
+  if (ms.size() != results.size())
+    Fail("mesh: " + std::to_string(ms.size()) + " meshes for " + std::to_string(results.size()) + " results");
+  std::vector<py::object> gts(results.size(), py::none());
+  if (!gt.is_none()) {
+    if (results.size() == 1 && py::array::ensure(gt) && py::array::ensure(gt).ndim() == 2) gts[0] = py::reinterpret_borrow<py::object>(gt);
+    else {
+      std::size_t i = 0;
+      for (py::handle g : gt) {
+        if (i >= gts.size()) Fail("gt: more poses than results");
+        gts[i++] = py::reinterpret_borrow<py::object>(g);
+      }
+      if (i != gts.size()) Fail("gt: " + std::to_string(i) + " poses for " + std::to_string(results.size()) + " results");
+    }
+  }
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    ViewObject o;
+    o.name = results[i]->obj;
+    o.mesh = ms[i];
+    o.T_cam_obj = results[i]->T_cam_obj;
+    o.weight = results[i]->weight;
+    o.particles = results[i]->particle_history;
+    if (!gts[i].is_none()) o.gt_T_cam_obj = TransformFrom(gts[i], "gt");
+    v.objects.push_back(std::move(o));
+  }
+  py::gil_scoped_release release;
+  WriteViewHtml(v, path);
+}
+
+py::list ParticleHistory(const EstimateResult& r) {
+  py::list out;
+  for (const ParticleSet& s : r.particle_history) {
+    py::array_t<double> poses({py::ssize_t(s.poses.size()), py::ssize_t(6)});
+    auto p = poses.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < s.poses.size(); ++i) {
+      const Pose6& q = s.poses[i];
+      const double v[6] = {q.x, q.y, q.z, q.roll, q.pitch, q.yaw};
+      for (int k = 0; k < 6; ++k) p(py::ssize_t(i), k) = v[k];
+    }
+    out.append(py::dict("run"_a = s.run, "iteration"_a = s.iteration, "poses6"_a = poses, "weights"_a = ToNumpy(s.weights)));
+  }
+  return out;
+}
+
 void BindEstimation(py::module_& m) {
   // ---- Estimation
   py::class_<EstimateResult>(m, "Result", "The pose of one object.")
@@ -185,6 +256,18 @@ void BindEstimation(py::module_& m) {
       .def_property_readonly("best_weight_history", [](const EstimateResult& r) { return ToNumpy(r.best_weight_history); })
       .def_property_readonly("iteration_ms", [](const EstimateResult& r) { return ToNumpy(r.iteration_ms); })
       .def_property_readonly("stats", [](const EstimateResult& r) { return StatsDict(r.stats); })
+      .def_property_readonly("particle_history", &ParticleHistory,
+                             "with Estimator(record_particles=True): one dict per iteration of every run (run, "
+                             "iteration, poses6 N x 6 object → base, weights N; best first); else []")
+      .def("view", [](const EstimateResult& r, const std::string& path, py::handle depth, const Camera& camera,
+                      py::handle mesh, std::optional<double> depth_scale, py::handle rgb, py::handle gt,
+                      bool support_plane, const std::string& title) {
+        WriteResultsView({&r}, path, depth, camera, mesh, depth_scale, rgb, gt, support_plane, title);
+      }, "path"_a, "depth"_a, "camera"_a, "mesh"_a, py::kw_only(), "depth_scale"_a = py::none(), "rgb"_a = py::none(),
+         "gt"_a = py::none(), "support_plane"_a = true, "title"_a = "",
+         "Writes the 3D viewer page (one HTML file, docs/VIEWER.md) of this result on its frame: depth (as for "
+         "estimate), camera, the Mesh; rgb H x W x 3 uint8 colours the point cloud; gt a 4x4 T_cam_obj. Particles "
+         "are shown when the Estimator had record_particles=True.")
       .def("__repr__", [](const EstimateResult& r) {
         std::ostringstream os;
         os << "Result('" << r.obj << "', weight=" << r.weight << ", iterations=" << r.iterations << ", time_ms=" << r.time_ms << ")";
@@ -226,6 +309,15 @@ void BindEstimation(py::module_& m) {
         for (const auto& r : b.items) w.push_back(r.weight);
         return ToNumpy(w);
       })
+      .def("view", [](const BatchResult& b, const std::string& path, py::handle depth, const Camera& camera,
+                      py::handle meshes, std::optional<double> depth_scale, py::handle rgb, py::handle gt,
+                      bool support_plane, const std::string& title) {
+        std::vector<const EstimateResult*> rs;
+        for (const auto& r : b.items) rs.push_back(&r);
+        WriteResultsView(rs, path, depth, camera, meshes, depth_scale, rgb, gt, support_plane, title);
+      }, "path"_a, "depth"_a, "camera"_a, "meshes"_a, py::kw_only(), "depth_scale"_a = py::none(), "rgb"_a = py::none(),
+         "gt"_a = py::none(), "support_plane"_a = true, "title"_a = "",
+         "Writes the 3D viewer page of these results on their frame (as Result.view; meshes and gt one per result).")
       .def("__repr__", [](const BatchResult& b) { return "BatchResult(" + std::to_string(b.items.size()) + " objects)"; });
 
   py::class_<Estimator>(m, "Estimator", EstimatorDoc().c_str())

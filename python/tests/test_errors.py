@@ -118,6 +118,9 @@ def test_bad_estimate_arguments(easy_scene, tiny):
         tiny.estimate(s.depth, s.camera, s.target, off)
     with pytest.raises(ValueError, match="2 names for 1 meshes"):
         tiny.estimate(s.depth, s.camera, [s.target], s.prior, obj=["a", "b"])
+    # Two meshes under one name (as the CLI's --mesh given twice): refused, naming it.
+    with pytest.raises(ValueError, match="name 'torus' given twice \\(meshes 0 and 1\\)"):
+        tiny.estimate(s.depth, s.camera, [s.target, s.target], s.detections)
     with pytest.raises(ValueError, match="empty list"):
         tiny.estimate(s.depth, s.camera, [], s.prior)
     with pytest.raises(TypeError, match="Mesh"):

@@ -184,6 +184,28 @@ bool PngReadRows(PngReadState* s, png_bytep* rows) {
   return true;
 }
 
+// Throws when the header announces more than kMaxPngPixels (checked after CheckPngFitsFile:
+// before any pixel buffer exists, so a file declaring a huge image costs nothing).
+void CheckPngPixelCap(const PngReadState& s, const std::string& path, const char* what) {
+  const unsigned long long pixels = static_cast<unsigned long long>(s.width) * s.height;
+  if (pixels > static_cast<unsigned long long>(kMaxPngPixels)) {
+    throw Error(path + ": " + what + " PNG header says " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                " pixels, more than the " + std::to_string(kMaxPngPixels) + " (8192x8192) any image may have");
+  }
+}
+
+// Throws when (expect_width > 0) the header announces another size than the caller's camera,
+// before anything is decoded.
+void CheckPngCameraSize(const PngReadState& s, const std::string& path, const char* what, int expect_width,
+                        int expect_height) {
+  if (expect_width > 0 && (s.width != static_cast<png_uint_32>(expect_width) ||
+                           s.height != static_cast<png_uint_32>(expect_height))) {
+    throw Error(path + ": " + what + " PNG is " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                " but the camera is " + std::to_string(expect_width) + "x" + std::to_string(expect_height) +
+                " (read from the PNG header; nothing decoded)");
+  }
+}
+
 // Throws unless the file is large enough for the image its header announces: deflate expands
 // at most 1032:1, so a PNG of N bytes holds at most 1032·N bytes of (unfiltered) pixel data.
 // Checked before the pixel buffer is allocated, so a corrupt or hostile header (a 100-byte file
@@ -213,6 +235,7 @@ std::vector<std::uint8_t> ReadPngPixels(const std::string& path, const char* wha
   }
   if (s->width == 0 || s->height == 0) throw Error(path + ": " + what + " PNG has zero size");
   CheckPngFitsFile(s, path, what);
+  CheckPngPixelCap(*s, path, what);
   // Guard the allocation against absurd headers (libpng already caps sides at 1e6).
   const unsigned long long total = static_cast<unsigned long long>(s->rowbytes) * s->height;
   if (total > (1ull << 32)) throw Error(path + ": " + what + " PNG is too large");
@@ -293,13 +316,14 @@ namespace {
 // The samples of a single-channel 8- or 16-bit PNG (depth or label image), row-major;
 // `what` names the kind of image in errors.
 std::vector<std::uint16_t> ReadGrayPng(const std::string& path, const char* what, int* width, int* height,
-                                       bool require_16_bit = false) {
+                                       bool require_16_bit = false, int expect_width = 0, int expect_height = 0) {
   PngReader reader;
   // Peek at the header first to reject colour images with a clear message before decoding.
   if (!PngReadHeader(&reader.s, path.c_str(), ReadMode::kRaw)) {
     throw Error(path + ": cannot read " + what + " PNG: " + reader.s.msg.text);
   }
   const PngReadState& h = reader.s;
+  CheckPngCameraSize(h, path, what, expect_width, expect_height);
   if (h.color_type != PNG_COLOR_TYPE_GRAY) {
     const char* kind = h.color_type == PNG_COLOR_TYPE_RGB          ? "RGB"
                        : h.color_type == PNG_COLOR_TYPE_RGB_ALPHA  ? "RGBA"
@@ -327,6 +351,7 @@ std::vector<std::uint16_t> ReadGrayPng(const std::string& path, const char* what
   }
   if (rowbytes != size_t(w) * bytes_per_px) throw Error(path + ": unexpected " + what + " PNG row size");
   CheckPngFitsFile(&reader.s, path, what);
+  CheckPngPixelCap(reader.s, path, what);
   std::vector<std::uint8_t> pixels(rowbytes * hh);
   std::vector<png_bytep> rows = RowPointers(pixels, size_t(hh), rowbytes);
   if (!PngReadRows(&reader.s, rows.data())) {
@@ -358,7 +383,9 @@ void WriteGray16Png(const std::vector<std::uint16_t>& samples, int w, int h, con
 
 }  // namespace
 
-DepthImage LoadDepthPng(const std::string& path, double depth_scale) {
+DepthImage LoadDepthPng(const std::string& path, double depth_scale) { return LoadDepthPng(path, depth_scale, 0, 0); }
+
+DepthImage LoadDepthPng(const std::string& path, double depth_scale, int width, int height) {
   if (!std::isfinite(depth_scale) || depth_scale <= 0) {
     throw Error(path + ": depth_scale must be finite and > 0 (got " + std::to_string(depth_scale) +
                 ")");
@@ -368,7 +395,7 @@ DepthImage LoadDepthPng(const std::string& path, double depth_scale) {
                 " overflows float depths");
   }
   int w = 0, h = 0;
-  const std::vector<std::uint16_t> samples = ReadGrayPng(path, "depth", &w, &h, /*require_16_bit=*/true);
+  const std::vector<std::uint16_t> samples = ReadGrayPng(path, "depth", &w, &h, /*require_16_bit=*/true, width, height);
   DepthImage depth(w, h);
   for (size_t i = 0; i < samples.size(); ++i) depth.data[i] = static_cast<float>(samples[i] * depth_scale);
   return depth;

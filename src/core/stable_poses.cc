@@ -6,6 +6,8 @@ extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -52,6 +54,29 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points, const s
   for (const auto& p : points) {
     if (!p.allFinite()) throw Error(what + ": a point is not finite");
     coords.insert(coords.end(), {p.x(), p.y(), p.z()});
+  }
+  // A flat or degenerate point set (a plane, a line, one point) has no volume: said plainly,
+  // before qhull would (its precision errors name facets, not the cause). Flat means every point
+  // lies within 1e-6 of the largest extent from the least-squares plane (or line) through them.
+  {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& p : points) mean += p;
+    mean /= double(points.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    const Eigen::Vector3d normal = eig.eigenvectors().col(0);  // smallest spread: the plane's normal
+    double thickness = 0, extent = 0;
+    for (const auto& p : points) {
+      thickness = std::max(thickness, std::abs((p - mean).dot(normal)));
+      extent = std::max(extent, (p - mean).norm());
+    }
+    if (!(thickness > 1e-6 * extent)) {
+      char size[96];
+      std::snprintf(size, sizeof size, "%.3g m across, %.3g m thick", 2 * extent, 2 * thickness);
+      throw Error(what + ": flat: every vertex lies in one plane (" + size +
+                  "), so it has no volume; stable poses and the support-plane features need a solid mesh");
+    }
   }
   // qhull reports errors on a stream: an in-memory one, so its message can name `what`.
   char* err_text = nullptr;

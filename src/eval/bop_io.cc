@@ -519,7 +519,8 @@ SceneInput LoadDatasetScene(const DatasetImage& image) {
   const std::string where = "scene " + std::to_string(image.scene_id) + ", image " + std::to_string(image.im_id);
   SceneInput s;
   try {
-    s.depth = LoadDepthPng(image.depth_path, image.depth_scale_m);
+    // A camera without a size (no camera.json) takes the PNG's; otherwise the header must match.
+    s.depth = LoadDepthPng(image.depth_path, image.depth_scale_m, image.camera.width, image.camera.height);
   } catch (const Error& e) {
     throw Error(where + ": " + e.what());
   }

@@ -94,12 +94,18 @@ EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progr
     std::vector<double> history = best.best_weight_history, times = best.iteration_ms;
     history.insert(history.end(), r.best_weight_history.begin(), r.best_weight_history.end());
     times.insert(times.end(), r.iteration_ms.begin(), r.iteration_ms.end());
+    std::vector<ParticleSet> particles = std::move(best.particle_history);
+    for (ParticleSet& set : r.particle_history) {
+      set.run = k;
+      particles.push_back(std::move(set));
+    }
     const bool converged = best.converged || r.converged;
     if (k == 0 || r.weight > best.weight) best = std::move(r);
     best.stats = total;
     best.iterations = iterations;
     best.best_weight_history = std::move(history);
     best.iteration_ms = std::move(times);
+    best.particle_history = std::move(particles);
     best.converged = converged;
   }
   return best;
@@ -131,12 +137,21 @@ PolishResult PolishPoses(const PreparedScene& prep, const Mesh& mesh, const Prio
   return {best.pose, best.cell, best.weight};
 }
 
-Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& options) {
+Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& options, const PreparedScene* prep) {
   int with_mass = 0;
   for (int c = 0; c < prior.layout.CellCount(); ++c) with_mass += prior.Prob(c, cls) > 0;
   std::ostringstream os;
   if (with_mass == 0) {
     os << "the prior holds no probability mass for class '" << prior.classes[std::size_t(cls)] << "'";
+    return Error(os.str());
+  }
+  // 90 % or more of the readings on one plane: the plane, not the scale, emptied the boxes.
+  if (prep != nullptr && prep->plane.found && prep->valid_pixels > 0 &&
+      double(prep->plane_pixels) >= 0.9 * double(prep->valid_pixels)) {
+    os << "no prior cell of class '" << prior.classes[std::size_t(cls)] << "' has valid depth off the support plane: "
+       << std::lround(100.0 * double(prep->plane_pixels) / double(prep->valid_pixels))
+       << " % of the depth readings lie on one plane (a wall or floor filling the view?), which is removed as the "
+          "surface objects stand on, so nothing is left to estimate; --no-support-plane (support_plane=False) keeps it";
     return Error(os.str());
   }
   os << "no prior cell of class '" << prior.classes[std::size_t(cls)] << "' has both probability and valid depth ("

@@ -76,7 +76,7 @@ struct PolishSeed {
 struct PolishResult {
   Pose6 pose;          // object → base
   int cell = -1;
-  double weight = 0;   // eq. 7.4 at the final inlier threshold, float (cpu engine) weighing
+  double weight = 0;   // eq. 7.4 [ALGORITHM.md] at the final inlier threshold, float (cpu engine) weighing
 };
 
 // Makes `p` the result's answer: pose, object → camera transform, cell and weight; the result
@@ -95,6 +95,9 @@ PolishResult PolishPoses(const PreparedScene& prep, const Mesh& mesh, const Prio
 // a heuristic volume (valid depth inside its box): it names the class and either says the
 // prior has no mass for it at all, or gives the number of cells with probability and the usual
 // causes of their boxes holding no usable depth (a wrong depth scale, another image's prior).
-Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& options);
+// With `prep`, when the support plane took (nearly) every depth reading, it says that instead:
+// a wall or floor filling the view leaves nothing standing on the plane.
+Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& options,
+                         const PreparedScene* prep = nullptr);
 
 }  // namespace posefilter::filter

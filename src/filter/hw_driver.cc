@@ -14,7 +14,7 @@
 //   * host, float, after the runs (polish.steps > 0): the final polish of the runs' best
 //     particles (filter::PolishPoses, the float engines' polish with the cpu weighing).
 // The prior is a float Prior (any of the three kinds of docs/ALGORITHM.md §2); its class
-// probabilities are rounded into the prob_t memory (ρ of eq. 7.4) — the hw post-process kernel runs
+// probabilities are rounded into the prob_t memory (ρ of eq. 7.4 [ALGORITHM.md]) — the hw post-process kernel runs
 // only in ProfileHw, on a raw pyramid, for its cycles.
 // The kernels carry HLS pragmas (meaningless to g++) and loop labels (synthesis reports).
 #pragma GCC diagnostic ignored "-Wunknown-pragmas"
@@ -55,7 +55,7 @@ using filter::MsSince;
 xyz_t ToXyz(double v) { return xyz_t(ap_fixed<13, 3, AP_RND, AP_SAT>(v)); }
 depth_t ToDepth(double z) {
   if (!(z > 0)) return depth_t(0);
-  return depth_t(ap_ufixed<12, 2, AP_RND, AP_SAT>(std::min(z, 4.0)));  // clipped to 4 m (Table 7.1)
+  return depth_t(ap_ufixed<12, 2, AP_RND, AP_SAT>(std::min(z, 4.0)));  // clipped to 4 m (Table 7.1 [HARDWARE.md])
 }
 prob_t ToProb(double p) { return prob_t(ap_ufixed<8, 0, AP_RND, AP_SAT>(std::clamp(p, 0.0, 1.0))); }
 dist_t ToDist(double m) { return dist_t(ap_ufixed<24, 4, AP_RND, AP_SAT>(m)); }
@@ -121,7 +121,7 @@ struct HwMemories {
   face_t tri_mem[kMaxFaces];
   prob_t init_prob[kNumCells][1];     // CDF input (power-of-two scaled, see Load)
   class_sum_t init_sum;
-  prob_t class_prob[kNumCells];       // ρ of eq. 7.4 (unscaled)
+  prob_t class_prob[kNumCells];       // ρ of eq. 7.4 [ALGORITHM.md] (unscaled)
   HeuristicVolume volumes[kNumCells];
   Window cell_windows[kNumCells];
   hypothesis_t hypothesis[kNumCells];
@@ -144,7 +144,7 @@ class HwRunner {
   // `prep`: filter::PrepareScene's (validated): the depth memory holds prep.scoring, the
   // heuristic volumes come from prep.support. It must outlive the runner.
   HwRunner(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& opt)
-      : scene_(prep.scoring), support_(prep.support), prior_(prior), cls_(cls), opt_(opt), mem_(new HwMemories) {
+      : prep_(prep), scene_(prep.scoring), support_(prep.support), prior_(prior), cls_(cls), opt_(opt), mem_(new HwMemories) {
     Load(mesh);
   }
 
@@ -262,7 +262,7 @@ class HwRunner {
       throw Error("prior was made for a different image size than the camera's");
     CheckLayout(prior_.layout);
 
-    // Model memory (Listing 7.1).
+    // Model memory (Listing 7.1 [HARDWARE.md]).
     const Mesh mesh = HardwareMesh(mesh_in, o.render.lod_max_faces);
     mesh_name = mesh_in.name;
     num_vertices_ = int(mesh.vertices.size());
@@ -289,11 +289,11 @@ class HwRunner {
         for (int k = 0; k < 3; ++k) cfg_.bbox[c][k] = ToXyz((c >> k) & 1 ? hi[k] : lo[k]);
     }
 
-    // Depth memory: clipped to 4 m, rounded to ufixed<12,2> (Table 7.1).
+    // Depth memory: clipped to 4 m, rounded to ufixed<12,2> (Table 7.1 [HARDWARE.md]).
     for (int v = 0; v < cam.height; ++v)
       for (int u = 0; u < cam.width; ++u) m.depth[v * cam.width + u] = ToDepth(scene_.depth.at(u, v));
 
-    // Camera: P (intrinsics) and C (eq. 6.9).
+    // Camera: P (intrinsics) and C (eq. 6.9 [ALGORITHM.md]).
     auto intr = [](double v) { return intr_t(ap_ufixed<28, 12, AP_RND, AP_SAT>(v)); };
     if (!(cam.fx < 4095 && cam.fy < 4095 && cam.cx >= 0 && cam.cx < 4095 && cam.cy >= 0 && cam.cy < 4095))
       throw Error("hw engine: camera intrinsics must lie in [0, 4095) px (ufixed<28,12>)");
@@ -364,8 +364,8 @@ class HwRunner {
       m.hypothesis[c] = p > 0 ? labeller.Label(prior_.boxes[c]) : 0;
     }
     if (!(max_p > 0))
-      throw filter::NoInitialMassError(prior_, cls_, o);
-    // CDF input: the probabilities scaled by 2^k so the largest is in [1/2, 1) — eq. 7.3 is
+      throw filter::NoInitialMassError(prior_, cls_, o, &prep_);
+    // CDF input: the probabilities scaled by 2^k so the largest is in [1/2, 1) — eq. 7.3 [ALGORITHM.md] is
     // scale-invariant, and small probabilities (a uniform prior's 1/6300) survive prob_t.
     const double scale = std::ldexp(1.0, -int(std::floor(std::log2(max_p))) - 1);
     class_sum_t sum = 0;
@@ -418,6 +418,7 @@ class HwRunner {
     if (!dprm_.IsValid(&cwhy)) throw Error("hw engine: diffusion: " + cwhy);
   }
 
+  const filter::PreparedScene& prep_;
   const SceneInput& scene_;
   const DepthImage& support_;
   const Prior& prior_;

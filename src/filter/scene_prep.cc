@@ -20,8 +20,12 @@ PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options
     p.plane = FindSupportPlane(scene.depth, scene.camera);
     const std::vector<std::uint8_t> on = SupportPlanePixels(scene.depth, scene.camera, p.plane);
     for (std::size_t i = 0; i < z.size(); ++i)
-      if (on[i]) z[i] = 0;
+      if (on[i] && z[i] > 0) {
+        z[i] = 0;
+        ++p.plane_pixels;
+      }
   }
+  p.valid_pixels = scene.depth.CountValid();
   p.support = p.scoring.depth;
   if (!scene.mask.empty()) {
     // Further than any inlier ramp (2·thr1 at the annealing's start) and the align and edge

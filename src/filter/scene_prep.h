@@ -25,6 +25,8 @@ struct PreparedScene {
   DepthImage support;   // valid where the object can be seen: volumes, N_depth
   SupportPlane plane;   // found = false when support_plane is off or no plane was found
   double mask_shift_m = 0;  // how far pixels outside the mask were moved (0: no mask)
+  std::size_t valid_pixels = 0;  // pixels of the input depth with a reading (> 0)
+  std::size_t plane_pixels = 0;  // of those, the ones removed as the support plane
 };
 
 // Validates the scene (ValidateScene, naming `what`) and prepares it for `options`.

@@ -216,6 +216,14 @@ std::vector<std::string> CheckDetectionsForObjects(const std::vector<Detection>&
     if (std::none_of(detections.begin(), detections.end(), [&](const Detection& d) { return d.cls == o && on_image(d); }))
       missing.push_back(o);
   if (!objects.empty() && missing.size() == objects.size()) {
+    // Boxes of the objects' classes exist but none lies on the image: that is the cause to name.
+    const auto off_image = std::count_if(detections.begin(), detections.end(), [&](const Detection& d) {
+      return std::find(objects.begin(), objects.end(), d.cls) != objects.end();
+    });
+    if (off_image > 0)
+      throw Error(source + ": every detection of the objects' classes (" + std::to_string(off_image) +
+                  ") lies wholly outside the " + std::to_string(width) + "x" + std::to_string(height) +
+                  " image; are the boxes from another image or in other units than pixels?");
     std::set<std::string> classes;
     for (const auto& d : detections) classes.insert(d.cls);
     std::string have, want;

@@ -42,11 +42,21 @@ std::vector<std::string> SmallBoxEstimate(const std::string& depth, const std::s
 TEST_F(CliTest, VersionIsTheLibrarysAndTakesNoArguments) {
   const RunResult v = Run({"--version"});
   EXPECT_EQ(v.code, 0) << v.err;
-  EXPECT_EQ(v.out, std::string("posefilter ") + Version() + "\n");
+  // First line: the version and the commit; then one line per engine.
+  const std::string first = std::string("posefilter ") + Version() + " (git " + GitRevision() + ")\n";
+  EXPECT_EQ(v.out.substr(0, first.size()), first) << v.out;
   EXPECT_NE(std::string(Version()).find('.'), std::string::npos);
+  // A build from this checkout knows its commit: 12 hex digits (and "-dirty" while edited).
+  const std::string rev = GitRevision();
+  EXPECT_TRUE(rev == "unknown" || (rev.size() >= 12 && rev.find_first_not_of("0123456789abcdef") >= 12)) << rev;
+  for (const char* engine : {"\n  reference ", "\n  cpu ", "\n  gpu ", "\n  hw "})
+    EXPECT_NE(v.out.find(engine), std::string::npos) << engine << " missing from\n" << v.out;
+  EXPECT_NE(v.out.find("instruction sets built: portable"), std::string::npos) << v.out;
+  EXPECT_EQ(Run({"version"}).out, v.out);
   const RunResult extra = Run({"--version", "now"});
   EXPECT_EQ(extra.code, 2);
   EXPECT_NE(extra.err.find("--version takes no arguments (got 'now')"), std::string::npos) << extra.err;
+  EXPECT_EQ(Run({"version", "now"}).code, 2);
 }
 
 TEST_F(CliTest, OutputNamingAnInputIsRefusedAndTheInputKept) {
@@ -234,6 +244,19 @@ TEST_F(CliTest, WrongUnitsAreNamed) {
   r = Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--depth-scale", "0.1"}));
   ExpectInputError(r, "estimate", Scene("depth.png"));
   EXPECT_NE(r.err.find("wrong depth scale"), std::string::npos) << r.err;
+  // A wall filling the view at 1.5 m: the depth scale is right; the support plane took every
+  // reading, and the message says so (for the float and the hw engines).
+  const std::string wall = Path("wall.png");
+  SaveDepthPng(DepthImage(640, 480, 1.5f), wall, 0.001);
+  for (const std::string engine : {"cpu", "hw"}) {
+    r = Run({"estimate", "--depth", wall, "--camera", Scene("camera.json"), "--depth-scale", "0.001", "--mesh",
+             Scene("box.ply"), "--prior", "none", "--particles", "40", "--iterations", "2", "--restarts", "1",
+             "--engine", engine, "--quiet"});
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_NE(r.err.find("100 % of the depth readings lie on one plane"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--no-support-plane"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("depth scale"), std::string::npos) << r.err;
+  }
 }
 
 TEST_F(CliTest, PriorsMatchingNoMeshAreRefusedAndOffImageBoxesWarned) {
@@ -250,6 +273,10 @@ TEST_F(CliTest, PriorsMatchingNoMeshAreRefusedAndOffImageBoxesWarned) {
   r = Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"), {"--prior", off}));
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find(off), std::string::npos) << r.err;
+  // The message names that cause, not a class mismatch.
+  EXPECT_NE(r.err.find("every detection of the objects' classes (1) lies wholly outside the 640x480 image"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("detector class"), std::string::npos) << r.err;
 
   // One good box and one off the image: a warning, and the estimate runs.
   nlohmann::json dets = nlohmann::json::parse(ReadFile(Scene("detections.json")));
@@ -261,6 +288,24 @@ TEST_F(CliTest, PriorsMatchingNoMeshAreRefusedAndOffImageBoxesWarned) {
   EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("wholly outside the 640x480 image"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(Path("r.json")));
+}
+
+// synth --mesh in a folder the run writes (a scene folder, or anywhere under a --sequence's
+// --out) is refused before anything is written, and the mesh keeps its bytes; beside the scene
+// folders it is fine.
+TEST_F(CliTest, SynthNeverOverwritesItsMesh) {
+  const std::string scene_dir = Path("synth_mesh/scene_001");
+  fs::create_directories(scene_dir);
+  const std::string mesh = scene_dir + "/mine.ply";
+  fs::copy_file(Scene("box.ply"), mesh);
+  const std::string before = ReadFile(mesh);
+  ExpectInputError(Run({"synth", "--out", Path("synth_mesh"), "--count", "2", "--mesh", mesh}), "synth", "--mesh " + mesh);
+  ExpectInputError(Run({"synth", "--out", Path("synth_mesh"), "--sequence", "2", "--mesh", mesh}), "synth", "--mesh");
+  EXPECT_EQ(ReadFile(mesh), before);
+  EXPECT_FALSE(fs::exists(Path("synth_mesh/scene_000")));
+  // --count 1 writes scene_000 only: a mesh in scene_001 is safe.
+  EXPECT_EQ(Run({"synth", "--out", Path("synth_mesh"), "--count", "1", "--mesh", mesh}).code, 0);
+  EXPECT_EQ(ReadFile(mesh), before);
 }
 
 TEST_F(CliTest, GtDetectionsAndEvalNeverOverwriteTheirInputs) {

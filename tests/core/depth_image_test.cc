@@ -210,6 +210,29 @@ TEST_F(PngFileTest, DepthTruncatedPng) {
   ExpectError([&] { LoadDepthPng(head, 0.0001); }, {head});
 }
 
+// A small file whose header declares a huge image is refused from the header: over
+// kMaxPngPixels for every reader, and, for a depth image read for a camera, any size other than
+// the camera's (nothing is decoded, so the check costs no memory).
+TEST_F(PngFileTest, HugeOrMismatchedHeadersAreRefusedBeforeDecoding) {
+  // Padded with a private ancillary chunk to a size whose bytes could inflate to the declared
+  // pixels, so the limit, not the file-size bound, is what refuses them.
+  auto padded = [](int w, int h, int bit_depth, int color_type, std::size_t row_bytes, std::size_t pad) {
+    std::string png = MakePng(w, h, bit_depth, color_type, {std::string(row_bytes, '\0')});
+    std::string chunk;
+    AppendChunk(chunk, "prVt", std::string(pad, 'x'));
+    return png.insert(33, chunk);  // after the signature (8) and IHDR (25)
+  };
+  const std::string huge = Write("huge.png", padded(30000, 30000, 16, 0, 60000, 1800000));
+  ExpectError([&] { LoadDepthPng(huge, 0.001); }, {huge, "30000x30000", "8192x8192"});
+  ExpectError([&] { LoadLabelPng(huge); }, {huge, "30000x30000", "8192x8192"});
+  const std::string huge_rgb = Write("huge_rgb.png", padded(9000, 9000, 8, 2, 27000, 240000));
+  ExpectError([&] { LoadRgbPng(huge_rgb); }, {huge_rgb, "9000x9000", "8192x8192"});
+  const std::string small = Write("small.png", MakePng(4, 4, 16, 0, std::vector<std::string>(4, std::string(8, '\x11'))));
+  ExpectError([&] { LoadDepthPng(small, 0.001, 640, 480); }, {small, "4x4 but the camera is 640x480", "PNG header"});
+  EXPECT_EQ(LoadDepthPng(small, 0.001, 4, 4).width, 4);  // the camera's size: read as before
+  EXPECT_EQ(LoadDepthPng(small, 0.001, 0, 0).width, 4);  // no size given: no comparison
+}
+
 TEST_F(PngFileTest, DepthCorruptDataCrc) {
   std::string png = MakePng(4, 4, 16, 0, std::vector<std::string>(4, std::string(8, '\x11')));
   png[png.size() - 30] ^= 0x5a;  // flip a byte inside IDAT → CRC mismatch

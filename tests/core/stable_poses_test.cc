@@ -47,7 +47,11 @@ TEST(ConvexHullTest, ABoxHasSixFacesOfItsAreas) {
 TEST(ConvexHullTest, FlatOrTooFewPointsAreErrorsNamingThem) {
   ExpectError([] { ComputeConvexHull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, "mesh 'tri'"); }, {"mesh 'tri'", "at least 4"});
   ExpectError([] { ComputeConvexHull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.5, 0}}, "mesh 'flat'"); },
-              {"mesh 'flat'", "no convex hull"});
+              {"mesh 'flat'", "flat: every vertex lies in one plane", "1.41 m across", "no volume"});
+  // A tilted plane and a line are flat too; a thin but solid slab is not.
+  ExpectError([] { ComputeConvexHull({{0, 0, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 2}}, "tilted"); }, {"tilted", "flat"});
+  ExpectError([] { ComputeConvexHull({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}, "line"); }, {"line", "flat"});
+  EXPECT_GT(ComputeConvexHull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0.001}}, "slab").volume, 0.0);
   ExpectError([] { ComputeConvexHull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, NAN}}, "pts"); }, {"pts", "not finite"});
 }
 
