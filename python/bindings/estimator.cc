@@ -34,7 +34,7 @@ Prior PriorFromPython(py::handle prior_arg, const std::vector<std::string>& objs
   } else if (py::isinstance<py::sequence>(prior_arg)) {
     dets = DetectionsFrom(prior_arg);
   } else {
-    throw py::type_error("prior: expected None, 'auto', a Prior, a detections JSON path or a list of detections");
+    throw py::type_error("prior: expected None (or 'none'), 'auto', a Prior, a detections JSON path or a list of detections");
   }
   WarnAll(CheckDetectionsForObjects(dets, objs, W, H, source));
   const auto classes = ClassesForObjects(objs, dets);
@@ -106,15 +106,18 @@ class Estimator {
                "); give each object its own name (load_mesh(..., name=...) or obj=[...])");
     }
 
-    // The prior: None (uniform), a Prior, a detections JSON path, or a list of detections.
+    // The prior: None or "none" (uniform), "auto", a Prior, a detections JSON path, or a list of detections.
     const int W = camera.width, H = camera.height;
     Prior prior;
     std::vector<std::vector<PoseSeed>> seeds;  // prior 'auto': per object
-    if (prior_arg.is_none() && !scene.mask.empty()) {
+    // None or "none" (as the CLI's --prior none): no detector, a uniform prior.
+    const bool no_prior =
+        prior_arg.is_none() || (py::isinstance<py::str>(prior_arg) && prior_arg.cast<std::string>() == "none");
+    if (no_prior && !scene.mask.empty()) {
       mask.cls = objs[0];
       const auto classes = ClassesForObjects(objs, {});
       prior = PriorFromDetections({MaskDetection(mask)}, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
-    } else if (prior_arg.is_none()) {
+    } else if (no_prior) {
       const auto classes = ClassesForObjects(objs, {});
       prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
     } else {
@@ -352,7 +355,7 @@ void BindEstimation(py::module_& m) {
            "obj"_a = py::none(), "depth_scale"_a = py::none(), "progress"_a = py::none(), "mask"_a = py::none(),
            "scene_pass"_a = true,
            "Pose(s) of mesh (a Mesh → Result; a list of Mesh → BatchResult) in depth (H x W float metres, or "
-           "uint16 with depth_scale). prior: None (uniform, or the mask's box), 'auto' (no detector: candidate "
+           "uint16 with depth_scale). prior: None or 'none' (uniform, or the mask's box), 'auto' (no detector: candidate "
            "regions of the depth), a Prior, a detections JSON path, "
            "or a list of Detection/dicts. obj: prior class name(s), default the meshes' names. mask: the "
            "object's instance mask (H x W, non-zero = the object; one Mesh), scored against. progress(obj, "

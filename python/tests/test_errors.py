@@ -118,6 +118,10 @@ def test_bad_estimate_arguments(easy_scene, tiny):
         tiny.estimate(s.depth, s.camera, s.target, off)
     with pytest.raises(ValueError, match="2 names for 1 meshes"):
         tiny.estimate(s.depth, s.camera, [s.target], s.prior, obj=["a", "b"])
+    # prior="none" is the CLI's --prior none: the uniform prior, the same result as None.
+    a = tiny.estimate(s.depth, s.camera, s.target, None)
+    b = tiny.estimate(s.depth, s.camera, s.target, "none")
+    assert np.array_equal(a.pose, b.pose) and a.weight == b.weight
     # Two meshes under one name (as the CLI's --mesh given twice): refused, naming it.
     with pytest.raises(ValueError, match="name 'torus' given twice \\(meshes 0 and 1\\)"):
         tiny.estimate(s.depth, s.camera, [s.target, s.target], s.detections)
