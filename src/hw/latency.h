@@ -195,10 +195,12 @@ constexpr int kRcZpassDepth = 5;
 // vertex pipeline holds ≈ 14 faces; deeper FIFOs measured no faster in co-simulation).
 constexpr int kTriangleFifoDepth = 16;
 // z-buffer read-modify-write: clocks from a fragment's z-buffer read to the clock its write
-// lands (PixelStage's forward registers cover the writes in flight). The RTL twin reads a
-// registered, read-first BRAM and writes in the clock the next fragment's read is issued: 1.
-// An HLS schedule that puts the write later needs this raised to its distance (the C model
-// forwards exactly for any value; one more register of 34 bits and a comparator per clock).
+// lands (PixelStage's forward registers cover the writes in flight): 1 for the HLS schedule of
+// a registered, read-first BRAM written in the clock the next fragment's read is issued. The RTL
+// core (src/hw/rtl/README.md) reads through two registers, so its distance is 2 and it forwards
+// from two entries; its results are the same, as the forward is exact for any distance. An HLS
+// schedule that puts the write later needs this raised to its distance (one more register of
+// 34 bits and a comparator per clock).
 constexpr int kZbufWriteLag = 1;
 
 // ---- Weight merger (weight_merger.h) ----

@@ -1,5 +1,5 @@
 // raster_core.sv — RTL of one raster core of the render/score pipeline (thesis §7.5.3
-// "Raster Core (partial inlier)", Fig. 7.20; rasterization eq. 6.12–6.22; soft inlier §7.5.1),
+// "Raster Core (partial inlier)", Fig. 7.20; rasterization eq. 6.12–6.22 [ALGORITHM.md]; soft inlier §7.5.1),
 // bit-exact with the C model posefilter::hw::RasterCore (src/hw/raster_core.h) for one
 // particle at a time. Microarchitecture (src/hw/rtl/README.md):
 //
@@ -9,16 +9,21 @@
 //   FT     12 FT words, II = 1
 //   FACES  vertex stage ──triangle FIFO──▶ pixel stage, concurrently:
 //          vertex stage: 3·num_faces vertices, II = 1 across faces: FT·[v;1] (exact),
-//            near test, 1/W (32-stage divider) and the two snapping dividers (22 stages,
+//            near test, 1/W (32-stage divider) and the two snapping dividers (21 stages,
 //            padded to 32), guard band; per face: 2·Area, culling, clipped bounding box,
 //            edge setup (A, B, E at the first pixel, owned-edge minimum, sh) → FIFO
 //          pixel stage: one pixel of the current triangle's clipped box per cycle, no bubble
 //            between rows or triangles; inside test, depth recovery (24-stage divider), then
 //            zbuffer = 0: CompareFragment against the fragment memory;
-//            zbuffer = 1: z-buffer read-modify-write (min) with one-entry write forwarding
+//            zbuffer = 1: z-buffer read-modify-write (min); memories read through two
+//            registers, the two writes a read cannot see forwarded
 //   ZPASS  (zbuffer = 1) the window in raster order from both memories, line buffers for the
 //          4-neighbours; pixel (x, y) is evaluated when (x, y + 1) is read: width·(height + 1)
 //   OUT    the RasterCoreOutput word
+//
+// Every stream is valid/ready (a source holds valid and data until ready). Simulation-only
+// assertions (ifndef SYNTHESIS) check the handshakes, the state code, the face credits and
+// the memory addresses (at the end of this module) and the FIFO (rc_fifo).
 //
 // Number formats (as raster_core.h; Fn = n fractional bits of the raw integer):
 //   FT element ap_int<36> F22, vertex ap_int<13> F10, U V W ap_int<52> F32,
@@ -93,21 +98,27 @@ module raster_core #(
   logic [11:0] acc_front;
 
   // ---------------------------------------------------------------- memories (BRAM)
-  // Fragment memory 40000 × 12 (depth_t) and z-buffer 40000 × 18: one write and one
-  // registered read port each (simple dual port, read-before-write).
+  // Fragment memory 40000 × 12 (depth_t) and z-buffer 40000 × 18: one write and one read port
+  // each (simple dual port, read-before-write). The read has two registers, the memory's own
+  // (frag_r, zbuf_r) and one behind it (frag_q, zbuf_q: the block RAM's output register, or a
+  // fabric register next to it), so no logic follows the RAM in the clock of its read: data
+  // read in clock t is used in clock t + 2. The pixel stage reads the fragment memory one clock
+  // before the z-buffer (its CompareFragment starts in P4, the z-buffer update is in P5).
   logic [11:0] frag_mem[KPIX];
   logic [17:0] zbuf_mem[KPIX];
   logic        frag_we, zbuf_we;
   logic [15:0] frag_wa, zbuf_wa, frag_ra, zbuf_ra;
-  logic [11:0] frag_wd, frag_q;
-  logic [17:0] zbuf_wd, zbuf_q;
+  logic [11:0] frag_wd, frag_r, frag_q;
+  logic [17:0] zbuf_wd, zbuf_r, zbuf_q;
   always_ff @(posedge clk) begin
     if (frag_we) frag_mem[frag_wa] <= frag_wd;
-    frag_q <= frag_mem[frag_ra];
+    frag_r <= frag_mem[frag_ra];
+    frag_q <= frag_r;
   end
   always_ff @(posedge clk) begin
     if (zbuf_we) zbuf_mem[zbuf_wa] <= zbuf_wd;
-    zbuf_q <= zbuf_mem[zbuf_ra];
+    zbuf_r <= zbuf_mem[zbuf_ra];
+    zbuf_q <= zbuf_r;
   end
 
   // ---------------------------------------------------------------- FILL
@@ -170,41 +181,53 @@ module raster_core #(
 
   // V3: divider operands. near: W < near·2^12 (F20 → F32) skips the face. 1/W: floor(2^58/W)
   // (F26). SnapRatio: floor((|U|·2^9 + W) / (2W)) = round-half-away(256·U/W) in magnitude.
+  // The dividers see W as 51-bit unsigned: a vertex with W ≤ 0 fails the near test (near ≥ 0)
+  // or, for W = 0, overflows, and the values of a failed vertex are never used; with W > 0,
+  // W < 2^51 (ap_int<52>). For W > 0 the snap is computed as floor(n/W) with
+  // n = floor((|U|·2^9 + W) / 2) = |U|·2^8 + floor(W/2) (nested floors), and only with
+  // 21 quotient bits: the guard band (|x|, |y| < 2^21) rejects every larger quotient, which is
+  // exactly the divider's overflow flag. |U|·2^8 + floor(W/2) is one subtraction, without a
+  // separate negation: h − y − c with h = floor(W/2), y = U·2^8 and c = 0 when U < 0,
+  // y = ~(U·2^8) and c = 1 when U ≥ 0 (−~a − 1 = a); the carry-in rides in an extra low bit.
   logic        v3_v, v3_near_ok, v3_negx, v3_negy;
   logic [1:0]  v3_k;
-  logic [51:0] v3_w;
-  logic [53:0] v3_d2;
-  logic [61:0] v3_n2x, v3_n2y;
+  logic [50:0] v3_w;
+  logic [60:0] v3_nx, v3_ny;
   wire signed [51:0] near_w = 52'({prm_near_plane, 12'b0});
-  wire [51:0] magx = v2_h[0][51] ? 52'(-v2_h[0]) : 52'(v2_h[0]);
-  wire [51:0] magy = v2_h[1][51] ? 52'(-v2_h[1]) : 52'(v2_h[1]);
+  function automatic logic [60:0] snap_num(input logic signed [51:0] u, input logic [49:0] h);
+    logic [60:0] us, y;
+    logic [61:0] t;
+    us = 61'($signed(u)) << 8;
+    y  = u[51] ? us : ~us;
+    t  = {11'b0, h, 1'b0} - {y, !u[51]};
+    snap_num = t[61:1];
+  endfunction
   always_ff @(posedge clk) begin
     v3_v       <= rst ? 1'b0 : v2_v;
     v3_k       <= v2_k;
     v3_near_ok <= !(v2_h[2] < near_w);
     v3_negx    <= v2_h[0][51];
     v3_negy    <= v2_h[1][51];
-    v3_w       <= v2_h[2];
-    v3_d2      <= {{2{v2_h[2][51]}}, v2_h[2]} << 1;
-    v3_n2x     <= ({10'b0, magx} << 9) + {{10{v2_h[2][51]}}, v2_h[2]};
-    v3_n2y     <= ({10'b0, magy} << 9) + {{10{v2_h[2][51]}}, v2_h[2]};
+    v3_w       <= v2_h[2][50:0];
+    v3_nx      <= snap_num(v2_h[0], v2_h[2][50:1]);
+    v3_ny      <= snap_num(v2_h[1], v2_h[2][50:1]);
   end
 
-  // Dividers: 1/W (32 stages) and the two snapping dividers (22 stages + 10 padding).
+  // Dividers: 1/W (32 stages) and the two snapping dividers (21 stages + 11 padding).
   logic [31:0] q_iz;
-  logic [21:0] q_x, q_y;
+  logic [20:0] q_x, q_y;
   logic        ov_iz, ov_x, ov_y;
-  rc_div #(.QW(32), .NW(60), .DW(52), .PAD(0)) u_div_iz (
+  rc_div #(.QW(32), .NW(60), .DW(51), .PAD(0)) u_div_iz (
       .clk, .n(60'h1 << 58), .d(v3_w), .q(q_iz), .ovf(ov_iz));
-  rc_div #(.QW(22), .NW(62), .DW(54), .PAD(10)) u_div_x (
-      .clk, .n(v3_n2x), .d(v3_d2), .q(q_x), .ovf(ov_x));
-  rc_div #(.QW(22), .NW(62), .DW(54), .PAD(10)) u_div_y (
-      .clk, .n(v3_n2y), .d(v3_d2), .q(q_y), .ovf(ov_y));
+  rc_div #(.QW(21), .NW(61), .DW(51), .PAD(11)) u_div_x (
+      .clk, .n(v3_nx), .d(v3_w), .q(q_x), .ovf(ov_x));
+  rc_div #(.QW(21), .NW(61), .DW(51), .PAD(11)) u_div_y (
+      .clk, .n(v3_ny), .d(v3_w), .q(q_y), .ovf(ov_y));
   logic       vd_v, vd_near_ok, vd_negx, vd_negy, vd_any;
   logic [1:0] vd_k;
   rc_delay #(.W(5), .L(32)) u_vdel (
       .clk, .rst, .vin(v3_v), .din({v3_k, v3_near_ok, v3_negx, v3_negy}),
-      .vout(vd_v), .dout({vd_k, vd_near_ok, vd_negx, vd_negy}), .any(vd_any));
+      .vout(vd_v), .dout({vd_k, vd_near_ok, vd_negx, vd_negy}), .vpre(), .dpre(), .any(vd_any));
 
   // V4: the snapped vertex (ScreenVertex): x, y F8, 1/W F26, ok.
   logic        v4_v, v4_ok;
@@ -214,7 +237,7 @@ module raster_core #(
   always_ff @(posedge clk) begin
     v4_v  <= rst ? 1'b0 : vd_v;
     v4_k  <= vd_k;
-    v4_ok <= vd_near_ok && !ov_iz && !ov_x && 32'(q_x) < GUARD && !ov_y && 32'(q_y) < GUARD;
+    v4_ok <= vd_near_ok && !ov_iz && !ov_x && !ov_y;  // no overflow: |x|, |y| < GUARD
     v4_x  <= vd_negx ? -$signed({1'b0, q_x}) : $signed({1'b0, q_x});
     v4_y  <= vd_negy ? -$signed({1'b0, q_y}) : $signed({1'b0, q_y});
     v4_iz <= q_iz;
@@ -232,12 +255,13 @@ module raster_core #(
       fa_ok[v4_k[0]] <= v4_ok;
     end
 
-  // F1: 2·Area products (eq. 6.12: (V2x−V0x)(V1y−V0y) − (V2y−V0y)(V1x−V0x)) and the box.
+  // F1: 2·Area products (eq. 6.12 [ALGORITHM.md]: (V2x−V0x)(V1y−V0y) − (V2y−V0y)(V1x−V0x)) and the box.
   logic        f1_v, f1_ok;
   logic signed [22:0] f1_x[3], f1_y[3];
   logic [31:0] f1_iz[3];
   logic signed [47:0] f1_p1, f1_p2;
   logic signed [22:0] f1_minx, f1_maxx, f1_miny, f1_maxy;
+  logic signed [23:0] f1_a[3], f1_b[3];
   logic signed [22:0] cx[3], cy[3];
   assign cx[0] = fa_x[0];
   assign cx[1] = fa_x[1];
@@ -245,20 +269,30 @@ module raster_core #(
   assign cy[0] = fa_y[0];
   assign cy[1] = fa_y[1];
   assign cy[2] = v4_y;
-  function automatic logic signed [22:0] min3(input logic signed [22:0] a, b, c);
-    logic signed [22:0] m;
-    m = a;
-    if (b < m) m = b;
-    if (c < m) m = c;
-    min3 = m;
+  // Edge k runs from Va = V[k+1] to Vb = V[k+2]: A_k = Vb.y − Va.y, B_k = Va.x − Vb.x
+  // (ap_int<24>). The area's differences are edges: V2x − V0x = B_1, V1y − V0y = A_2,
+  // V2y − V0y = −A_1, V1x − V0x = −B_2, so 2·Area = B_1·A_2 − A_1·B_2. The signs of the same
+  // differences order the corners for the box (their sign bits, no comparators):
+  // x0 < x1 ⇔ B_2 < 0, x1 < x2 ⇔ B_0 < 0, x2 < x0 ⇔ B_1 < 0;
+  // y0 > y1 ⇔ A_2 < 0, y1 > y2 ⇔ A_0 < 0, y2 > y0 ⇔ A_1 < 0.
+  logic signed [23:0] ea[3], eb[3];
+  for (genvar k = 0; k < 3; k++) begin : g_ab
+    assign ea[k] = 24'(cy[(k + 2) % 3]) - 24'(cy[(k + 1) % 3]);
+    assign eb[k] = 24'(cx[(k + 1) % 3]) - 24'(cx[(k + 2) % 3]);
+  end
+  // The first and the last of three values in a strict order given by the pairwise flags
+  // p01 = (a before b), p12 = (b before c), p20 = (c before a); ties pick an equal value.
+  // With "<" flags: first = min, last = max; with ">" flags: first = max, last = min.
+  function automatic logic signed [22:0] first3(input logic signed [22:0] a, b, c,
+                                                input logic p01, p12, p20);
+    first3 = p01 ? (p20 ? c : a) : (p12 ? b : c);
   endfunction
-  function automatic logic signed [22:0] max3(input logic signed [22:0] a, b, c);
-    logic signed [22:0] m;
-    m = a;
-    if (b > m) m = b;
-    if (c > m) m = c;
-    max3 = m;
+  function automatic logic signed [22:0] last3(input logic signed [22:0] a, b, c,
+                                               input logic p01, p12, p20);
+    last3 = p01 ? (p12 ? c : b) : (p20 ? a : c);
   endfunction
+  wire xlt01 = eb[2][23], xlt12 = eb[0][23], xlt20 = eb[1][23];
+  wire ygt01 = ea[2][23], ygt12 = ea[0][23], ygt20 = ea[1][23];
   always_ff @(posedge clk) begin
     f1_v  <= rst ? 1'b0 : (v4_v && v4_k == 2);
     f1_ok <= fa_ok[0] && fa_ok[1] && v4_ok;
@@ -267,18 +301,23 @@ module raster_core #(
     f1_iz[0] <= fa_iz[0];
     f1_iz[1] <= fa_iz[1];
     f1_iz[2] <= v4_iz;
-    f1_p1 <= 48'(24'(cx[2]) - 24'(cx[0])) * 48'(24'(cy[1]) - 24'(cy[0]));
-    f1_p2 <= 48'(24'(cy[2]) - 24'(cy[0])) * 48'(24'(cx[1]) - 24'(cx[0]));
-    f1_minx <= min3(cx[0], cx[1], cx[2]);
-    f1_maxx <= max3(cx[0], cx[1], cx[2]);
-    f1_miny <= min3(cy[0], cy[1], cy[2]);
-    f1_maxy <= max3(cy[0], cy[1], cy[2]);
+    f1_p1 <= 48'(eb[1]) * 48'(ea[2]);  // (V2x − V0x)(V1y − V0y)
+    f1_p2 <= 48'(ea[1]) * 48'(eb[2]);  // (V2y − V0y)(V1x − V0x) = (−A_1)(−B_2)
+    for (int k = 0; k < 3; k++) begin
+      f1_a[k] <= ea[k];
+      f1_b[k] <= eb[k];
+    end
+    f1_minx <= first3(cx[0], cx[1], cx[2], xlt01, xlt12, xlt20);
+    f1_maxx <= last3(cx[0], cx[1], cx[2], xlt01, xlt12, xlt20);
+    f1_maxy <= first3(cy[0], cy[1], cy[2], ygt01, ygt12, ygt20);
+    f1_miny <= last3(cy[0], cy[1], cy[2], ygt01, ygt12, ygt20);
   end
 
   // F2: 2·Area, culling (2·Area ≤ 0, §6.2), box in pixels (ceil of min, floor of max) clipped
   // to the window (absolute pixel coordinates, signed 16 bits).
-  logic        f2_v, f2_front, f2_nonempty;
+  logic        f2_v, f2_ok, f2_nonempty;
   logic signed [22:0] f2_x[3], f2_y[3];
+  logic signed [23:0] f2_a[3], f2_b[3];
   logic [31:0] f2_iz[3];
   logic signed [49:0] f2_area2;
   logic signed [15:0] f2_ulo, f2_uhi, f2_vlo, f2_vhi;
@@ -298,10 +337,12 @@ module raster_core #(
   end
   always_ff @(posedge clk) begin
     f2_v        <= rst ? 1'b0 : f1_v;
-    f2_front    <= f1_ok && area2_c > 0;
+    f2_ok       <= f1_ok;
     f2_nonempty <= ulo_c <= uhi_c && vlo_c <= vhi_c;
     for (int k = 0; k < 3; k++) f2_x[k] <= f1_x[k];
     for (int k = 0; k < 3; k++) f2_y[k] <= f1_y[k];
+    for (int k = 0; k < 3; k++) f2_a[k] <= f1_a[k];
+    for (int k = 0; k < 3; k++) f2_b[k] <= f1_b[k];
     for (int k = 0; k < 3; k++) f2_iz[k] <= f1_iz[k];
     f2_area2 <= area2_c;
     f2_ulo <= ulo_c;
@@ -309,9 +350,12 @@ module raster_core #(
     f2_vlo <= vlo_c;
     f2_vhi <= vhi_c;
   end
+  // Front-facing (not culled): ok and 2·Area > 0, from the registered 2·Area's sign and a zero
+  // test (no comparator behind the subtraction).
+  wire f2_front = f2_ok && !f2_area2[49] && f2_area2 != '0;
 
-  // F3: edge setup (eq. 6.13–6.18). Edge k opposite corner k, from Va = V[k+1] to
-  // Vb = V[k+2]: A = Vb.y − Va.y, B = Va.x − Vb.x; products of E_k at the first pixel
+  // F3: edge setup (eq. 6.13–6.18 [ALGORITHM.md]). Edge k opposite corner k, from Va = V[k+1] to
+  // Vb = V[k+2]: A = Vb.y − Va.y, B = Va.x − Vb.x (formed in F1); products of E_k at the first pixel
   // A·(u_lo·256 − Va.x) + B·(v_lo·256 − Va.y) (operands ap_int<24>); owned edge: A > 0 or
   // A = 0 and B > 0 (min_e = 0, else 1); sh = max(BitLength(2·Area) − 24, 0).
   logic        f3_v, f3_push;
@@ -322,15 +366,19 @@ module raster_core #(
   logic [31:0] f3_iz[3];
   logic [7:0]  f3_xlo, f3_xhi, f3_ylo, f3_yhi;
   logic [15:0] f3_addr0;
-  logic [5:0]  len_c;
+  // sh = max(BitLength(2·Area) − 24, 0): for the highest set bit i ≥ 24 of 2·Area (bits 0–48),
+  // sh = i − 23. A flat one-hot AND-OR (no priority chain): bit i is the highest when no bit
+  // above it is set.
+  logic [4:0]  sh_c;
   always_comb begin
-    len_c = 0;
-    for (int i = 0; i < 49; i++) if (f2_area2[i]) len_c = 6'(i + 1);
+    sh_c = '0;
+    for (int i = 24; i < 49; i++)
+      if (f2_area2[i] && (f2_area2[48:0] >> (i + 1)) == '0) sh_c = sh_c | 5'(i - 23);
   end
   for (genvar k = 0; k < 3; k++) begin : g_edge
     localparam int A_ = (k + 1) % 3, B_ = (k + 2) % 3;
-    wire signed [23:0] ak = 24'(f2_y[B_]) - 24'(f2_y[A_]);
-    wire signed [23:0] bk = 24'(f2_x[A_]) - 24'(f2_x[B_]);
+    wire signed [23:0] ak = f2_a[k];  // from F1
+    wire signed [23:0] bk = f2_b[k];
     wire signed [23:0] dx = 24'({f2_ulo, 8'b0}) - 24'(f2_x[A_]);
     wire signed [23:0] dy = 24'({f2_vlo, 8'b0}) - 24'(f2_y[A_]);
     always_ff @(posedge clk) begin
@@ -338,13 +386,14 @@ module raster_core #(
       f3_b[k]  <= bk;
       f3_pa[k] <= ak * dx;
       f3_pb[k] <= bk * dy;
-      f3_mine[k] <= !(ak > 0 || (ak == 0 && bk > 0));
+      // A > 0 or (A = 0 and B > 0), from signs and zero tests.
+      f3_mine[k] <= !((!ak[23] && ak != '0) || (ak == '0 && !bk[23] && bk != '0));
     end
   end
   always_ff @(posedge clk) begin
     f3_v    <= rst ? 1'b0 : f2_v;
-    f3_push <= f2_front && f2_nonempty;
-    f3_sh  <= len_c > 24 ? 5'(len_c - 6'd24) : 5'd0;
+    f3_push <= f2_front && f2_nonempty;  // front-facing, non-empty box
+    f3_sh  <= sh_c;
     for (int k = 0; k < 3; k++) f3_iz[k] <= f2_iz[k];
     f3_xlo <= 8'(f2_ulo - $signed({6'b0, u0}));
     f3_xhi <= 8'(f2_uhi - $signed({6'b0, u0}));
@@ -395,7 +444,7 @@ module raster_core #(
 
   // ================================================================ pixel stage
   // Pixel generator: the current pixel of the current triangle (registers), stepped by
-  // +256·A per column and +256·B per row (eq. 6.19–6.20).
+  // +256·A per column and +256·B per row (eq. 6.19–6.20 [ALGORITHM.md]).
   logic        pg_act;
   logic [7:0]  pg_x, pg_y, pg_xlo, pg_xhi, pg_yhi;
   logic [15:0] pg_addr, pg_rowaddr;
@@ -406,6 +455,13 @@ module raster_core #(
   logic [31:0] pg_iz[3];
   wire pg_lastcol = pg_x == pg_xhi;
   wire pg_last = pg_lastcol && pg_y == pg_yhi;
+  // One adder per edge: the next column (E + 256·A) or the next row's first pixel
+  // (E at the row start + 256·B).
+  logic signed [49:0] pg_next[3];
+  for (genvar k = 0; k < 3; k++) begin : g_pgstep
+    assign pg_next[k] = (pg_lastcol ? pg_rowe[k] : pg_e[k]) +
+                        (50'(pg_lastcol ? pg_b[k] : pg_a[k]) <<< 8);
+  end
   assign tri_pop = !tri_empty && (!pg_act || pg_last);
   always_ff @(posedge clk) begin
     if (rst) pg_act <= 1'b0;
@@ -435,13 +491,13 @@ module raster_core #(
         pg_addr <= pg_rowaddr + 16'(KW);
         pg_rowaddr <= pg_rowaddr + 16'(KW);
         for (int k = 0; k < 3; k++) begin
-          pg_rowe[k] <= pg_rowe[k] + (50'(pg_b[k]) <<< 8);
-          pg_e[k] <= pg_rowe[k] + (50'(pg_b[k]) <<< 8);
+          pg_rowe[k] <= pg_next[k];
+          pg_e[k] <= pg_next[k];
         end
       end else begin
         pg_x <= pg_x + 1'b1;
         pg_addr <= pg_addr + 1'b1;
-        for (int k = 0; k < 3; k++) pg_e[k] <= pg_e[k] + (50'(pg_a[k]) <<< 8);
+        for (int k = 0; k < 3; k++) pg_e[k] <= pg_next[k];
       end
     end
   end
@@ -450,13 +506,17 @@ module raster_core #(
   // p*_v: an inside fragment; p*_s: the slot is occupied (inside or not) — the drain of the
   // pixel stage is data-independent.
   logic        p1_v, p1_s, p2_s, p3_s, p4_s, p5_s, c1_s, c2_s;
+  // E_k ≥ min_e (min_e ∈ {0, 1}) from the sign and a zero test, without a comparator.
+  logic [2:0]  pg_in;
+  for (genvar k = 0; k < 3; k++) begin : g_inside
+    assign pg_in[k] = !pg_e[k][49] && (pg_e[k] != '0 || !pg_mine[k]);
+  end
   logic [23:0] p1_en[3];
   logic [31:0] p1_iz[3];
   logic [15:0] p1_addr;
   always_ff @(posedge clk) begin
     p1_s <= rst ? 1'b0 : pg_act;
-    p1_v <= rst ? 1'b0 : (pg_act && pg_e[0] >= $signed({49'b0, pg_mine[0]}) &&
-                          pg_e[1] >= $signed({49'b0, pg_mine[1]}) && pg_e[2] >= $signed({49'b0, pg_mine[2]}));
+    p1_v <= rst ? 1'b0 : (pg_act && pg_in[0] && pg_in[1] && pg_in[2]);
     for (int k = 0; k < 3; k++) begin
       p1_en[k] <= 24'(pg_e[k] >>> pg_sh);
       p1_iz[k] <= pg_iz[k];
@@ -490,19 +550,23 @@ module raster_core #(
     p3_addr <= p2_addr;
   end
 
-  // Depth recovery (eq. 6.21–6.22 on 1/z): z_r = floor(Σe'·2^46 / Σe'·iz), F20, 24 stages;
+  // Depth recovery (eq. 6.21–6.22 [ALGORITHM.md] on 1/z): z_r = floor(Σe'·2^46 / Σe'·iz), F20, 24 stages;
   // overflow (Σe'·iz = 0 or z ≥ 16 m) saturates to all ones.
   logic [23:0] q_z;
   logic        ov_z;
   rc_div #(.QW(24), .NW(72), .DW(58), .PAD(0)) u_div_z (
       .clk, .n({p3_se, 46'b0}), .d(p3_sez), .q(q_z), .ovf(ov_z));
-  logic        pd_v, pd_s, pd_any;
-  logic [15:0] pd_addr;
+  // pe_*: the same sideband one clock earlier (the fragment memory's read).
+  logic        pd_v, pd_s, pd_any, pe_v, pe_s;
+  logic [15:0] pd_addr, pe_addr;
   rc_delay #(.W(17), .L(24)) u_pdel (
       .clk, .rst, .vin(p3_s), .din({p3_v, p3_addr}), .vout(pd_s), .dout({pd_v, pd_addr}),
-      .any(pd_any));
+      .vpre(pe_s), .dpre({pe_v, pe_addr}), .any(pd_any));
 
-  // P4: z_r and the z-buffer word zq = min((z_r + 8) >> 4, kZbufEmpty − 1); memory read.
+  // P4: z_r and the z-buffer word zq = min((z_r + 8) >> 4, kZbufEmpty − 1). The z-buffer read of
+  // the fragment's address was issued one clock earlier, from the delay line's output (pd_addr),
+  // so its data is registered twice when the fragment reaches P5; the fragment memory's read
+  // two clocks earlier (pe_addr), so its word is here in P4, where CompareFragment starts.
   logic        p4_v;
   logic [23:0] p4_z;
   logic [17:0] p4_zq;
@@ -516,16 +580,24 @@ module raster_core #(
     p4_addr <= pd_addr;
   end
 
-  // P5: zbuffer = 0: the fragment word is here → CompareFragment; zbuffer = 1: the z-buffer
-  // word is here → strict-less update, forwarded from the write of the previous cycle
-  // (the one write the registered read could not see).
+  // P5: zbuffer = 1: the z-buffer word is here → strict-less update. The read was issued two clocks ago (read-before-write),
+  // so it could not see the writes of the two fragments ahead (in the two previous clocks);
+  // they are forwarded from two registers, the newer first.
   logic        p5_v;
   logic [23:0] p5_z;
   logic [17:0] p5_zq;
   logic [15:0] p5_addr;
-  logic        lw_v;
-  logic [15:0] lw_addr;
-  logic [17:0] lw_val;
+  logic        lw_v[2];     // [0]: the write of the previous clock, [1]: the one before
+  logic [15:0] lw_addr[2];
+  logic [17:0] lw_val[2];
+  // Address matches, compared one clock ahead (P4 → P5), so P5 has only the select: p5_eq[0]:
+  // the fragment's address equals that of the fragment ahead (in P5 now, lw[0] next clock);
+  // p5_eq[1]: equals the address that lw[0] holds now (lw[1] next clock).
+  logic        p5_eq[2];
+  always_ff @(posedge clk) begin
+    p5_eq[0] <= p4_addr == p5_addr;
+    p5_eq[1] <= p4_addr == lw_addr[0];
+  end
   always_ff @(posedge clk) begin
     p5_v <= rst ? 1'b0 : p4_v;
     p5_s <= rst ? 1'b0 : p4_s;
@@ -535,30 +607,39 @@ module raster_core #(
     p5_zq <= p4_zq;
     p5_addr <= p4_addr;
   end
-  wire [17:0] zcur = (lw_v && lw_addr == p5_addr) ? lw_val : zbuf_q;
+  wire [17:0] zcur = (lw_v[0] && p5_eq[0]) ? lw_val[0] : (lw_v[1] && p5_eq[1]) ? lw_val[1] : zbuf_q;
   wire zwrite = state == S_FACES && prm_zbuffer && p5_v && p5_zq < zcur;
   always_ff @(posedge clk) begin
-    lw_v <= rst ? 1'b0 : zwrite;
-    lw_addr <= p5_addr;
-    lw_val <= p5_zq;
+    lw_v[0] <= rst ? 1'b0 : zwrite;
+    lw_addr[0] <= p5_addr;
+    lw_val[0] <= p5_zq;
+    lw_v[1] <= rst ? 1'b0 : lw_v[0];
+    lw_addr[1] <= lw_addr[0];
+    lw_val[1] <= lw_val[0];
   end
 
   // ================================================================ ZPASS (zbuffer = 1)
   // Read counters (x, y) over width × (height + 1); row `height` reads nothing and only
-  // drains the line buffers.
+  // drains the line buffers. The first position is issued in the last clock of FACES (the
+  // pixel pipeline is empty then), so the memory's two read registers cost the z pass no clock.
   logic [7:0]  zx, zy;
   logic [15:0] zaddr, zrow;
+  logic        zp_start;  // the last clock of FACES, z-buffer mode
   logic        zp_issue;  // a position is issued this cycle
   logic        zp_done;   // all positions issued
-  assign zp_issue = state == S_ZPASS && !zp_done;
-  // Z1 sideband (the registered memory read arrives one cycle later).
-  logic        z1_v, z1_rd;
-  logic [7:0]  z1_x, z1_y;
+  assign zp_issue = zp_start || (state == S_ZPASS && !zp_done);
+  // ZA, Z1 sideband (the memory data arrives two clocks after the read is issued).
+  logic        za_v, za_rd, z1_v, z1_rd;
+  logic [7:0]  za_x, za_y, z1_x, z1_y;
   always_ff @(posedge clk) begin
-    z1_v  <= rst ? 1'b0 : zp_issue;
-    z1_rd <= zy < wh;
-    z1_x  <= zx;
-    z1_y  <= zy;
+    za_v  <= rst ? 1'b0 : zp_issue;
+    za_rd <= zy < wh;
+    za_x  <= zx;
+    za_y  <= zy;
+    z1_v  <= rst ? 1'b0 : za_v;
+    z1_rd <= za_rd;
+    z1_x  <= za_x;
+    z1_y  <= za_y;
   end
   // Line buffers: lb1 = row y − 1 (z-buffer word, fragment), lb2 = row y − 2 (empty flag,
   // fragment); distributed RAM, asynchronous read.
@@ -576,16 +657,20 @@ module raster_core #(
       zl_prev <= zc;
     end
   end
-  // Z2: the centre (x, y − 1) and its neighbours (exists, empty, fragment).
+  // Z2: the centre (x, y − 1) and its neighbours (exists, empty, fragment); the centre's
+  // own compare started in Z1.
   logic        z2_v;
   logic [17:0] z2_cw;
-  logic [11:0] z2_cf;
   logic [3:0]  z2_ne_ok, z2_ne_empty;  // left, right, up, down
   logic [11:0] z2_ne_f[4];
+  // The centre's edge-band interval [z_r − edge_band, z_r + edge_band] (F20, signed 26 bits),
+  // computed once per centre for its four neighbours.
+  logic signed [25:0] z2_lo, z2_hi;
   always_ff @(posedge clk) begin
     z2_v <= rst ? 1'b0 : (z1_v && z1_y != 0);
+    z2_lo <= $signed({4'b0, zc[29:12], 4'b0}) - $signed({2'b0, prm_edge_band});
+    z2_hi <= $signed({4'b0, zc[29:12], 4'b0}) + $signed({2'b0, prm_edge_band});
     z2_cw <= zc[29:12];
-    z2_cf <= zc[11:0];
     z2_ne_ok <= {z1_rd, z1_y >= 2, 9'(z1_x) + 9'd1 < 9'(ww), z1_x != 0};
     z2_ne_empty <= {zd[29:12] == ZEMPTY, zu[12], zr_[29:12] == ZEMPTY, zl_prev[29:12] == ZEMPTY};
     z2_ne_f[0] <= zl_prev[11:0];
@@ -594,33 +679,38 @@ module raster_core #(
     z2_ne_f[3] <= zd[11:0];
   end
   // Edge samples of a covered centre: uncovered neighbours in the window (n_edge), continued
-  // when the neighbour's depth is valid and |z_s − z_r| ≤ edge_band (z_r = word << 4, F20).
+  // when the neighbour's depth is valid and |z_s − z_r| ≤ edge_band (z_r = word << 4, F20),
+  // i.e. z_r − edge_band ≤ z_s ≤ z_r + edge_band.
   logic [2:0] ne_cnt, nc_cnt;
   wire        z2_cov = z2_v && z2_cw != ZEMPTY;
-  wire [23:0] z2_z = 24'({z2_cw, 4'b0});
   logic [3:0] ne_hit, nc_hit;
   for (genvar n = 0; n < 4; n++) begin : g_nb
     wire [23:0] zs = 24'({z2_ne_f[n], 10'b0});
-    wire [24:0] df = zs > z2_z ? 25'(zs - z2_z) : 25'(z2_z - zs);
+    wire signed [25:0] zs26 = $signed({2'b0, zs});
     assign ne_hit[n] = z2_ne_ok[n] && z2_ne_empty[n];
-    assign nc_hit[n] = ne_hit[n] && zs != 0 && df <= {1'b0, prm_edge_band};
+    assign nc_hit[n] = ne_hit[n] && zs != 0 && zs26 >= z2_lo && zs26 <= z2_hi;
   end
   assign ne_cnt = 3'(ne_hit[0]) + 3'(ne_hit[1]) + 3'(ne_hit[2]) + 3'(ne_hit[3]);
   assign nc_cnt = 3'(nc_hit[0]) + 3'(nc_hit[1]) + 3'(nc_hit[2]) + 3'(nc_hit[3]);
 
   // ---------------------------------------------------------------- shared CompareFragment
+  // Three stages. z pass: the centre (x, y − 1) as it leaves the line buffer in Z1 (one clock
+  // ahead of its neighbour counts in Z2); pixel stage (zbuffer = 0): the fragment in P4 against
+  // the fragment word read for it (pe_addr). Either way the results land in the clock they
+  // would with a two-stage compare started in Z2 / P5, so the drain (z3_s, z4_s; c1_s, c2_s)
+  // is unchanged.
   logic        cf_in_v, cf_v, cf_occ, cf_band;
   logic [23:0] cf_zr, cf_zs;
   logic [10:0] cf_chi;
   logic [25:0] cf_d;
   always_comb begin
     if (state == S_ZPASS) begin
-      cf_in_v = z2_cov;
-      cf_zr = z2_z;
-      cf_zs = 24'({z2_cf, 10'b0});
+      cf_in_v = z1_v && z1_y != 0 && zc[29:12] != ZEMPTY;  // a covered centre
+      cf_zr = 24'({zc[29:12], 4'b0});
+      cf_zs = 24'({zc[11:0], 10'b0});
     end else begin
-      cf_in_v = state == S_FACES && !prm_zbuffer && p5_v;
-      cf_zr = p5_z;
+      cf_in_v = state == S_FACES && !prm_zbuffer && p4_v;
+      cf_zr = p4_z;
       cf_zs = 24'({frag_q, 10'b0});
     end
   end
@@ -638,8 +728,11 @@ module raster_core #(
     zbuf_we = fill_hs || zwrite;
     zbuf_wa = fill_hs ? faddr : p5_addr;
     zbuf_wd = fill_hs ? ZEMPTY : p5_zq;
-    frag_ra = state == S_ZPASS ? zaddr : p4_addr;
-    zbuf_ra = state == S_ZPASS ? zaddr : p4_addr;
+    // Read addresses: a pixel-stage fragment (fragment memory one clock before it leaves the
+    // depth divider, pe_s; z-buffer as it leaves, pd_s), else the z pass's position (a read has
+    // no side effect, so reading it while the pixel stage has a bubble is harmless).
+    frag_ra = pe_s ? pe_addr : zaddr;
+    zbuf_ra = pd_s ? pd_addr : zaddr;
   end
 
   // ---------------------------------------------------------------- control
@@ -647,11 +740,18 @@ module raster_core #(
   wire pix_busy = !tri_empty || pg_act || p1_s || p2_s || p3_s || pd_any || p4_s || p5_s || c1_s || c2_s;
   wire faces_done = vcnt == nverts && !vert_busy && !pix_busy;
   logic z3_s, z4_s;  // the two CompareFragment stages behind Z2
+  // Z3: a covered centre's counts, registered before they are accumulated.
+  logic       z3_cov;
+  logic [2:0] z3_ne, z3_nc;
   always_ff @(posedge clk) begin
     z3_s <= rst ? 1'b0 : z2_v;
     z4_s <= rst ? 1'b0 : z3_s;
+    z3_cov <= rst ? 1'b0 : (state == S_ZPASS && z2_cov);
+    z3_ne <= ne_cnt;
+    z3_nc <= nc_cnt;
   end
-  wire zp_busy = z1_v || z2_v || z3_s || z4_s;
+  wire zp_busy = za_v || z1_v || z2_v || z3_s || z4_s;
+  assign zp_start = state == S_FACES && faces_done && prm_zbuffer;
 
   assign win_ready = state == S_IDLE;
   assign out_valid = state == S_OUT;
@@ -683,6 +783,11 @@ module raster_core #(
             acc_n_cont <= '0;
             acc_diff <= '0;
             acc_front <= '0;
+            zx <= '0;
+            zy <= '0;
+            zaddr <= '0;
+            zrow <= '0;
+            zp_done <= 1'b0;
             state <= S_FILL;
           end
         S_FILL:
@@ -717,44 +822,36 @@ module raster_core #(
             vcnt <= vcnt + 1'b1;
             vk <= vk == 2 ? 2'd0 : vk + 1'b1;
           end
-          if (faces_done) begin
-            if (prm_zbuffer) begin
-              state <= S_ZPASS;
-              zx <= '0;
-              zy <= '0;
-              zaddr <= '0;
-              zrow <= '0;
-              zp_done <= 1'b0;
-            end else state <= S_OUT;
-          end
+          if (faces_done) state <= prm_zbuffer ? S_ZPASS : S_OUT;
         end
-        S_ZPASS: begin
-          if (zp_issue) begin
-            if (zx == ww - 1'b1) begin
-              zx <= '0;
-              zy <= zy + 1'b1;
-              zaddr <= zrow + 16'(KW);
-              zrow <= zrow + 16'(KW);
-              if (zy == wh) zp_done <= 1'b1;
-            end else begin
-              zx <= zx + 1'b1;
-              zaddr <= zaddr + 1'b1;
-            end
-          end
+        S_ZPASS:
           if (zp_done && !zp_busy) state <= S_OUT;
-        end
         S_OUT:
           if (out_ready) state <= S_IDLE;
         default: state <= S_IDLE;
       endcase
 
+      // z pass read positions (from zp_start, the last clock of FACES).
+      if (zp_issue) begin
+        if (zx == ww - 1'b1) begin
+          zx <= '0;
+          zy <= zy + 1'b1;
+          zaddr <= zrow + 16'(KW);
+          zrow <= zrow + 16'(KW);
+          if (zy == wh) zp_done <= 1'b1;
+        end else begin
+          zx <= zx + 1'b1;
+          zaddr <= zaddr + 1'b1;
+        end
+      end
+
       // Accumulators.
       if (face_front_now) acc_front <= acc_front + 1'b1;
       if (state == S_FACES && !prm_zbuffer && p5_v) acc_n_raster <= acc_n_raster + 1;
-      if (state == S_ZPASS && z2_cov) begin
+      if (z3_cov) begin
         acc_n_raster <= acc_n_raster + 1;
-        acc_n_edge <= acc_n_edge + 32'(ne_cnt);
-        acc_n_cont <= acc_n_cont + 32'(nc_cnt);
+        acc_n_edge <= acc_n_edge + 32'(z3_ne);
+        acc_n_cont <= acc_n_cont + 32'(z3_nc);
       end
       if (cf_v) begin
         acc_inlier <= acc_inlier + 42'(cf_chi);
@@ -766,6 +863,74 @@ module raster_core #(
       end
     end
   end
+
+`ifndef SYNTHESIS
+  // ---------------------------------------------------------------- simulation assertions
+  // Checked by the Verilator co-simulation (--assert); absent from synthesis.
+  // Handshakes (valid/ready): a valid that is not taken stays up with the same data in the next
+  // clock — on the output (this core's duty) and on the four inputs (the source's duty).
+  logic        hs_out_wait, hs_win_wait, hs_depth_wait, hs_ft_wait, hs_vert_wait;
+  logic [41:0] hs_out_inlier;
+  logic [55:0] hs_out_diff;
+  logic [31:0] hs_out_raster, hs_out_occl, hs_out_depth, hs_out_cnt, hs_out_edge, hs_out_cont;
+  logic [11:0] hs_out_front, hs_out_total;
+  logic [35:0] hs_win, hs_ft;
+  logic [11:0] hs_depth;
+  logic [38:0] hs_vert;
+  always_ff @(posedge clk) begin
+    hs_out_wait <= !rst && out_valid && !out_ready;
+    hs_win_wait <= !rst && win_valid && !win_ready;
+    hs_depth_wait <= !rst && depth_valid && !depth_ready;
+    hs_ft_wait <= !rst && ft_valid && !ft_ready;
+    hs_vert_wait <= !rst && vert_valid && !vert_ready;
+    {hs_out_inlier, hs_out_diff, hs_out_raster, hs_out_occl, hs_out_depth, hs_out_cnt,
+     hs_out_edge, hs_out_cont, hs_out_front, hs_out_total} <=
+        {out_inlier_sum, out_depth_diff_sum, out_n_raster, out_n_occluded, out_n_depth,
+         out_depth_diff_count, out_n_edge, out_n_edge_continued, out_faces_front, out_faces_total};
+    hs_win <= {win_u0, win_v0, win_width, win_height};
+    hs_depth <= depth_data;
+    hs_ft <= ft_data;
+    hs_vert <= {vert_x, vert_y, vert_z};
+    if (!rst) begin
+      if (hs_out_wait)
+        assert (out_valid && {out_inlier_sum, out_depth_diff_sum, out_n_raster, out_n_occluded,
+                              out_n_depth, out_depth_diff_count, out_n_edge, out_n_edge_continued,
+                              out_faces_front, out_faces_total} ==
+                             {hs_out_inlier, hs_out_diff, hs_out_raster, hs_out_occl, hs_out_depth,
+                              hs_out_cnt, hs_out_edge, hs_out_cont, hs_out_front, hs_out_total})
+        else $error("raster_core: out_valid dropped or output data changed before out_ready");
+      if (hs_win_wait)
+        assert (win_valid && {win_u0, win_v0, win_width, win_height} == hs_win)
+        else $error("raster_core: win_valid dropped or the window word changed before win_ready");
+      if (hs_depth_wait)
+        assert (depth_valid && depth_data == hs_depth)
+        else $error("raster_core: depth_valid dropped or depth_data changed before depth_ready");
+      if (hs_ft_wait)
+        assert (ft_valid && ft_data == hs_ft)
+        else $error("raster_core: ft_valid dropped or ft_data changed before ft_ready");
+      if (hs_vert_wait)
+        assert (vert_valid && {vert_x, vert_y, vert_z} == hs_vert)
+        else $error("raster_core: vert_valid dropped or the vertex changed before vert_ready");
+      // Legal state encoding (3-bit binary enum: six of eight codes are states).
+      assert (state inside {S_IDLE, S_FILL, S_FT, S_FACES, S_ZPASS, S_OUT})
+      else $error("raster_core: illegal state %0d", state);
+      // Face credits: faces in flight plus queued triangles never exceed the FIFO's depth.
+      assert (32'(fifo_count) + 32'(inflight) <= TRI_FIFO_DEPTH)
+      else $error("raster_core: %0d queued + %0d in-flight faces exceed the FIFO depth %0d",
+                  fifo_count, inflight, TRI_FIFO_DEPTH);
+      // Memory addresses inside the 200 × 200 window memories.
+      assert (!frag_we || frag_wa < 16'(KPIX))
+      else $error("raster_core: fragment memory write address %0d out of range", frag_wa);
+      assert (!zbuf_we || zbuf_wa < 16'(KPIX))
+      else $error("raster_core: z-buffer write address %0d out of range", zbuf_wa);
+      assert (!pd_s || pd_addr < 16'(KPIX))
+      else $error("raster_core: fragment address %0d out of range", pd_addr);
+      // The z-buffer is written only in FILL (clear) and by FACES' read-modify-write.
+      assert (!zbuf_we || state == S_FILL || (state == S_FACES && prm_zbuffer))
+      else $error("raster_core: z-buffer write in state %0d", state);
+    end
+  end
+`endif
 
   assign out_inlier_sum = acc_inlier;
   assign out_n_raster = acc_n_raster;

@@ -1,6 +1,6 @@
 // rc_compare.sv — CompareFragment of raster_core.h (§7.5.1 soft inlier, erratum fixed:
 // continuous ramp χ = 2 − d/thr1 on thr1 < d < 2·thr1; GRIP's hard inlier; occlusion and
-// depth-alignment counters), two register stages, II = 1.
+// depth-alignment counters), three register stages, II = 1.
 //
 // Formats: z_r, z_s in F20 metres (ap_uint<24>); d = z_s − z_r ap_int<26> F20; |d| ap_uint<25>;
 // thr1, hard_thr, align_band ufixed<24,4> raw F20; 1/thr1 ufixed<20,12> raw F8, so |d|·(1/thr1)
@@ -23,40 +23,62 @@ module rc_compare (
     output logic        in_band,     // |d| ≤ align_band
     output logic [25:0] d            // z_s − z_r, F20
 );
-  // Stage 1: difference, magnitude, ramp product.
+  // Stage 1: difference and magnitude (|d| from the two differences side by side).
   logic        s1_v;
   logic [25:0] s1_d;
   logic [24:0] s1_ad;
-  logic [44:0] s1_prod;  // |d|·inv_thr1, F28
   logic signed [25:0] dd;
   logic [24:0] add;
   assign dd  = $signed({2'b00, zs}) - $signed({2'b00, zr});
-  assign add = dd[25] ? 25'(-dd) : 25'(dd);
+  assign add = dd[25] ? 25'({1'b0, zr} - {1'b0, zs}) : 25'(dd);
   always_ff @(posedge clk) begin
-    s1_v    <= rst ? 1'b0 : (in_valid && zs != '0);
-    s1_d    <= dd;
-    s1_ad   <= add;
-    s1_prod <= 45'(add) * 45'(inv_thr1);
+    s1_v  <= rst ? 1'b0 : (in_valid && zs != '0);
+    s1_d  <= dd;
+    s1_ad <= add;
   end
 
-  // Stage 2: χ and flags.
-  logic signed [47:0] ramp, rr;
+  // Stage 2: the ramp product |d|·inv_thr1 (25 × 20 bits: two DSP48E2 and their sum, from
+  // registered operands) and the threshold comparisons of |d|.
+  logic        s2_v, s2_le_hard, s2_le_thr1, s2_ge_2thr1;
+  logic [25:0] s2_d;
+  logic [24:0] s2_ad;
+  logic [44:0] s2_prod;  // |d|·inv_thr1, F28 (stage 2's register)
+  always_ff @(posedge clk) begin
+    s2_v        <= rst ? 1'b0 : s1_v;
+    s2_d        <= s1_d;
+    s2_ad       <= s1_ad;
+    s2_prod     <= 45'(s1_ad) * 45'(inv_thr1);
+    s2_le_hard  <= {1'b0, hard_thr} >= s1_ad;
+    s2_le_thr1  <= s1_ad <= {1'b0, thr1};
+    s2_ge_2thr1 <= {1'b0, s1_ad} >= {1'b0, thr1, 1'b0};
+  end
+
+  // Stage 3: χ and flags. The rounded ramp is rr = floor((2^29 − prod + 2^17) / 2^18)
+  // = floor(c / 2^18) with c = K − prod, K = 2^29 + 2^17. Its two clamps are comparisons of prod
+  // with constants, written on prod's bits (no carry chain):
+  //   rr < 0     ⇔ prod > 2^29 + 2^17
+  //   rr > 1024  ⇔ c ≥ 1025·2^18 ⇔ prod ≤ 2^28 − 2^17 (bits 17–27 ones)
+  // and between them rr = c[28:18], so c is needed modulo 2^29 only (one 29-bit subtraction).
   logic [10:0] chi_c;
-  assign ramp = (48'sd2 <<< 28) - $signed({3'b000, s1_prod});
-  assign rr   = (ramp + (48'sd1 <<< 17)) >>> 18;
+  logic [28:0] c29;
+  logic        rr_neg, rr_big;
+  assign c29    = 29'((30'd1 << 29) + (30'd1 << 17) - 30'(s2_prod[28:0]));
+  assign rr_neg = s2_prod[44:30] != '0 ||
+                  (s2_prod[29] && (s2_prod[28:18] != '0 || (s2_prod[17] && s2_prod[16:0] != '0)));
+  assign rr_big = s2_prod[44:28] == '0 && !(s2_prod[27:17] == '1 && s2_prod[16:0] != '0);
   always_comb begin
-    if (hard) chi_c = ({1'b0, hard_thr} >= s1_ad) ? 11'd1024 : 11'd0;
-    else if (s1_ad <= {1'b0, thr1}) chi_c = 11'd1024;
-    else if ({1'b0, s1_ad} >= {1'b0, thr1, 1'b0}) chi_c = 11'd0;
-    else if (rr < 0) chi_c = 11'd0;
-    else if (rr > 1024) chi_c = 11'd1024;
-    else chi_c = rr[10:0];
+    if (hard) chi_c = s2_le_hard ? 11'd1024 : 11'd0;
+    else if (s2_le_thr1) chi_c = 11'd1024;
+    else if (s2_ge_2thr1) chi_c = 11'd0;
+    else if (rr_neg) chi_c = 11'd0;
+    else if (rr_big) chi_c = 11'd1024;
+    else chi_c = c29[28:18];
   end
   always_ff @(posedge clk) begin
-    out_valid <= rst ? 1'b0 : s1_v;
+    out_valid <= rst ? 1'b0 : s2_v;
     chi       <= chi_c;
-    occluded  <= (chi_c == 0) && s1_d[25];
-    in_band   <= s1_ad <= {1'b0, align_band};
-    d         <= s1_d;
+    occluded  <= (chi_c == 0) && s2_d[25];
+    in_band   <= s2_ad <= {1'b0, align_band};
+    d         <= s2_d;
   end
 endmodule

@@ -1,6 +1,7 @@
 // rc_delay.sv — sideband delay line of the raster core's pipelined dividers.
-// A delay line of L ≥ 1 register stages for a valid bit and a W-bit sideband word; `any` is
-// the OR of the valid bits over all stages (the caller's pipeline-busy flag).
+// A delay line of L ≥ 2 register stages for a valid bit and a W-bit sideband word; `any` is
+// the OR of the valid bits over all stages (the caller's pipeline-busy flag); vpre/dpre are
+// the stage before the output (one clock earlier).
 module rc_delay #(
     parameter int W = 1,
     parameter int L = 1
@@ -11,6 +12,8 @@ module rc_delay #(
     input  logic [W-1:0] din,
     output logic         vout,
     output logic [W-1:0] dout,
+    output logic         vpre,
+    output logic [W-1:0] dpre,
     output logic         any
 );
   logic [W-1:0] s[L];
@@ -29,5 +32,7 @@ module rc_delay #(
   end
   assign dout = s[L-1];
   assign vout = v[L-1];
+  assign dpre = s[L-2];
+  assign vpre = v[L-2];
   assign any  = |vv;
 endmodule

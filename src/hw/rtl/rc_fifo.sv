@@ -1,7 +1,8 @@
 // rc_fifo.sv — the triangle FIFO between the vertex stage and the pixel stage of a raster
 // core (Fig. 7.20's internal dataflow). First-word-fall-through: `head` is the oldest entry,
 // read asynchronously from distributed RAM (LUTRAM), so the pixel stage can pop a triangle in
-// the cycle its previous triangle's last pixel issues. DEPTH is a power of two.
+// the cycle its previous triangle's last pixel issues. DEPTH is a power of two. Pushing into a
+// full FIFO or popping an empty one is the caller's error, caught by the simulation assertions.
 module rc_fifo #(
     parameter int W     = 32,
     parameter int DEPTH = 16
@@ -32,4 +33,18 @@ module rc_fifo #(
   end
   assign head  = mem[rp];
   assign empty = count == 0;
+
+`ifndef SYNTHESIS
+  // Simulation checks (Verilator --assert): the caller must not push into a full FIFO (an
+  // entry would be lost) nor pop an empty one (the head is stale).
+  always_ff @(posedge clk)
+    if (!rst) begin
+      assert (!(push && !pop && count == (AW + 1)'(DEPTH)))
+      else $error("rc_fifo: overflow (push into a full FIFO of %0d entries)", DEPTH);
+      assert (!(pop && count == 0))
+      else $error("rc_fifo: underflow (pop from an empty FIFO)");
+      assert (count <= (AW + 1)'(DEPTH))
+      else $error("rc_fifo: count %0d exceeds the depth %0d", count, DEPTH);
+    end
+`endif
 endmodule

@@ -7,8 +7,28 @@
 // ParticleWorkFromTrace(...).Total() (src/hw/cycle_model.h). Fails on any mismatch or when
 // Σ RTL cycles is more than 10 % away from Σ model cycles in a mode.
 //
-// Usage: raster_core_cosim [particles_per_mode (default 1000)] [seed]
+// Flow control: the first pass per mode drives every input as soon as it is due and holds
+// out_ready at 1 (its cycles are the ones compared with the model). Each further pass
+// (--bubbles K: K passes, seeds seed + 1 … seed + K) replays the same particles with random
+// bubbles on every interface: an input stream whose next word is due raises valid only with
+// probability 1 − rate per clock and then holds valid and data until the handshake, and
+// out_ready is 1 with probability 1 − rate per clock. Those passes must be bit-exact too (their
+// cycles are only reported). The RTL is verilated with --assert, so a violated SystemVerilog
+// assertion (FIFO overflow/underflow, handshake stability, state encoding) stops the run.
+//
+// Usage: raster_core_cosim [particles_per_mode (default 1000)] [seed (default 12345)]
+//            [--bubbles K (default 0)] [--rate R (default 0.3)] [--violate-handshake]
+//            [--set torus|mesh=FILE[:SCALE]]
+//   --set torus        instead of the random small meshes and 4 tori: particles_per_mode
+//                      random poses of the 2048-face torus (random windows up to 200 × 200)
+//   --set mesh=FILE    the same with a mesh file (PLY/OBJ), coordinates × SCALE (default 1),
+//                      simplified to at most 2048 faces (kMaxFaces)
+//   --violate-handshake  in the bubble passes, let the inputs drop valid before ready (an
+//                      illegal source): the handshake assertions must fire (they are counted
+//                      instead of stopping the run); exit 0 only if they did (the negative
+//                      control of ctest raster_core_rtl_assert_fires)
 #include <algorithm>
+#include <array>
 #include <cinttypes>
 #include <cmath>
 #include <cstdint>
@@ -16,12 +36,15 @@
 #include <cstdlib>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "Vraster_core.h"
 #include "hw/cycle_model.h"
 #include "hw/fx_math.h"
 #include "hw/raster_core.h"
+#include "posefilter/mesh.h"
+#include "posefilter/mesh_simplify.h"
 #include "verilated.h"
 
 namespace {
@@ -136,9 +159,16 @@ struct Rtl {
     m->eval();
     ++cycle;
   }
-  // Drives one particle with every input word available at once (the core's inputs never
-  // starve) and returns its output and cycle count.
-  Out Run(const Particle& p, uint64_t* cycles) {
+  // Drives one particle and returns its output and cycle count. rng == nullptr: every input
+  // word is offered as soon as it is due and out_ready is 1 (the core's inputs never starve);
+  // otherwise random bubbles with probability `rate` per stream and clock (see the top).
+  // violate: the inputs do not hold valid until ready (an illegal source; the negative
+  // control of the handshake assertions, which must stop the run).
+  Out Run(const Particle& p, uint64_t* cycles, std::mt19937_64* rng = nullptr, double rate = 0,
+          bool violate = false) {
+    std::bernoulli_distribution bubble(rate);
+    auto offer = [&](bool held) { return (held && !violate) || rng == nullptr || !bubble(*rng); };
+    bool ow = false, od = false, of = false, ov = false;  // valid raised and not yet taken
     m->prm_zbuffer = p.zbuffer;
     m->prm_hard = p.hard;
     m->prm_thr1 = p.thr1;
@@ -157,22 +187,26 @@ struct Rtl {
         std::printf("RTL hangs\n");
         std::exit(2);
       }
-      m->win_valid = wi < 1;
+      ow = wi < 1 && offer(ow);
+      od = di < p.depth.size() && offer(od);
+      of = fi < 12 && offer(of);
+      ov = vi < nv && offer(ov);
+      m->win_valid = ow;
       m->win_u0 = p.u0;
       m->win_v0 = p.v0;
       m->win_width = p.w;
       m->win_height = p.h;
-      m->depth_valid = di < p.depth.size();
+      m->depth_valid = od;
       m->depth_data = di < p.depth.size() ? p.depth[di] : 0;
-      m->ft_valid = fi < 12;
+      m->ft_valid = of;
       m->ft_data = uint64_t(p.ft[fi < 12 ? fi : 0]) & ((uint64_t(1) << 36) - 1);
-      m->vert_valid = vi < nv;
+      m->vert_valid = ov;
       if (vi < nv) {
         m->vert_x = uint16_t(p.vert[3 * vi]) & 0x1fff;
         m->vert_y = uint16_t(p.vert[3 * vi + 1]) & 0x1fff;
         m->vert_z = uint16_t(p.vert[3 * vi + 2]) & 0x1fff;
       }
-      m->out_ready = 1;
+      m->out_ready = rng == nullptr || !bubble(*rng);
       m->eval();
       const bool hw = m->win_valid && m->win_ready, hd = m->depth_valid && m->depth_ready;
       const bool hf = m->ft_valid && m->ft_ready, hv = m->vert_valid && m->vert_ready;
@@ -194,10 +228,20 @@ struct Rtl {
       if (hw) {
         ++wi;
         t0 = now;
+        ow = false;
       }
-      if (hd) ++di;
-      if (hf) ++fi;
-      if (hv) ++vi;
+      if (hd) {
+        ++di;
+        od = false;
+      }
+      if (hf) {
+        ++fi;
+        of = false;
+      }
+      if (hv) {
+        ++vi;
+        ov = false;
+      }
       if (ho) {
         *cycles = now - t0 + 1;
         if (di != p.depth.size() || fi != 12 || vi != nv) {
@@ -209,6 +253,39 @@ struct Rtl {
     }
   }
 };
+
+// ---- Meshes for the particle sets (--set) ----
+struct MeshData {
+  std::vector<std::array<double, 3>> v;  // metres
+  std::vector<std::array<int, 3>> f;     // vertex indices, CCW from outside
+};
+
+// A torus of nu × nv quads (2·nu·nv faces), radii R and r in metres.
+MeshData TorusMesh(double R, double r, int nu, int nv) {
+  MeshData m;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double a = 2 * M_PI * i / nu, b = 2 * M_PI * j / nv;
+      m.v.push_back({(R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a), r * std::sin(b)});
+    }
+  auto id = [&](int i, int j) { return (i % nu) * nv + (j % nv); };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      m.f.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.f.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+// A mesh file (posefilter::LoadMesh), coordinates × scale, simplified to the core's kMaxFaces.
+MeshData FileMesh(const std::string& path, double scale) {
+  posefilter::Mesh loaded = posefilter::LoadMesh(path, scale);
+  if (int(loaded.faces.size()) > kMaxFaces) loaded = posefilter::SimplifyMesh(loaded, kMaxFaces);
+  MeshData m;
+  for (const auto& v : loaded.vertices) m.v.push_back({double(v.x()), double(v.y()), double(v.z())});
+  for (const auto& f : loaded.faces) m.f.push_back({int(f[0]), int(f[1]), int(f[2])});
+  return m;
+}
 
 // ---- Random particles ----
 struct Gen {
@@ -328,6 +405,24 @@ struct Gen {
     return p;
   }
 
+  // Random pose of a fixed mesh (--set): object 0.3–0.7 m away, random window of 16–200 px per
+  // side around its projected centre.
+  Particle FromMesh(int zbuffer, const MeshData& mesh) {
+    Particle p;
+    Params(p, zbuffer);
+    const double tz = U(0.3, 0.7);
+    const double tx = U(-0.03, 0.03), ty = U(-0.03, 0.03);
+    double fx, fy, cx, cy;
+    Pose(p, tx, ty, tz, &fx, &fy, &cx, &cy);
+    p.num_faces = int(mesh.f.size());
+    for (const auto& f : mesh.f)
+      for (int c : f)
+        for (int k = 0; k < 3; ++k) p.vert.push_back(Xyz(mesh.v[size_t(c)][size_t(k)]));
+    Window(p, fx * tx / tz + cx, fy * ty / tz + cy, I(16, 200), I(16, 200));
+    Depth(p, tz);
+    return p;
+  }
+
   // A torus of nu × nv quads (2·nu·nv faces, consistent winding) in a 200 × 200 window; 32 × 32
   // is the size of hw-report's torus (2048 faces).
   Particle Torus(int zbuffer, int nu, int nv) {
@@ -362,23 +457,83 @@ struct Gen {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
-  const uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 12345;
+  int n = 1000;
+  uint64_t seed = 12345;
+  int bubbles = 0;
+  double rate = 0.3;
+  std::string set;
+  bool violate = false;
+  int positional = 0;
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if (arg == "--bubbles" && a + 1 < argc) {
+      bubbles = std::atoi(argv[++a]);
+    } else if (arg == "--rate" && a + 1 < argc) {
+      rate = std::atof(argv[++a]);
+    } else if (arg == "--violate-handshake") {
+      violate = true;
+    } else if (arg == "--set" && a + 1 < argc) {
+      set = argv[++a];
+    } else if (!arg.empty() && arg[0] != '-' && positional < 2) {
+      if (positional++ == 0) n = std::atoi(arg.c_str());
+      else seed = std::strtoull(arg.c_str(), nullptr, 10);
+    } else {
+      std::fprintf(stderr,
+                   "usage: raster_core_cosim [particles_per_mode] [seed] [--bubbles K] [--rate R] "
+                   "[--set torus|mesh=FILE[:SCALE]]\n");
+      return 2;
+    }
+  }
+  if (n < 1 || bubbles < 0 || !(rate >= 0 && rate < 1)) {
+    std::fprintf(stderr, "raster_core_cosim: particles ≥ 1, bubbles ≥ 0, 0 ≤ rate < 1\n");
+    return 2;
+  }
   Verilated::commandArgs(1, argv);
   auto mem = std::make_unique<RasterCoreMemory>();
   auto trace = std::make_unique<CycleTrace>();
   Rtl rtl;
+  if (violate) {  // count the failed assertions instead of stopping at the first
+    rtl.ctx->fatalOnError(false);
+    rtl.ctx->errorLimit(1 << 30);
+  }
   Gen gen(seed);
+  MeshData mesh;
+  if (set == "torus") {
+    mesh = TorusMesh(0.08, 0.03, 32, 32);
+  } else if (set.rfind("mesh=", 0) == 0) {
+    std::string file = set.substr(5);
+    double scale = 1.0;
+    const size_t colon = file.rfind(':');
+    if (colon != std::string::npos && colon + 1 < file.size() && file.find('/', colon) == std::string::npos) {
+      scale = std::atof(file.substr(colon + 1).c_str());
+      file = file.substr(0, colon);
+    }
+    mesh = FileMesh(file, scale);
+  } else if (!set.empty()) {
+    std::fprintf(stderr, "raster_core_cosim: unknown --set '%s'\n", set.c_str());
+    return 2;
+  }
+  if (!set.empty())
+    std::printf("set %s: %zu faces, %d particles per mode\n", set.c_str(), mesh.f.size(), n);
   int failures = 0;
   for (int zbuffer = 0; zbuffer <= 1; ++zbuffer) {
+    std::vector<Particle> parts;
+    // The 4 tori follow the random particles, except in the (short) negative control.
+    const int count = set.empty() && !violate ? n + 4 : n;
+    for (int i = 0; i < count; ++i)
+      parts.push_back(!set.empty() ? gen.FromMesh(zbuffer, mesh)
+                      : i < n    ? gen.Small(zbuffer)
+                      : (i % 2 ? gen.Torus(zbuffer, 32, 32) : gen.Torus(zbuffer, 16, 12)));
+    std::vector<Out> model_out;
     int ok = 0, total = 0, soft = 0, hard = 0;
     int64_t sum_rtl = 0, sum_model = 0;
     double worst = 0, best = 1e9;
     uint64_t ramp = 0, occl = 0, band = 0, edges = 0;
-    for (int i = 0; i < n + 4; ++i) {
-      const Particle p = i < n ? gen.Small(zbuffer) : (i % 2 ? gen.Torus(zbuffer, 32, 32) : gen.Torus(zbuffer, 16, 12));
+    for (int i = 0; i < count; ++i) {
+      const Particle& p = parts[size_t(i)];
       int64_t model = 0;
       const Out m = RunModel(p, *mem, *trace, &model);
+      model_out.push_back(m);
       uint64_t cyc = 0;
       const Out r = rtl.Run(p, &cyc);
       sum_rtl += int64_t(cyc);
@@ -412,6 +567,34 @@ int main(int argc, char** argv) {
     std::printf("zbuffer=%d: cycles RTL %" PRId64 " vs model %" PRId64 " (ratio %.4f), per particle %.4f .. %.4f\n",
                 zbuffer, sum_rtl, sum_model, sratio, best, worst);
     if (ok != total || sratio < 0.9 || sratio > 1.1) failures += 1;
+    // The same particles with random bubbles on every interface: bit-exact again.
+    for (int b = 1; b <= bubbles; ++b) {
+      std::mt19937_64 brng(seed + uint64_t(b));
+      int bok = 0;
+      int64_t bcycles = 0;
+      for (int i = 0; i < count; ++i) {
+        uint64_t cyc = 0;
+        const Out r = rtl.Run(parts[size_t(i)], &cyc, &brng, rate, violate);
+        bcycles += int64_t(cyc);
+        if (r == model_out[size_t(i)]) {
+          ++bok;
+        } else if (++failures <= 5) {
+          std::printf("MISMATCH with bubbles (seed %" PRIu64 ") zbuffer=%d particle %d\n", seed + uint64_t(b),
+                      zbuffer, i);
+          Print("model", model_out[size_t(i)]);
+          Print("rtl  ", r);
+        }
+      }
+      std::printf("zbuffer=%d bubbles (rate %.2f, seed %" PRIu64 "): %d/%d particles bit-exact, cycles RTL %" PRId64
+                  " (%.3f x the run without bubbles)\n",
+                  zbuffer, rate, seed + uint64_t(b), bok, count, bcycles, double(bcycles) / double(sum_rtl));
+    }
+  }
+  if (violate) {  // the negative control passes only if the assertions fired
+    const int fired = rtl.ctx->errorCount();
+    std::printf("illegal source: %d assertion failures (%s)\n", fired,
+                fired > 0 ? "fired, as they must" : "NONE: the handshake assertions do not work");
+    return fired > 0 ? 0 : 1;
   }
   std::printf(failures ? "FAILED\n" : "PASSED\n");
   return failures ? 1 : 0;

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Synthesises the RTL raster core (src/hw/rtl/*.sv) with Yosys for UltraScale+
+# (synth_xilinx -family xcup), per module: LUT, FF, DSP48E2, block RAM and a timing proxy (the
+# longest register-to-register path in logic levels, scripts/rtl/netlist_levels.py), and
+# composes the 5- and 10-core design estimates.
+#
+# Usage: scripts/rtl/synth.sh [--json FILE]
+#   --json FILE  write {"modules": {NAME: {...}}, "designs": [{"cores": 5|10, ...}], ...}
+# Env: YOSYS (default yosys), SYNTH_JOBS (parallel Yosys runs, default 2).
+#
+# Parts, each its own flattened Yosys run (one flattened run of the whole core does not finish
+# in 45 minutes on a 2-core machine: Yosys's constant propagation through the dividers):
+#   raster_core_shell  the core with its four rc_div instances as black boxes
+#   rc_div_iz          the 1/W divider with its constant dividend (div_context.sv)
+#   rc_div_snap        one snapping divider (the core has two: x and y)
+#   rc_div_z           the depth divider with its dividend's 46 zero bits (div_context.sv)
+#   rc_fifo, rc_compare  the triangle FIFO and CompareFragment on their own (they are also
+#                      inside raster_core_shell, so they do not add to the core's sum)
+# The core (`raster_core`) is the sum shell + iz + 2 × snap + z: the parts share no logic.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+rtl=$root/src/hw/rtl
+yosys=${YOSYS:-yosys}
+jobs=${SYNTH_JOBS:-2}
+out_json=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --json) out_json=${2:?--json needs a file}; shift 2 ;;
+    --json=*) out_json=${1#--json=}; shift ;;
+    *) echo "usage: scripts/rtl/synth.sh [--json FILE]" >&2; exit 2 ;;
+  esac
+done
+if ! command -v "$yosys" >/dev/null; then
+  echo "synth.sh: needs Yosys ('$yosys' not found; scripts/setup.sh hw installs it)" >&2
+  exit 2
+fi
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+syn="synth_xilinx -family xcup -flatten -noiopad"
+# name|count in one core|top|yosys script (read + synth)
+parts=(
+  "raster_core_shell|1|raster_core|read_verilog -sv -lib $rtl/rc_div.sv; read_verilog -sv $rtl/rc_delay.sv $rtl/rc_fifo.sv $rtl/rc_compare.sv $rtl/raster_core.sv; $syn -top raster_core"
+  "rc_div_iz|1|div_iz_context|read_verilog -sv $rtl/rc_div.sv $here/div_context.sv; $syn -top div_iz_context"
+  "rc_div_snap|2|rc_div|read_verilog -sv $rtl/rc_div.sv; chparam -set QW 21 -set NW 61 -set DW 51 -set PAD 11 rc_div; $syn -top rc_div"
+  "rc_div_z|1|div_z_context|read_verilog -sv $rtl/rc_div.sv $here/div_context.sv; $syn -top div_z_context"
+  "rc_fifo|0|rc_fifo|read_verilog -sv $rtl/rc_fifo.sv; chparam -set W 446 -set DEPTH 16 rc_fifo; $syn -top rc_fifo"
+  "rc_compare|0|rc_compare|read_verilog -sv $rtl/rc_compare.sv; $syn -top rc_compare"
+)
+
+start=$(date +%s)
+run_part() {
+  local name=${1%%|*} rest=${1#*|}
+  rest=${rest#*|}
+  local top=${rest%%|*} script=${rest#*|}
+  "$yosys" -q -l "$work/$name.log" \
+    -p "$script; tee -q -o $work/$name.stat stat; write_json $work/$name.json" >/dev/null 2>&1 &&
+    /usr/bin/python3 "$here/netlist_levels.py" "$work/$name.json" "$top" > "$work/$name.levels"
+}
+pids=()
+for part in "${parts[@]}"; do
+  run_part "$part" &
+  pids+=($!)
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 1; done
+done
+status=0
+for pid in "${pids[@]}"; do wait "$pid" || status=1; done
+if [ $status -ne 0 ]; then
+  echo "synth.sh: a Yosys run failed; logs:" >&2
+  tail -n 20 "$work"/*.log >&2
+  exit 1
+fi
+end=$(date +%s)
+
+printf '%s\n' "${parts[@]}" | cut -d'|' -f1,2 > "$work/parts.txt"
+/usr/bin/python3 "$here/synth_report.py" "$work" "$((end - start))" "$out_json"
