@@ -30,7 +30,8 @@ trap summary EXIT
 
 run "setup (apt packages)" scripts/setup.sh
 # The benchmark programs are not built here: no test runs them (scripts/build.sh builds them).
-run "release build" env POSEFILTER_BUILD_BENCH=OFF scripts/build.sh
+# The CLI and the test binaries as unity builds (CMake option POSEFILTER_UNITY): half their compile time.
+run "release build" env POSEFILTER_BUILD_BENCH=OFF POSEFILTER_UNITY=ON scripts/build.sh
 # Tests labelled `long` (a few full-scale runs whose lighter versions are in the suite) run
 # outside CI's budget: ctest --preset release -L long. docs/RELIABILITY.md lists the labels.
 run "release tests (ctest)" ctest --preset release -LE long "$@"
