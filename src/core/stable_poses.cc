@@ -6,14 +6,13 @@ extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <numeric>
 
+#include "core/plane_fit.h"
 #include "posefilter/error.h"
 
 namespace posefilter {
@@ -59,17 +58,11 @@ ConvexHull ComputeConvexHull(const std::vector<Eigen::Vector3d>& points, const s
   // before qhull would (its precision errors name facets, not the cause). Flat means every point
   // lies within 1e-6 of the largest extent from the least-squares plane (or line) through them.
   {
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const auto& p : points) mean += p;
-    mean /= double(points.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-    const Eigen::Vector3d normal = eig.eigenvectors().col(0);  // smallest spread: the plane's normal
+    const LeastSquaresPlane fit = FitLeastSquaresPlane(points);
     double thickness = 0, extent = 0;
     for (const auto& p : points) {
-      thickness = std::max(thickness, std::abs((p - mean).dot(normal)));
-      extent = std::max(extent, (p - mean).norm());
+      thickness = std::max(thickness, std::abs((p - fit.centroid).dot(fit.normal)));
+      extent = std::max(extent, (p - fit.centroid).norm());
     }
     if (!(thickness > 1e-6 * extent)) {
       char size[96];

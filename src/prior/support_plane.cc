@@ -2,10 +2,10 @@
 // (support_plane.h).
 #include "posefilter/support_plane.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
+#include "core/plane_fit.h"
 #include "posefilter/error.h"
 #include "posefilter/rng.h"
 
@@ -19,14 +19,9 @@ constexpr int kMinPoints = 50;
 // turned towards the camera (the origin).
 bool FitPlane(const std::vector<Eigen::Vector3d>& pts, Eigen::Vector3d* n, double* d) {
   if (pts.size() < 3) return false;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : pts) mean += p;
-  mean /= double(pts.size());
-  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-  for (const auto& p : pts) S += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(S);
-  *n = es.eigenvectors().col(0).normalized();
-  *d = -n->dot(mean);
+  const LeastSquaresPlane fit = FitLeastSquaresPlane(pts);
+  *n = fit.normal;
+  *d = -n->dot(fit.centroid);
   if (*d < 0) *n = -*n, *d = -*d;
   return n->allFinite();
 }
