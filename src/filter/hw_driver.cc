@@ -144,7 +144,7 @@ class HwRunner {
   // `prep`: filter::PrepareScene's (validated): the depth memory holds prep.scoring, the
   // heuristic volumes come from prep.support. It must outlive the runner.
   HwRunner(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& opt)
-      : prep_(prep), scene_(prep.scoring), support_(prep.support), prior_(prior), cls_(cls), opt_(opt), mem_(new HwMemories) {
+      : prep_(prep), prior_(prior), cls_(cls), opt_(opt), mem_(new HwMemories) {
     Load(mesh);
   }
 
@@ -231,7 +231,7 @@ class HwRunner {
       if (last) break;
     }
     res.pose_base = SampleToPose(best);
-    res.T_cam_obj = scene_.camera.base_to_camera * PoseToTransform(res.pose_base);
+    res.T_cam_obj = prep_.scoring.camera.base_to_camera * PoseToTransform(res.pose_base);
     res.weight = best_w;
     res.cell = best.cell.to_int();
     return res;
@@ -253,7 +253,7 @@ class HwRunner {
     std::string why;
     // The options were validated (ValidateFilterOptions checks the hardware's limits too).
     if (!mesh_in.IsValid(&why)) throw Error("mesh '" + mesh_in.name + "': " + why);
-    const Camera& cam = scene_.camera;
+    const Camera& cam = prep_.scoring.camera;
     if (cam.width > kImageWidth || cam.height > kImageHeight)
       throw Error("hw engine: image " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
                   " exceeds the hardware's 640x480");
@@ -291,7 +291,7 @@ class HwRunner {
 
     // Depth memory: clipped to 4 m, rounded to ufixed<12,2> (Table 7.1 [HARDWARE.md]).
     for (int v = 0; v < cam.height; ++v)
-      for (int u = 0; u < cam.width; ++u) m.depth[v * cam.width + u] = ToDepth(scene_.depth.at(u, v));
+      for (int u = 0; u < cam.width; ++u) m.depth[v * cam.width + u] = ToDepth(prep_.scoring.depth.at(u, v));
 
     // Camera: P (intrinsics) and C (eq. 6.9 [ALGORITHM.md]).
     auto intr = [](double v) { return intr_t(ap_ufixed<28, 12, AP_RND, AP_SAT>(v)); };
@@ -330,9 +330,9 @@ class HwRunner {
     // Per-cell memories: heuristic volumes, windows, probabilities, hypotheses.
     // The diameter is the input mesh's (the float engines take their level-of-detail mesh's).
     const double diameter = mesh_in.Diameter();
-    CheckMeshScale(mesh_in.name, diameter, support_);
+    CheckMeshScale(mesh_in.name, diameter, prep_.support);
     const HeuristicOptions hopt = filter::VolumeOptions(o, diameter);
-    const std::vector<Volume> volumes = ComputeHeuristics(support_, cam, prior_.boxes, hopt, o.threads);
+    const std::vector<Volume> volumes = ComputeHeuristics(prep_.support, cam, prior_.boxes, hopt, o.threads);
     double max_p = 0;
     // Hypothesis labels (region cap) differ from the float engines' on purpose: 8-bit labels
     // (kMaxHypotheses), label 0 = every cell without mass / beyond 255 boxes, so only cells
@@ -418,9 +418,7 @@ class HwRunner {
     if (!dprm_.IsValid(&cwhy)) throw Error("hw engine: diffusion: " + cwhy);
   }
 
-  const filter::PreparedScene& prep_;
-  const SceneInput& scene_;
-  const DepthImage& support_;
+  const filter::PreparedScene& prep_;  // scoring: the depth memory's image; support: the volumes'
   const Prior& prior_;
   int cls_;
   FilterOptions opt_;
