@@ -40,6 +40,7 @@ BOP_URL = "https://huggingface.co/datasets/bop-benchmark/ycbv/resolve/main"
 BOP_LISTING = "https://huggingface.co/api/datasets/bop-benchmark/ycbv/tree/main"
 ARCHIVES = ("ycbv_base.zip", "ycbv_models.zip", "ycbv_test_bop19.zip")
 CHUNK = 1 << 20
+MANIFEST = os.path.join(HERE, "ycbv_dev.sha256")  # the development set's files and their SHA-256
 
 
 class DataError(Exception):
@@ -82,9 +83,6 @@ def check_local_copy(src, manifest):
         more = f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""
         raise DataError(bad[0] + more)
     return len(manifest)
-
-
-MANIFEST = os.path.join(HERE, "ycbv_dev.sha256")
 
 
 def fetch(url, dest):
@@ -204,11 +202,12 @@ def main():
         local = os.environ.get("POSEFILTER_DATA")
         if local and os.path.isdir(os.path.join(local, "ycbv")):
             src = os.path.abspath(os.path.join(local, "ycbv"))
-            n = check_local_copy(src, read_manifest(MANIFEST))
+            manifest = read_manifest(MANIFEST)
+            n = check_local_copy(src, manifest)
             where = os.path.abspath(local)
             if args.dir and os.path.abspath(args.dir) != where:
                 where = os.path.abspath(args.dir)
-                for rel in sorted(read_manifest(MANIFEST)):
+                for rel in sorted(manifest):
                     out = os.path.join(where, "ycbv", rel)
                     os.makedirs(os.path.dirname(out), exist_ok=True)
                     shutil.copyfile(os.path.join(src, rel), out)

@@ -235,11 +235,8 @@ std::vector<std::uint8_t> ReadPngPixels(const std::string& path, const char* wha
   }
   if (s->width == 0 || s->height == 0) throw Error(path + ": " + what + " PNG has zero size");
   CheckPngFitsFile(s, path, what);
-  CheckPngPixelCap(*s, path, what);
-  // Guard the allocation against absurd headers (libpng already caps sides at 1e6).
-  const unsigned long long total = static_cast<unsigned long long>(s->rowbytes) * s->height;
-  if (total > (1ull << 32)) throw Error(path + ": " + what + " PNG is too large");
-  std::vector<std::uint8_t> pixels(static_cast<size_t>(total));
+  CheckPngPixelCap(*s, path, what);  // so at most 8 bytes × kMaxPngPixels = 512 MiB below
+  std::vector<std::uint8_t> pixels(static_cast<size_t>(s->rowbytes) * s->height);
   std::vector<png_bytep> rows = RowPointers(pixels, s->height, s->rowbytes);
   if (!PngReadRows(s, rows.data())) {
     throw Error(path + ": corrupt or truncated " + what + " PNG: " + s->msg.text);
@@ -437,10 +434,7 @@ RgbImage LoadRgbPng(const std::string& path) {
   if (s.channels != 3 || s.rowbytes != size_t(s.width) * 3) {
     throw Error(path + ": RGB PNG did not convert to 8-bit RGB");
   }
-  if (s.width > static_cast<png_uint_32>(std::numeric_limits<int>::max()) ||
-      s.height > static_cast<png_uint_32>(std::numeric_limits<int>::max())) {
-    throw Error(path + ": RGB PNG is too large");
-  }
+  // Sides fit an int: ReadPngPixels refused more than kMaxPngPixels.
   RgbImage image;
   image.width = static_cast<int>(s.width);
   image.height = static_cast<int>(s.height);
