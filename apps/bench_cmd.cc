@@ -89,12 +89,6 @@ std::string Join(const std::vector<std::string>& v) {
   return s;
 }
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // Per engine: what the repeats measured.
 struct EngineRun {
   std::string engine;

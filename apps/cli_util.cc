@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "cli_util.h"
 
 #include <filesystem>
@@ -107,6 +108,13 @@ std::vector<std::pair<std::string, std::string>> ParseNamedPaths(const std::vect
     out.emplace_back(name, path);
   }
   return out;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 }  // namespace posefilter::cli

@@ -14,6 +14,10 @@ namespace posefilter::cli {
 //   posefilter::Error or std::exception → "posefilter <name>: error: <what>", exit 1.
 int RunApp(CLI::App& app, int argc, char** argv, const std::function<void()>& body);
 
+// The median of `v`: the middle value, or the mean of the two middle values for an even count;
+// 0 for none. The tables of track, suite and bench print it.
+double Median(std::vector<double> v);
+
 // SynthOptions::IsValid's message `why` ("<field> must ...") with the field replaced by the
 // CLI option that sets it ("--min-distance (min_distance_m): must ..."); unchanged when no
 // option sets the field. Used by the commands that make synthetic scenes (synth, suite).

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <numeric>
 #include <sstream>
 
 #include "cli_util.h"
@@ -173,7 +174,12 @@ Estimated RunJobs(SceneInput& scene, std::vector<Job>& jobs, const Prior& prior,
     scene.seeds.clear();
     const std::vector<ScenePassResult> passed = RunScenePass(scene, prior, estimates, opt);
     std::printf("scene pass (best first; weight alone -> without the pixels better estimates explain):\n");
-    for (std::size_t i = 0; i < passed.size(); ++i) {
+    // The rows in the order the pass settles the objects: by their weight alone, best first.
+    std::vector<std::size_t> order(passed.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return passed[a].weight_alone > passed[b].weight_alone; });
+    for (std::size_t i : order) {
       const ScenePassResult& p = passed[i];
       ObjectResult& res = out.results[i];
       std::printf("  %-20s %.3f -> %.3f  %s (%.0f ms)\n", res.obj.c_str(), p.weight_alone, p.weight_masked,

@@ -60,13 +60,6 @@ double GroundTruthWeight(const SceneInput& input, const Mesh& mesh, const Prior&
   return *std::max_element(w.begin(), w.end());
 }
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 void WriteJson(const std::string& path, const nlohmann::json& j) {
   WriteFileAtomically(path, [&](std::ostream& out) { out << j.dump(1) << "\n"; });
 }

@@ -330,17 +330,14 @@ int RunTrack(int argc, char** argv) {
     std::printf("\n%-22s %7s %7s %7s %12s %12s\n", "object", "frames", "found", "lost", "median ms", "mean ms");
     for (const Mesh& m : meshes) {
       Totals& t = totals[m.name];
-      std::vector<double> ms = t.ms;
-      std::sort(ms.begin(), ms.end());
       double mean = 0;
-      for (double v : ms) mean += v / double(ms.size());
+      for (double v : t.ms) mean += v / double(t.ms.size());
       const std::string found = t.with_gt ? std::to_string(t.found) + "/" + std::to_string(t.with_gt) : "-";
-      std::printf("%-22s %7d %7s %7d %12.1f %12.1f\n", m.name.c_str(), t.frames, found.c_str(), t.lost, ms[ms.size() / 2], mean);
+      std::printf("%-22s %7d %7s %7d %12.1f %12.1f\n", m.name.c_str(), t.frames, found.c_str(), t.lost, Median(t.ms), mean);
     }
-    std::vector<double> ft = frame_times;
-    std::sort(ft.begin(), ft.end());
-    std::printf("per frame (every object, support plane and stage 1 included): median %.1f ms, max %.1f ms\n", ft[ft.size() / 2],
-                ft.back());
+    if (!frame_times.empty())
+      std::printf("per frame (every object, support plane and stage 1 included): median %.1f ms, max %.1f ms\n",
+                  Median(frame_times), *std::max_element(frame_times.begin(), frame_times.end()));
     if (stage1_calls)
       std::printf("stage 1 (--prior %s): %d frame(s), %.0f ms in all\n", named_prior ? prior_arg.c_str() : "detections",
                   stage1_calls, stage1_ms);

@@ -25,6 +25,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -202,9 +203,13 @@ struct BopResult {
 
 // One CSV row without the newline: R with %.9g, t in mm with %.6f, score and time with %.6f.
 std::string FormatBopCsvRow(const BopResult& r);
-// Reads a results CSV. Errors name the file and the 1-based line: a wrong header, a row
-// without 7 fields, R without 9 / t without 3 numbers, a non-number or non-finite value, R not
-// a rotation (‖RᵀR − I‖ > 1e-3 or det < 0), or two rows of one image with different times.
+// The largest results CSV ReadBopResultsCsv reads: 1 GiB (a row is about 200 bytes, so five
+// million estimates; it is read line by line).
+inline constexpr std::uintmax_t kMaxResultsCsvBytes = std::uintmax_t(1) << 30;
+// Reads a results CSV: a regular file of at most kMaxResultsCsvBytes. Errors name the file and
+// the 1-based line: a wrong header, a row without 7 fields, R without 9 / t without 3 numbers, a
+// non-number or non-finite value, R not a rotation (‖RᵀR − I‖ > 1e-3 or det < 0), or two rows
+// of one image with different times.
 std::vector<BopResult> ReadBopResultsCsv(const std::string& path);
 // Writes header + rows (replacing the file atomically, file_io.h).
 void WriteBopResultsCsv(const std::vector<BopResult>& results, const std::string& path);

@@ -11,11 +11,15 @@
 // another output (compared by resolved path, so "./a.json" and "dir/../a.json" are the same).
 #pragma once
 
+#include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <new>
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include "posefilter/error.h"
 
 namespace posefilter {
 
@@ -41,9 +45,26 @@ std::string TrimTornLastLine(const std::string& path);
 // most `max_bytes`; the error names the file and `what` ("camera JSON"). The read itself stops
 // at the limit too, so a file that grows while it is read cannot exceed it.
 std::string ReadSmallFile(const std::string& path, std::size_t max_bytes, const std::string& what);
+// The checks of ReadSmallFile, for readers that stream: `path` is a regular file (or a link to
+// one) of at most `max_bytes`. Returns its size; throws Error naming the file and `what`.
+std::uintmax_t CheckInputFile(const std::string& path, std::uintmax_t max_bytes, const std::string& what);
 // The byte limit of the JSON and text inputs read with ReadSmallFile (64 MiB: a dataset's
 // detections or results are a few MB).
 inline constexpr std::size_t kMaxSmallFileBytes = std::size_t(64) << 20;
+
+// The error NameOutOfMemory throws.
+Error OutOfMemoryError(const std::string& path, const std::string& what);
+// Runs `read` (a reader of `path`) and returns what it returns; a std::bad_alloc thrown inside
+// becomes Error("<path>: out of memory reading the <what> ..."), so that running out of memory
+// on a large input names the file instead of ending the process with "std::bad_alloc".
+template <typename Read>
+auto NameOutOfMemory(const std::string& path, const std::string& what, Read&& read) -> decltype(read()) {
+  try {
+    return read();
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemoryError(path, what);
+  }
+}
 
 // An input or output of a command: the path and the option that names it ("--out").
 struct NamedPath {

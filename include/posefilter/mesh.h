@@ -33,8 +33,12 @@ struct Mesh {
 
 // Loads .ply/.obj/.stl (anything assimp reads) and triangulates it; coordinates are multiplied
 // by unit_scale (e.g. 0.001 for millimetre models). Throws Error naming the file when it is
-// missing, unreadable, or holds no triangles. The name defaults to the file's stem.
+// missing, not a regular file, larger than kMaxMeshBytes, unreadable, holds no triangles, or
+// needs more memory than the process can get. The name defaults to the file's stem.
 Mesh LoadMesh(const std::string& path, double unit_scale = 1.0);
+// The largest mesh file LoadMesh reads: 512 MiB. An object model for pose estimation is a few
+// MB (the BOP YCB-V models are 1–8 MB); a loader holds several times the file in memory.
+inline constexpr std::uintmax_t kMaxMeshBytes = std::uintmax_t(512) << 20;
 // Writes a binary little-endian PLY (float x,y,z; uchar-count int faces). Throws Error on I/O.
 void SaveMeshPly(const Mesh& mesh, const std::string& path);
 

@@ -114,6 +114,15 @@ bool PngChunksFitFile(PngReadState* s) {
     if (std::fseek(s->fp, pos, SEEK_SET) != 0 || std::fread(h, 1, 8, s->fp) != 8) break;
     const unsigned long len = (static_cast<unsigned long>(h[0]) << 24) | (static_cast<unsigned long>(h[1]) << 16) |
                               (static_cast<unsigned long>(h[2]) << 8) | h[3];
+    // A chunk type is four ASCII letters (PNG spec §5.3): the walk ends at anything else, which
+    // libpng refuses if it gets there (walking on, a file of zeros would be a chain of empty
+    // "chunks" 12 bytes apart, read to its end).
+    bool letters = true;
+    for (int k = 0; k < 4; ++k) {
+      const unsigned char c = h[4 + k];
+      letters = letters && ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'));
+    }
+    if (!letters) break;
     if (len > static_cast<unsigned long>(end - pos - 8)) {
       char type[5] = {0, 0, 0, 0, 0};
       for (int k = 0; k < 4; ++k) type[k] = std::isalpha(h[4 + k]) ? static_cast<char>(h[4 + k]) : '?';
@@ -236,7 +245,9 @@ std::vector<std::uint8_t> ReadPngPixels(const std::string& path, const char* wha
   if (s->width == 0 || s->height == 0) throw Error(path + ": " + what + " PNG has zero size");
   CheckPngFitsFile(s, path, what);
   CheckPngPixelCap(*s, path, what);  // so at most 8 bytes × kMaxPngPixels = 512 MiB below
-  std::vector<std::uint8_t> pixels(static_cast<size_t>(s->rowbytes) * s->height);
+  std::vector<std::uint8_t> pixels = NameOutOfMemory(path, std::string(what) + " PNG", [&] {
+    return std::vector<std::uint8_t>(static_cast<size_t>(s->rowbytes) * s->height);
+  });
   std::vector<png_bytep> rows = RowPointers(pixels, s->height, s->rowbytes);
   if (!PngReadRows(s, rows.data())) {
     throw Error(path + ": corrupt or truncated " + what + " PNG: " + s->msg.text);

@@ -89,7 +89,7 @@ bool InsideFolder(const std::string& path, const std::string& folder) {
   return mismatch.first == f.end() && p != f;
 }
 
-std::string ReadSmallFile(const std::string& path, std::size_t max_bytes, const std::string& what) {
+std::uintmax_t CheckInputFile(const std::string& path, std::uintmax_t max_bytes, const std::string& what) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error(path + ": cannot open " + what + " (no such file)");
   if (!fs::is_regular_file(path, ec)) {
@@ -98,19 +98,33 @@ std::string ReadSmallFile(const std::string& path, std::size_t max_bytes, const 
     throw Error(path + ": is " + (kind.empty() ? "not a regular file" : kind) + ", not a regular " + what + " file");
   }
   const std::uintmax_t size = fs::file_size(path, ec);
-  if (!ec && size > max_bytes)
+  if (ec) throw Error(path + ": cannot read the size of the " + what + " (" + ec.message() + ")");
+  if (size > max_bytes)
     throw Error(path + ": " + what + " is " + std::to_string(size) + " bytes, over the limit of " +
                 std::to_string(max_bytes) + " bytes");
+  return size;
+}
+
+std::string ReadSmallFile(const std::string& path, std::size_t max_bytes, const std::string& what) {
+  const std::uintmax_t size = CheckInputFile(path, max_bytes, what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open " + what + " (" + Errno() + ")");
-  std::string bytes(std::size_t(std::min<std::uintmax_t>(ec ? max_bytes : size, max_bytes)) + 1, '\0');
+  std::string bytes = NameOutOfMemory(path, what, [&] { return std::string(std::size_t(size) + 1, '\0'); });
   in.read(bytes.data(), std::streamsize(bytes.size()));
   if (in.bad()) throw Error(path + ": cannot read " + what);
   bytes.resize(std::size_t(in.gcount()));
   if (bytes.size() > max_bytes)
     throw Error(path + ": " + what + " is over the limit of " + std::to_string(max_bytes) + " bytes");
-  if (!ec && bytes.size() > size) throw Error(path + ": " + what + " grew while it was read");
+  if (bytes.size() > size) throw Error(path + ": " + what + " grew while it was read");
   return bytes;
+}
+
+Error OutOfMemoryError(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  return Error(path + ": out of memory reading the " + what +
+               (ec ? std::string() : " (" + std::to_string(size) + " bytes)") +
+               "; free memory or raise the process's memory limit");
 }
 
 std::string SpecialFileKind(const std::string& path) {

@@ -547,6 +547,11 @@ Mesh LoadMesh(const std::string& path, double unit_scale) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw Error(path + ": mesh file not found");
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": mesh path is not a file");
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes > kMaxMeshBytes) {
+    throw Error(path + ": mesh file is " + std::to_string(bytes) + " bytes, over the limit of " +
+                std::to_string(kMaxMeshBytes) + " bytes (kMaxMeshBytes)");
+  }
 
   // PLY is read by our own strict parser: assimp 5.2's PLY importer hangs or crashes on
   // truncated files (found by the truncation tests), and PLY is the format of the datasets.
@@ -560,7 +565,7 @@ Mesh LoadMesh(const std::string& path, double unit_scale) {
     is.read(magic, 5);
     is_ply = std::memcmp(magic, "ply\n", 4) == 0 || std::memcmp(magic, "ply\r\n", 5) == 0;
   }
-  Mesh mesh = is_ply ? LoadPly(path, unit_scale) : LoadWithAssimp(path, unit_scale);
+  Mesh mesh = NameOutOfMemory(path, "mesh", [&] { return is_ply ? LoadPly(path, unit_scale) : LoadWithAssimp(path, unit_scale); });
   mesh.name = std::filesystem::path(path).stem().string();
   if (mesh.faces.empty()) throw Error(path + ": mesh file holds no triangles");
   std::string why;

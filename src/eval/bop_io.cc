@@ -47,16 +47,11 @@ struct Where {
   Where Sub(const std::string& more) const { return {file, entry.empty() ? more : entry + ", " + more}; }
 };
 
+// A dataset's JSON file: a regular file of at most kMaxSmallFileBytes (ReadSmallFile).
 json ReadJson(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(path + ": missing file");
-  if (fs::is_directory(path, ec)) throw Error(path + ": is a directory, not a JSON file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open JSON file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  const std::string text = ReadSmallFile(path, kMaxSmallFileBytes, "JSON");
   try {
-    return json::parse(text.str());
+    return NameOutOfMemory(path, "JSON", [&] { return json::parse(text); });
   } catch (const json::exception& e) {
     std::string what = e.what();
     std::replace(what.begin(), what.end(), '\n', ' ');
@@ -748,8 +743,7 @@ int ParseInt(const std::string& tok, const std::string& what, const Where& w) {
 }  // namespace
 
 std::vector<BopResult> ReadBopResultsCsv(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(path + ": missing results CSV");
+  CheckInputFile(path, kMaxResultsCsvBytes, "results CSV");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open results CSV");
   std::vector<BopResult> out;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "posefilter/error.h"
+#include "posefilter/file_io.h"
 
 namespace posefilter {
 namespace {
@@ -169,6 +170,7 @@ std::vector<Eigen::Vector3f> SamplePoints(const Mesh& mesh, int max_points) {
 }
 
 std::vector<Eigen::Vector3f> ReadXyzPoints(const std::string& path) {
+  CheckInputFile(path, kMaxSmallFileBytes, "point file");
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open point file");
   std::vector<Eigen::Vector3f> pts;

@@ -9,11 +9,23 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <new>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "posefilter/bop.h"
+#include "posefilter/depth_image.h"
 #include "posefilter/error.h"
+#include "posefilter/mask_prior.h"
+#include "posefilter/mesh.h"
+#include "posefilter/metrics.h"
+#include "posefilter/prior.h"
+#include "posefilter/scene_io.h"
 #include "test_util.h"
 
 namespace posefilter {
@@ -107,6 +119,81 @@ TEST_F(FileIoTest, WriteFailureMidwayLeavesTargetUntouched) {
   EXPECT_EQ(WEXITSTATUS(status), 0) << "1: no error, 2: the error did not name the file";
   EXPECT_EQ(ReadFile(path), old);
   EXPECT_EQ(Entries(), 1);
+}
+
+// Every reader of a command's inputs refuses a huge file within its stated limits, also when the
+// process's address space is limited (ulimit -v): sparse files of 2 GiB (over kMaxMeshBytes
+// and kMaxSmallFileBytes, a PNG that is not one, raw pyramid floats) must each give an Error, not
+// std::bad_alloc and not a crash. In a child process with RLIMIT_AS 512 MiB above its size;
+// skipped under the sanitizers, whose shadow memory needs terabytes of address space.
+TEST_F(FileIoTest, EveryReaderStaysWithinItsLimitUnderAnAddressSpaceLimit) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "RLIMIT_AS cannot be set under a sanitizer";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+  GTEST_SKIP() << "RLIMIT_AS cannot be set under a sanitizer";
+#endif
+#endif
+  const std::uintmax_t huge = std::uintmax_t(2) << 30;
+  auto sparse = [&](const std::string& name, const std::string& head) {
+    const std::string path = (dir() / name).string();
+    WriteFile(path, head);
+    fs::resize_file(path, huge);
+    return path;
+  };
+  const std::string json = sparse("huge.json", "{\"objects\": [");
+  const std::string csv = sparse("huge.csv", "scene_id,im_id,obj_id,score,R,t,time\n");
+  const std::string ply = sparse("huge.ply", "ply\nformat ascii 1.0\n");
+  const std::string obj = sparse("huge.obj", "v 0 0 0\n");
+  const std::string png = sparse("huge.png", "\x89PNG\r\n\x1a\n");
+  const std::string raw = sparse("huge.raw", "");
+  const std::string xyz = sparse("huge.xyz", "0 0 0\n");
+  const std::vector<std::pair<std::string, std::function<void()>>> readers = {
+      {"ReadCameraJson", [&] { ReadCameraJson(json); }},
+      {"ReadGtJson", [&] { ReadGtJson(json); }},
+      {"ReadResultsJson", [&] { ReadResultsJson(json); }},
+      {"ReadDetectionsJson", [&] { ReadDetectionsJson(json); }},
+      {"ReadMaskClasses", [&] { ReadMaskClasses(json); }},
+      {"ReadBopDetections", [&] { ReadBopDetections(json); }},
+      {"ReadBopResultsCsv", [&] { ReadBopResultsCsv(csv); }},
+      {"ReadXyzPoints", [&] { ReadXyzPoints(xyz); }},
+      {"LoadMesh ply", [&] { LoadMesh(ply); }},
+      {"LoadMesh obj", [&] { LoadMesh(obj); }},
+      {"LoadDepthPng", [&] { LoadDepthPng(png, 0.001); }},
+      {"LoadRgbPng", [&] { LoadRgbPng(png); }},
+      {"LoadLabelPng", [&] { LoadLabelPng(png); }},
+      {"ReadRawPyramid", [&] { ReadRawPyramid(raw, PyramidLayout::Thesis()); }},
+  };
+  for (std::size_t i = 0; i < readers.size(); ++i) {
+    SCOPED_TRACE(readers[i].first);
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      long pages = 0;
+      if (std::FILE* f = std::fopen("/proc/self/statm", "r")) {
+        if (std::fscanf(f, "%ld", &pages) != 1) pages = 0;
+        std::fclose(f);
+      }
+      const rlim_t limit = rlim_t(pages) * rlim_t(::sysconf(_SC_PAGESIZE)) + (rlim_t(512) << 20);
+      struct rlimit lim {limit, limit};
+      if (pages == 0 || ::setrlimit(RLIMIT_AS, &lim) != 0) ::_exit(4);
+      int code = 1;  // no error
+      try {
+        readers[i].second();
+      } catch (const Error&) {
+        code = 0;
+      } catch (const std::bad_alloc&) {
+        code = 2;
+      } catch (...) {
+        code = 3;
+      }
+      ::_exit(code);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status)) << "the reader crashed (signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0) << ")";
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "1: no error, 2: std::bad_alloc, 3: another exception, 4: no limit set";
+  }
 }
 
 // The same for an append: a row that does not fit is cut back, the file keeps its whole rows.
@@ -224,6 +311,16 @@ TEST_F(FileIoTest, ReadSmallFileTakesRegularFilesUpToItsLimit) {
   ExpectError([&] { ReadSmallFile("/dev/zero", 100, "class list"); }, {"/dev/zero", "a character device"});
   ExpectError([&] { ReadSmallFile(dir().string(), 100, "JSON"); }, {"is a directory"});
   ExpectError([&] { ReadSmallFile((dir() / "none.json").string(), 100, "JSON"); }, {"none.json", "cannot open"});
+}
+
+TEST_F(FileIoTest, OutOfMemoryInAReaderNamesTheFile) {
+  const fs::path f = dir() / "big.ply";
+  WriteFile(f, "0123456789");
+  EXPECT_EQ(NameOutOfMemory(f.string(), "mesh", [] { return 7; }), 7);
+  ExpectError([&] { NameOutOfMemory(f.string(), "mesh", []() -> int { throw std::bad_alloc(); }); },
+              {f.string(), "out of memory reading the mesh (10 bytes)"});
+  // Other exceptions pass through unchanged.
+  ExpectError([&] { NameOutOfMemory(f.string(), "mesh", []() -> int { throw Error("parse error"); }); }, {"parse error"});
 }
 
 TEST_F(FileIoTest, CheckOutputPathsRefusesReadOnlyPlaces) {

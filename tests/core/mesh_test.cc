@@ -326,6 +326,16 @@ TEST_F(MeshFileTest, MissingFileNamesTheFile) {
   ExpectError([&] { LoadMesh(path); }, {path, "not found"});
 }
 
+TEST_F(MeshFileTest, FileOverTheByteLimitIsRefusedUnread) {
+  // A sparse file one byte over kMaxMeshBytes: refused from its size, before any byte is read
+  // (read, it would need several times the limit in memory).
+  const std::string path = Path("huge.obj");
+  { std::ofstream(path) << "v 0 0 0\n"; }
+  fs::resize_file(path, kMaxMeshBytes + 1);
+  ExpectError([&] { LoadMesh(path); }, {path, std::to_string(kMaxMeshBytes + 1) + " bytes, over the limit of " +
+                                                  std::to_string(kMaxMeshBytes) + " bytes"});
+}
+
 TEST_F(MeshFileTest, DirectoryIsRejected) {
   ExpectError([&] { LoadMesh(dir().string()); }, {dir().string()});
 }

@@ -297,7 +297,7 @@ TEST_F(BopIoTest, BadCsvNamesFileAndLine) {
     parts.push_back(path);
     ExpectError([&] { ReadBopResultsCsv(path); }, parts);
   }
-  ExpectError([&] { ReadBopResultsCsv(Path("none.csv")); }, {"none.csv", "missing"});
+  ExpectError([&] { ReadBopResultsCsv(Path("none.csv")); }, {"none.csv", "no such file"});
 }
 
 // ---- Detections ---------------------------------------------------------------------------------
