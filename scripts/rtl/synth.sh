@@ -16,7 +16,12 @@
 #   rc_div_z           the depth divider with its dividend's 46 zero bits (div_context.sv)
 #   rc_fifo, rc_compare  the triangle FIFO and CompareFragment on their own (they are also
 #                      inside raster_core_shell, so they do not add to the core's sum)
-# The core (`raster_core`) is the sum shell + iz + 2 × snap + z: the parts share no logic.
+# and the weighing pipeline's modules around the cores (weigh_pipeline.sv), each at M = 5 and
+# M = 10 cores (their per-core FIFOs, comparators and multiplexers grow with M):
+#   ft_distributor_mM, vertex_multiplier_mM, depth_distributor_mM, weight_merger_mM
+# The core (`raster_core`) is the sum shell + iz + 2 × snap + z: the parts share no logic. The
+# M-core pipeline is M cores + its four modules at M; the design adds the estimate of the rest
+# (synth_report.py).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -48,6 +53,15 @@ parts=(
   "rc_fifo|0|rc_fifo|read_verilog -sv $rtl/rc_fifo.sv; chparam -set W 446 -set DEPTH 16 rc_fifo; $syn -top rc_fifo"
   "rc_compare|0|rc_compare|read_verilog -sv $rtl/rc_compare.sv; $syn -top rc_compare"
 )
+# Pipeline modules: count field pM = part of the M-core pipeline.
+for m in 5 10; do
+  parts+=(
+    "ft_distributor_m$m|p$m|ft_distributor|read_verilog -sv $rtl/ft_distributor.sv; chparam -set M $m ft_distributor; $syn -top ft_distributor"
+    "vertex_multiplier_m$m|p$m|vertex_multiplier|read_verilog -sv $rtl/rc_fifo.sv $rtl/vertex_multiplier.sv; chparam -set M $m vertex_multiplier; $syn -top vertex_multiplier"
+    "depth_distributor_m$m|p$m|depth_distributor|read_verilog -sv $rtl/rc_fifo.sv $rtl/depth_distributor.sv; chparam -set M $m depth_distributor; $syn -top depth_distributor"
+    "weight_merger_m$m|p$m|weight_merger|read_verilog -sv $rtl/rc_div.sv $rtl/rc_delay.sv $rtl/rc_fifo.sv $rtl/weight_merger.sv; chparam -set M $m weight_merger; $syn -top weight_merger"
+  )
+done
 
 start=$(date +%s)
 run_part() {
