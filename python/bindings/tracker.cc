@@ -1,6 +1,9 @@
 // python/bindings/tracker.cc — Tracker (posefilter/tracker.h) and TrackResult for Python.
 #include "bindings.h"
 
+#include <set>
+#include <string>
+
 namespace posefilter::python {
 namespace {
 
@@ -97,14 +100,28 @@ class PyTracker {
       fixed = to_stage1(arg, frame);
       stage1 = [&fixed](const SceneInput&) { return fixed; };
     }
-    py::gil_scoped_release release;
-    return tracker_->Track(frame, stage1);
+    std::vector<TrackResult> results;
+    {
+      py::gil_scoped_release release;
+      results = tracker_->Track(frame, stage1);
+    }
+    // Without a stage 1, an object with no pose can never start: say so, once per object.
+    if (arg.is_none()) {
+      for (const TrackResult& r : results) {
+        if (r.status != TrackStatus::kNotStarted || !warned_.insert(r.obj).second) continue;
+        const std::string msg = "Tracker.track: '" + r.obj + "' has no pose and prior=None cannot start it; "
+                                "call reset('" + r.obj + "', pose) or pass prior='auto', a Prior or a callable";
+        if (PyErr_WarnEx(PyExc_RuntimeWarning, msg.c_str(), 1) != 0) throw py::error_already_set();
+      }
+    }
+    return results;
   }
 
   const Tracker& tracker() const { return *tracker_; }
 
  private:
   std::unique_ptr<Tracker> tracker_;
+  std::set<std::string> warned_;  // objects Track warned cannot start
 };
 
 }  // namespace

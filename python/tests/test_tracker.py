@@ -2,6 +2,8 @@
 a moving object, reports a jump beyond its search as lost, restarts from a stage 1, is
 deterministic, and rejects bad arguments."""
 
+import warnings
+
 import numpy as np
 
 import pytest
@@ -74,7 +76,13 @@ def test_a_jump_beyond_the_search_is_lost_and_a_stage1_restarts_it():
 
 def test_objects_without_a_start_wait_for_a_stage1(sequence):
     tracker = pf.Tracker(sequence[0].target, seed=5, threads=2)
-    (r,) = tracker.track(sequence[0].depth, sequence[0].camera)
+    # With prior=None nothing can start the object: a warning naming it, once.
+    with pytest.warns(RuntimeWarning, match="'lshape' has no pose and prior=None cannot start it"):
+        (r,) = tracker.track(sequence[0].depth, sequence[0].camera)
+    assert r.status == "not-started"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        (r,) = tracker.track(sequence[0].depth, sequence[0].camera)
     assert r.status == "not-started"
     (r,) = tracker.track(sequence[1].depth, sequence[1].camera, prior=sequence[1].detections)
     assert r.status == "initialised" and adds_ok(sequence[1], r.pose), r
