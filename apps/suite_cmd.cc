@@ -5,7 +5,9 @@
 //   --world ycbv: N table-top scenes of several YCB-Video objects in their stable poses, seen
 //     by a structured-light sensor model (table_world.h), every visible object a target,
 //     with jittered boxes and false boxes (--prior boxes) or noisy instance masks
-//     (--prior masks); per-class recall, AUC of ADD-S and time per object.
+//     (--prior masks); per-class recall, AUC of ADD-S and time per object;
+//   --world room: the same objects, priors and table in rooms (room_world.h): on small raised
+//     surfaces and shelf boards, with floor, walls, furniture and distractors in view.
 // Prints a table and the recall at 10% of the diameter; optionally writes it as JSON.
 #include <algorithm>
 #include <chrono>
@@ -32,6 +34,7 @@
 #include "posefilter/auto_prior.h"
 #include "posefilter/mask_prior.h"
 #include "posefilter/metrics.h"
+#include "posefilter/room_world.h"
 #include "posefilter/scene_pass.h"
 #include "posefilter/synth.h"
 #include "posefilter/table_world.h"
@@ -75,14 +78,14 @@ struct TableSuiteArgs {
   std::uint64_t first_seed = 1;
 };
 
-// The YCB-Video table-top suite (--world ycbv).
-void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const FilterOptions& opt) {
+// The YCB-Video table-top suite (--world ycbv), or with `room` the room suite (--world room).
+void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const RoomSceneOptions* room, const FilterOptions& opt) {
   namespace fs = std::filesystem;
   const std::vector<std::string> ycbv = YcbVideoClassNames();
   for (const std::string& c : a.classes)
     if (std::find(ycbv.begin(), ycbv.end(), c) == ycbv.end()) throw Error("--targets: '" + c + "' is not a YCB-Video class");
   if (a.models_dir.empty())
-    throw Error("--world ycbv needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA "
+    throw Error(std::string(room ? "--world room" : "--world ycbv") + " needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA "
                 "(scripts/get_data.sh ycbv DIR fetches them; README \"Data\")");
   const TableWorld world = TableWorld::LoadYcbVideo(a.models_dir);
   const std::vector<std::string> classes = world.ClassNames();
@@ -110,7 +113,7 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
               "weight", "gt_w", "iter", "time[ms]");
   for (int i = 0; i < a.count; ++i) {
     const std::uint64_t seed = a.first_seed + std::uint64_t(i);
-    const TableScene scene = world.MakeScene(topt, seed);
+    const TableScene scene = room ? MakeRoomScene(world, *room, seed) : world.MakeScene(topt, seed);
     if (!a.write_dir.empty()) {
       char name[32];
       std::snprintf(name, sizeof(name), "scene_%06llu", (unsigned long long)seed);
@@ -303,7 +306,7 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
     std::printf("stage 1 (--prior %s): median %.0f ms per scene, %.0f ms per object on average\n", a.prior_kind.c_str(),
                 Median(stage1_ms), std::accumulate(stage1_ms.begin(), stage1_ms.end(), 0.0) / total);
   if (!a.json_path.empty())
-    WriteJson(a.json_path, {{"world", "ycbv"}, {"by_visible_fraction", by_visib}, {"prior", a.prior_kind}, {"scene_pass", a.scene_pass}, {"objects", rows}, {"classes", class_rows},
+    WriteJson(a.json_path, {{"world", room ? "room" : "ycbv"}, {"by_visible_fraction", by_visib}, {"prior", a.prior_kind}, {"scene_pass", a.scene_pass}, {"objects", rows}, {"classes", class_rows},
                             {"recall_adds", recall}, {"recall_adds_before_pass", double(found_alone) / total}, {"auc_adds", auc}, {"median_time_ms", Median(all_times)},
                             {"mean_time_ms", mean_ms}, {"stage1_median_ms_per_scene", Median(stage1_ms)}});
 }
@@ -320,45 +323,48 @@ int RunSuite(int argc, char** argv) {
   std::string json_path;
   SynthOptions synth;
   TableSceneOptions table;
+  RoomSceneOptions room;
   TableSuiteArgs ta;
   // $POSEFILTER_DATA/ycbv/models (README "Data"); without POSEFILTER_DATA, --models is needed.
   if (const char* data = std::getenv("POSEFILTER_DATA"); data != nullptr && *data != '\0')
     ta.models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
   ta.prior_kind = "boxes";
   FilterOptions opt;
-  app.add_option("--world", world, "shapes: one procedural shape per scene; ycbv: several YCB-Video objects on a table")
-      ->check(CLI::IsMember({"shapes", "ycbv"}))
+  app.add_option("--world", world,
+                 "shapes: one procedural shape per scene; ycbv: several YCB-Video objects on a table; room: YCB-Video "
+                 "objects on small raised surfaces and shelf boards in a room with furniture")
+      ->check(CLI::IsMember({"shapes", "ycbv", "room"}))
       ->capture_default_str();
   app.add_option("--count", count, "number of scenes")->capture_default_str();
   app.add_option("--first-seed", first_seed, "scene i uses seed first_seed + i")->capture_default_str()->transform(SeedValidator());
-  app.add_option("--targets", targets, "shapes: object kinds, used in turn; ycbv: the classes estimated (default all)")
+  app.add_option("--targets", targets, "shapes: object kinds, used in turn; ycbv, room: the classes estimated (default all)")
       ->delimiter(',');
   app.add_option("--occlusions", occlusions, "shapes: occlusion levels, used in turn")->delimiter(',');
   app.add_option("--box-jitter", synth.box_jitter_px, "detection box noise sigma (px)")->capture_default_str();
   app.add_option("--false-positives", synth.false_positives, "false detections per scene")->capture_default_str();
-  app.add_option("--min-distance", synth.min_distance_m, "min camera→target distance, m (ycbv: 0.6)")->capture_default_str();
-  app.add_option("--max-distance", synth.max_distance_m, "max camera→target distance, m (ycbv: 1.3)")->capture_default_str();
+  app.add_option("--min-distance", synth.min_distance_m, "min camera→target distance, m (ycbv: 0.6, room: 0.5)")->capture_default_str();
+  app.add_option("--max-distance", synth.max_distance_m, "max camera→target distance, m (ycbv: 1.3, room: 1.5)")->capture_default_str();
   app.add_option("--models", ta.models_dir,
-                 "ycbv: folder of the 21 YCB-Video meshes, <class>.ply in metres (and points/<class>.xyz) or a BOP "
+                 "ycbv, room: folder of the 21 YCB-Video meshes, <class>.ply in metres (and points/<class>.xyz) or a BOP "
                  "ycbv models folder (default: $POSEFILTER_DATA/ycbv/models)")
       ->capture_default_str();
   app.add_option("--prior", ta.prior_kind,
-                 "ycbv: boxes (jittered, with false boxes), masks (noisy instance masks), auto (no detector: regions "
+                 "ycbv, room: boxes (jittered, with false boxes), masks (noisy instance masks), auto (no detector: regions "
                  "found in the depth and PPF pose proposals), auto-regions (auto without the PPF proposals) or none "
                  "(uniform)")
       ->check(CLI::IsMember({"boxes", "masks", "auto", "auto-regions", "none"}))
       ->capture_default_str();
-  app.add_option("--min-objects", table.min_objects, "ycbv: objects per scene, at least")->capture_default_str();
-  app.add_option("--max-objects", table.max_objects, "ycbv: objects per scene, at most")->capture_default_str();
-  app.add_option("--box-scale-min", table.box_scale_min, "ycbv: detection boxes scaled by a factor from this ...")
+  app.add_option("--min-objects", table.min_objects, "ycbv, room: objects per scene, at least (room: 2)")->capture_default_str();
+  app.add_option("--max-objects", table.max_objects, "ycbv, room: objects per scene, at most (room: 4)")->capture_default_str();
+  app.add_option("--box-scale-min", table.box_scale_min, "ycbv, room: detection boxes scaled by a factor from this ...")
       ->capture_default_str();
-  app.add_option("--box-scale-max", table.box_scale_max, "ycbv: ... to this")->capture_default_str();
+  app.add_option("--box-scale-max", table.box_scale_max, "ycbv, room: ... to this")->capture_default_str();
   app.add_flag("--scene-pass,!--no-scene-pass", ta.scene_pass,
                "ycbv (not --prior masks): after the per-object estimates, the joint scene pass (posefilter/scene_pass.h) "
                "re-weighs each object against the pixels better estimates leave it and re-estimates one whose pixels "
                "another claims")
       ->default_str(ta.scene_pass ? "true" : "false");
-  app.add_option("--write-scenes", ta.write_dir, "ycbv: also write every scene to DIR/scene_<seed>/ (for peers)");
+  app.add_option("--write-scenes", ta.write_dir, "ycbv, room: also write every scene to DIR/scene_<seed>/ (for peers)");
   app.add_option("--json", json_path, "also write the table as JSON");
   AddFilterOptions(app, &opt);
 
@@ -369,16 +375,27 @@ int RunSuite(int argc, char** argv) {
       throw Error("--first-seed + --count - 1 is above 2^64 - 1: the last scene's seed would wrap to 0");
     CheckOutputPaths({{json_path, "--json"}}, {{ta.models_dir, "--models"}, {ta.write_dir, "--write-scenes"}});
     // The scene pass needs scenes of several objects sharing one prior (--prior masks gives each its own).
-    if (app.count("--scene-pass") && ta.scene_pass && (world != "ycbv" || ta.prior_kind == "masks"))
-      throw Error("--scene-pass needs --world ycbv and a prior the scene's objects share (not --prior masks)");
+    const bool ycb = world == "ycbv" || world == "room";
+    if (app.count("--scene-pass") && ta.scene_pass && (!ycb || ta.prior_kind == "masks"))
+      throw Error("--scene-pass needs --world ycbv or room and a prior the scene's objects share (not --prior masks)");
     if (ta.prior_kind == "masks") ta.scene_pass = false;
-    if (world == "ycbv") {
+    if (ycb) {
       table.box_jitter_px = synth.box_jitter_px;
       table.false_positives = synth.false_positives;
       if (app.count("--min-distance")) table.min_distance_m = synth.min_distance_m;
       if (app.count("--max-distance")) table.max_distance_m = synth.max_distance_m;
+      // The room world takes the same options where given, else its own defaults.
+      room.box_jitter_px = table.box_jitter_px;
+      room.false_positives = table.false_positives;
+      room.box_scale_min = table.box_scale_min;
+      room.box_scale_max = table.box_scale_max;
+      if (app.count("--min-distance")) room.min_distance_m = synth.min_distance_m;
+      if (app.count("--max-distance")) room.max_distance_m = synth.max_distance_m;
+      if (app.count("--min-objects")) room.min_objects = table.min_objects;
+      if (app.count("--max-objects")) room.max_objects = table.max_objects;
       std::string why;
-      if (!table.IsValid(&why)) {
+      const bool valid = world == "room" ? room.IsValid(&why) : table.IsValid(&why);
+      if (!valid) {
         // The options' names in the message, as the user typed them.
         const std::pair<const char*, const char*> names[] = {
             {"min_objects", "--min-objects"},     {"max_objects", "--max-objects"},
@@ -393,7 +410,7 @@ int RunSuite(int argc, char** argv) {
       ta.count = count;
       ta.first_seed = first_seed;
       ta.json_path = json_path;
-      RunTableSuite(ta, table, opt);
+      RunTableSuite(ta, table, world == "room" ? &room : nullptr, opt);
       return;
     }
     if (targets.empty()) targets = SynthClassNames();

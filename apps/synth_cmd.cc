@@ -3,11 +3,16 @@
 // Scene i uses seed S + i. Prints one line per scene: folder, target, distance, occlusion.
 // With --sequence N: one scene whose target moves over N frames (SynthMotion), written as a
 // YCB-Video-style dataset folder (WriteSynthSequence) that `track` and `run-dataset` read.
+// With --world ycbv or room: scenes of the YCB-Video meshes on a table (table_world.h) or in a
+// room (room_world.h), written by WriteTableScene, as `suite --write-scenes` writes them.
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
+#include <numeric>
 #include <string>
 
 #include "cli_util.h"
@@ -16,7 +21,9 @@
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/mesh.h"
+#include "posefilter/room_world.h"
 #include "posefilter/synth.h"
+#include "posefilter/table_world.h"
 
 namespace posefilter::cli {
 
@@ -29,6 +36,23 @@ int RunSynth(int argc, char** argv) {
   std::string mesh_path;
   double unit_scale = 1.0;
   bool no_missing_edges = false;
+  std::string world = "shapes";
+  std::string models_dir;
+  if (const char* data = std::getenv("POSEFILTER_DATA"); data != nullptr && *data != '\0')
+    models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
+  TableSceneOptions table;
+  RoomSceneOptions room;
+  int min_objects = 0, max_objects = 0;
+  app.add_option("--world", world,
+                 "shapes: one procedural shape per scene; ycbv: YCB-Video objects on a table; room: YCB-Video objects "
+                 "on small raised surfaces and shelf boards in a room (docs/SYNTHETIC.md)")
+      ->check(CLI::IsMember({"shapes", "ycbv", "room"}))
+      ->capture_default_str();
+  app.add_option("--models", models_dir,
+                 "ycbv, room: folder of the 21 YCB-Video meshes (default: $POSEFILTER_DATA/ycbv/models)")
+      ->capture_default_str();
+  app.add_option("--min-objects", min_objects, "ycbv, room: objects per scene, at least (ycbv 3, room 2)");
+  app.add_option("--max-objects", max_objects, "ycbv, room: objects per scene, at most (ycbv 6, room 4)");
   app.add_option("--out", out_dir, "output folder (scenes go to OUT/scene_000, ...)")->required();
   app.add_option("--count", count, "number of scenes")->capture_default_str();
   app.add_option("--seed", seed, "seed of the first scene (scene i uses seed + i)")->capture_default_str()->transform(SeedValidator());
@@ -68,6 +92,56 @@ int RunSynth(int argc, char** argv) {
     if (count < 1 || count > 100000) throw Error("--count must be in [1, 100000]");
     if (seed > UINT64_MAX - std::uint64_t(count - 1))
       throw Error("--seed + --count - 1 is above 2^64 - 1: the last scene's seed would wrap to 0");
+    if (world != "shapes") {
+      // The YCB worlds: their own objects, sensor and prior; the shapes' options do not apply.
+      for (const char* o : {"--target", "--mesh", "--unit-scale", "--occlusion", "--clutter", "--noise", "--holes",
+                            "--no-missing-edges", "--miss-prob", "--depth-scale", "--sequence", "--speed", "--turn",
+                            "--jump-frame", "--jump"})
+        if (app.count(o)) throw Error(std::string(o) + " does not apply to --world " + world + " (shapes only)");
+      if (models_dir.empty())
+        throw Error("--world " + world + " needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA");
+      for (int i = 0; i < count; ++i) {  // the scene folders this run writes must not be the meshes'
+        char name[32];
+        std::snprintf(name, sizeof name, "scene_%03d", i);
+        if (SamePath(models_dir, (std::filesystem::path(out_dir) / name).string()))
+          throw Error("--models " + models_dir + ": is a folder this run writes (--out " + out_dir + "); give another --out");
+      }
+      std::string why;
+      const bool is_room = world == "room";
+      table.box_jitter_px = room.box_jitter_px = opt.box_jitter_px;
+      table.false_positives = room.false_positives = opt.false_positives;
+      if (app.count("--min-distance")) table.min_distance_m = room.min_distance_m = opt.min_distance_m;
+      if (app.count("--max-distance")) table.max_distance_m = room.max_distance_m = opt.max_distance_m;
+      if (app.count("--min-objects")) table.min_objects = room.min_objects = min_objects;
+      if (app.count("--max-objects")) table.max_objects = room.max_objects = max_objects;
+      if (!(is_room ? room.IsValid(&why) : table.IsValid(&why))) {
+        const std::pair<const char*, const char*> names[] = {
+            {"min_objects", "--min-objects"},     {"max_objects", "--max-objects"},
+            {"min_distance_m", "--min-distance"}, {"max_distance_m", "--max-distance"},
+            {"box_jitter_px", "--box-jitter"},    {"false_positives", "--false-positives"}};
+        for (const auto& [field, option] : names)
+          for (std::size_t at; (at = why.find(field)) != std::string::npos;) why.replace(at, std::strlen(field), option);
+        throw Error("invalid scene option: " + why);
+      }
+      const TableWorld ycb = TableWorld::LoadYcbVideo(models_dir);
+      for (int i = 0; i < count; ++i) {
+        char name[32];
+        std::snprintf(name, sizeof name, "scene_%03d", i);
+        const std::string dir = (std::filesystem::path(out_dir) / name).string();
+        const std::uint64_t s = seed + std::uint64_t(i);
+        const TableScene scene = is_room ? MakeRoomScene(ycb, room, s) : ycb.MakeScene(table, s);
+        WriteTableScene(scene, dir);
+        int targets = 0;
+        for (const TableObject& o : scene.objects) targets += o.target;
+        std::printf("%s  seed %llu  objects %zu  targets %d  distance %.3f m  elevation %.1f deg  surfaces %zu (%.0f%% of the view)\n",
+                    dir.c_str(), (unsigned long long)s, scene.objects.size(), targets, scene.distance_m, scene.elevation_deg,
+                    scene.supports.size(),
+                    100 * std::accumulate(scene.support_view_fractions.begin(), scene.support_view_fractions.end(), 0.0));
+      }
+      return;
+    }
+    if (app.count("--models") + app.count("--min-objects") + app.count("--max-objects"))
+      throw Error("--models, --min-objects and --max-objects describe --world ycbv or room scenes");
     opt.missing_edges = !no_missing_edges;
     std::unique_ptr<Mesh> mesh;
     if (!mesh_path.empty()) {

@@ -2,10 +2,14 @@
 // regions found in the depth image alone, turned into detections for the filter's prior.
 //
 // Method (docs/ALGORITHM.md, "No detector"):
-//   1. the dominant support plane (FindSupportPlane) and its pixels are taken out;
-//   2. the remaining valid pixels between min_height_m and max_height_m above the plane (all
-//      valid pixels when no plane is found) are grouped into regions: 4-connected pixels whose
-//      depths differ by at most max_step_fraction · z;
+//   1. the support surfaces (FindSupportSurfaces: the floor, a table, a chair's tablet, a
+//      shelf's boards) and the large planar structure (walls) are found and their pixels
+//      taken out;
+//   2. each remaining valid pixel is measured against the support just below it
+//      (SupportSurfaces::Below); those between min_height_m and max_height_m above it (all
+//      remaining valid pixels when there is no support; none that stand over no support) are
+//      grouped into regions: 4-connected pixels whose depths differ by at most
+//      max_step_fraction · z;
 //   3. regions of fewer than min_pixels pixels are dropped;
 //   4. for each object (name, diameter in metres), every region gives detections of the
 //      object's projected size s = diameter · f / z (z the region's median depth): a region
@@ -39,9 +43,9 @@
 namespace posefilter {
 
 struct AutoPriorOptions {
-  SupportPlaneOptions plane;
-  double min_height_m = 0.004;       // above the plane's band: lower points are the table's, m
-  double max_height_m = 0.6;         // higher points (walls, the robot) are not objects, m
+  SupportSurfaceOptions surfaces;    // step 1's support surfaces (FindSupportSurfaces)
+  double min_height_m = 0.004;       // above the support's band: lower points are the support's, m
+  double max_height_m = 0.6;         // higher points above their support are not objects, m
   double max_step_fraction = 0.03;   // neighbours in one region: |Δz| ≤ this · z, (0, 1]
   int min_pixels = 40;               // smaller regions are noise, ≥ 1
   double fit_factor = 1.2;           // a region within fit_factor · s on both sides is one box, ≥ 1
@@ -65,12 +69,17 @@ struct CandidateRegion {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   int pixels = 0;
   double median_z = 0;  // metres
+  int support = -1;     // the support most of its pixels stand on (index into SupportSurfaces::patches), −1 none
 };
 
 // Steps 1–3. `labels` (optional) receives width × height region indices + 1 (0 = no region).
 // Throws Error on invalid options or a depth image whose size differs from the camera's.
 std::vector<CandidateRegion> FindCandidateRegions(const DepthImage& depth, const Camera& camera,
                                                   const AutoPriorOptions& opt = {},
+                                                  std::vector<int>* labels = nullptr);
+// The same with the support surfaces found already (FindSupportSurfaces with opt.surfaces).
+std::vector<CandidateRegion> FindCandidateRegions(const DepthImage& depth, const Camera& camera,
+                                                  const SupportSurfaces& surfaces, const AutoPriorOptions& opt,
                                                   std::vector<int>* labels = nullptr);
 
 // Step 4 for the objects (name, diameter in metres, > 0): the detections, by region then

@@ -63,4 +63,72 @@ SupportPlane FindSupportPlane(const DepthImage& depth, const Camera& camera, con
 std::vector<std::uint8_t> SupportPlanePixels(const DepthImage& depth, const Camera& camera, const SupportPlane& plane,
                                              const SupportPlaneOptions& opt = {});
 
+// ---- Support surfaces, plural --------------------------------------------------------------
+//
+// In a room the objects rest on a small raised surface (a chair's writing tablet, a shelf's
+// board) while the dominant plane is the floor or a wall. FindSupportSurfaces finds every
+// planar patch large enough to hold an object and says which are supports:
+//   1. Planes are peeled off one after another (at most max_planes): RANSAC over the valid
+//      pixels' regular grid (as FindSupportPlane) whose second and third points are drawn
+//      within `neighbourhood` grid steps of the first, so that a plane of a few percent of
+//      the image is hypothesised as often as a large one; the inliers of the best (band
+//      ransac_band_m·z²) are refitted twice and leave the pool. A plane holding fewer than
+//      min_fraction of the samples ends the peeling.
+//   2. Each plane's inliers are split into patches: 8-connected on the sample grid (a gap of
+//      one sample bridged). A patch's area (m²) sums its samples' footprints on the plane; a
+//      patch under min_area_m2 is dropped.
+//   3. Up: among the patches whose normal does not point down the image (normal·y < 0.1 in
+//      the camera frame: a camera looking down sees floors and tables face up, walls face
+//      it), the direction whose parallel patches (within max_tilt_deg) have the largest
+//      total area; a patch within max_tilt_deg of up is a support, another patch of at least
+//      large_area_m2 is structure (a wall, a cupboard's side): neither is an object. A
+//      horizontal patch less than min_rise_m above another one it lies over is the top of an
+//      object standing there (a box lying flat), not a support: it is dropped.
+// Frames and units: camera frame, metres; each patch's plane as SupportPlane (normal towards
+// the camera). Deterministic (fixed RANSAC seed).
+struct SupportSurfaceOptions {
+  SupportPlaneOptions plane;       // RANSAC samples, iterations and bands of each plane (min_fraction unused)
+  int max_planes = 8;              // planes peeled off, ≥ 1
+  double min_fraction = 0.01;      // a plane holds at least this fraction of the samples, (0, 1]
+  int neighbourhood = 10;          // a hypothesis' points within this many grid steps, ≥ 1
+  double min_area_m2 = 0.02;       // a patch's area to hold an object, m², > 0
+  double max_tilt_deg = 12;        // a support's normal within this of up, degrees, (0, 90)
+  double large_area_m2 = 0.12;     // a non-support patch this large is structure, m², > 0
+  double margin_m = 0.05;          // a point is over a patch when its foot lies within this of its outline, m, ≥ 0
+  double min_rise_m = 0.15;        // a support stands at least this high above one below it, m, ≥ 0
+  bool IsValid(std::string* why) const;
+};
+
+struct SupportSurface {
+  SupportPlane plane;              // the patch's plane (normal towards the camera) and band
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // plane coordinates: origin + a·e1 + b·e2
+  Eigen::Vector3d e1 = Eigen::Vector3d::Zero(), e2 = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector2d> outline;  // convex hull of the patch's samples, (a, b), counter-clockwise
+  double area_m2 = 0;              // seen area of the patch
+  bool support = false;            // parallel to up: objects can rest on it
+  // True when the foot of p (its projection along the normal) lies within margin_m of the outline.
+  bool Over(const Eigen::Vector3d& p, double margin_m) const;
+  // The band half-width at depth z (metres): SupportPlane::Band with its upper clamp grown by
+  // z² beyond 1 m (a far floor's noise outgrows max_band_m).
+  double Band(double z, const SupportSurfaceOptions& opt) const;
+};
+
+struct SupportSurfaces {
+  std::vector<SupportSurface> patches;  // supports first, then structure; each group largest first
+  int supports = 0;                     // patches[0, supports) are supports
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();  // camera frame; zero when there is no support
+  // The support just below p (camera frame): of the supports p lies over (margin_m), the one
+  // of least height above which p stands (height ≥ −its band at p's depth); −1 when none.
+  // Supports more than max_height_m below p are not looked at (metres).
+  int Below(const Eigen::Vector3d& p, const SupportSurfaceOptions& opt, double max_height_m = 1e30) const;
+};
+
+// Throws Error on invalid options or a depth image whose size differs from the camera's.
+SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camera, const SupportSurfaceOptions& opt = {});
+
+// Per pixel (row-major): index + 1 of the patch the pixel's point lies on (within its band and
+// over it by margin_m; the first such patch), 0 for none or missing depth.
+std::vector<int> SupportSurfacePixels(const DepthImage& depth, const Camera& camera, const SupportSurfaces& surfaces,
+                                      const SupportSurfaceOptions& opt = {});
+
 }  // namespace posefilter

@@ -93,6 +93,7 @@ struct TableObject {
   int visible_px = 0;
   Box box;                      // the full (unoccluded) silhouette's box, pixels
   bool target = false;
+  int support = 0;              // index into TableScene::supports: the surface it rests on
 };
 
 struct TableScene {
@@ -109,6 +110,12 @@ struct TableScene {
   std::vector<Detection> detections;  // targets' (first, in object order) then false ones
   std::vector<std::string> classes;   // the world's classes (the prior's class list)
   Eigen::Vector4d table_plane = Eigen::Vector4d::Zero();  // camera frame: n·x + d = 0, n up
+  // The surfaces the objects rest on, camera frame, n·x + d = 0 with n up (the table world:
+  // the table alone; the room world: one or two raised surfaces), and the fraction of the
+  // image's pixels each covers (seen, before the sensor model).
+  std::vector<Eigen::Vector4d> supports;
+  std::vector<double> support_view_fractions;
+  Eigen::Vector4d floor_plane = Eigen::Vector4d::Zero();  // camera frame, n up, as table_plane
   double distance_m = 0, elevation_deg = 0;
 };
 

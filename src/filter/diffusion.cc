@@ -9,8 +9,10 @@
 namespace posefilter::filter {
 
 DiffusionContext::DiffusionContext(const Camera& c, const PyramidLayout& l, const prior::VolumeCache& v,
-                                   const FilterOptions& o, const SupportPlane* support, const Eigen::Vector3d& pivot_obj)
-    : camera(c), layout(l), volumes(v), opt(o), plane(support && support->found ? support : nullptr), pivot(pivot_obj),
+                                   const FilterOptions& o, const SupportPlane* support, const Eigen::Vector3d& pivot_obj,
+                                   const SupportSurfaces* all)
+    : camera(c), layout(l), volumes(v), opt(o), plane(support && support->found ? support : nullptr),
+      surfaces(all && all->supports > 0 ? all : nullptr), pivot(pivot_obj),
       move_cdf(kNumMoves) {
   auto probability = [&](int m) { return m == int(Move::kOnPlane) && !plane ? 0.0 : o.diffusion.move_probabilities[m]; };
   double total = 0, acc = 0;
@@ -157,11 +159,15 @@ void ApplyMove(const DiffusionContext& ctx, Move move, Particle* p, double best_
       if (!ctx.plane) break;
       const Eigen::Isometry3d& C = ctx.camera.base_to_camera;
       const Eigen::Isometry3d T = C * PoseToTransform(q);  // object → camera
-      const Eigen::Vector3d n = ctx.plane->normal, e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+      const Eigen::Vector3d pc = T * ctx.pivot;
       const double angle = sr * rng.Normal();
       const double d1 = st * rng.Normal();
       const double d2 = st * rng.Normal();
-      const Eigen::Vector3d pc = T * ctx.pivot;
+      static const SupportSurfaceOptions kDefaults{};  // as PrepareScene finds the surfaces
+      const int below = ctx.surfaces ? ctx.surfaces->Below(pc, kDefaults) : -1;
+      if (ctx.surfaces && below < 0) break;  // over no support: unchanged
+      const Eigen::Vector3d n = below >= 0 ? ctx.surfaces->patches[std::size_t(below)].plane.normal : ctx.plane->normal;
+      const Eigen::Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
       Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
       D.linear() = Eigen::AngleAxisd(angle, n).toRotationMatrix();
       D.translation() = pc - D.linear() * pc + d1 * e1 + d2 * e2;

@@ -45,11 +45,15 @@ struct DiffusionContext {
   const prior::VolumeCache& volumes;  // computed on demand: diffusion runs on one thread
   const FilterOptions& opt;
   const SupportPlane* plane;          // null: no support plane (kOnPlane never drawn)
+  // The support surfaces (null or none: `plane` for every particle): kOnPlane turns and slides
+  // an object on the support just below it, and leaves one over no support unchanged.
+  const SupportSurfaces* surfaces;
   Eigen::Vector3d pivot;              // object frame, metres (the model's bounding-box centre)
   std::vector<double> move_cdf;  // cumulative, normalised FilterOptions::diffusion.move_probabilities
 
   DiffusionContext(const Camera& c, const PyramidLayout& l, const prior::VolumeCache& v, const FilterOptions& o,
-                   const SupportPlane* support = nullptr, const Eigen::Vector3d& pivot_obj = Eigen::Vector3d::Zero());
+                   const SupportPlane* support = nullptr, const Eigen::Vector3d& pivot_obj = Eigen::Vector3d::Zero(),
+                   const SupportSurfaces* surfaces = nullptr);
   // The move for a uniform draw u in [0, 1).
   Move PickMove(double u) const;
 };

@@ -84,6 +84,9 @@ struct Context {
   // Contact prior (FilterOptions::support.contact): the support plane (camera frame) and the mesh's
   // convex-hull vertices (object frame, metres); empty when the prior is off or no plane.
   SupportPlane plane{};
+  // Every support surface: the contact prior, stable starts, the on-plane move and the stable
+  // re-search use the one just below the object (PlaneBelow), and are off where there is none.
+  SupportSurfaces surfaces{};
   std::vector<Eigen::Vector3d> hull{};
   // The mesh's stable poses (FilterOptions::support.stable_start); empty without a support plane. A
   // stable start stands on the point of the plane below the centre of its cell's visible
@@ -97,6 +100,16 @@ struct Context {
   std::vector<std::pair<Pose6, int>> seeds{};
   std::vector<double> seed_cdf{};
 };
+
+// The plane of the support surface just below p (camera frame; SupportSurfaces::Below with the
+// default SupportSurfaceOptions that PrepareScene finds them with), or nullptr: no support
+// plane, or none under p.
+inline const SupportPlane* PlaneBelow(const Context& ctx, const Eigen::Vector3d& p) {
+  static const SupportSurfaceOptions kDefaults{};
+  if (!ctx.plane.found) return nullptr;
+  const int k = ctx.surfaces.Below(p, kDefaults);
+  return k < 0 ? nullptr : &ctx.surfaces.patches[std::size_t(k)].plane;
+}
 
 // Checks the mesh, class and prior (the options were checked by the caller, ThrowIfInvalid) and
 // precomputes volumes, windows and N_depth for every cell.

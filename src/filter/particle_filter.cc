@@ -123,6 +123,9 @@ PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cel
 // the plane by a uniform fraction of the object's radius.
 Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   const Volume& vol = ctx.volumes.Get(cell);
+  // The support below the centre of the cell's visible surface (none: the start of Listing 7.5 [ALGORITHM.md]).
+  const SupportPlane* below = ctx.stable.empty() ? nullptr
+                                                 : PlaneBelow(ctx, ctx.scene.camera.base_to_camera * ctx.surface_volumes.Get(cell).Centre());
   Particle p;
   p.cell = cell;
   const Eigen::Vector3d c = vol.Centre();
@@ -137,14 +140,14 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
     p.cell = seed_cell;
     return p;
   }
-  if (!ctx.stable.empty() && u_start - seeded < ctx.opt.support.stable_start * (1 - seeded)) {
+  if (below && u_start - seeded < ctx.opt.support.stable_start * (1 - seeded)) {
     const double u_pose = rng.Uniform(), yaw = rng.Uniform(-M_PI, M_PI), back = rng.Uniform();
     std::size_t k = 0;
     for (double acc = ctx.stable[0].probability; k + 1 < ctx.stable.size() && u_pose >= acc;)
       acc += ctx.stable[++k].probability;
     const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
     const Eigen::Vector3d centre = C * ctx.surface_volumes.Get(cell).Centre();
-    const Eigen::Vector3d n = ctx.plane.normal;
+    const Eigen::Vector3d n = below->normal;
     Eigen::Isometry3d T_cam_table = Eigen::Isometry3d::Identity();
     const Eigen::Vector3d ex = n.unitOrthogonal();
     T_cam_table.linear() << ex, n.cross(ex), n;
@@ -153,7 +156,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
     // the box pulls the surface's centre towards the camera).
     Eigen::Vector3d away = centre - n * n.dot(centre);
     if (away.norm() > 1e-9) away.normalize();
-    T_cam_table.translation() = centre - ctx.plane.Height(centre) * n + back * 0.5 * ctx.diameter * away;
+    T_cam_table.translation() = centre - below->Height(centre) * n + back * 0.5 * ctx.diameter * away;
     const Eigen::Isometry3d T_cam_obj =
         T_cam_table * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * ctx.stable[k].T_table_obj;
     p.pose = TransformToPose(C.inverse() * T_cam_obj);
@@ -196,8 +199,10 @@ PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) 
 // support plane beyond contact_tolerance_m (0 without a plane).
 double ContactPenalty(const Context& ctx, const Eigen::Isometry3d& T) {
   if (ctx.hull.empty()) return 0.0;
+  const SupportPlane* below = PlaneBelow(ctx, T * ctx.box_centre);  // the object's own support
+  if (!below) return 0.0;
   double lowest = 1e30;
-  for (const Eigen::Vector3d& v : ctx.hull) lowest = std::min(lowest, ctx.plane.Height(T * v));
+  for (const Eigen::Vector3d& v : ctx.hull) lowest = std::min(lowest, below->Height(T * v));
   const double off = std::fabs(lowest) - ctx.opt.support.contact_tolerance_m;
   return off > 0 ? ctx.opt.support.contact * std::min(1.0, off / ctx.opt.support.contact_span_m) : 0.0;
 }
@@ -446,7 +451,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
   ctx.fine = make_level(filter::FineFactor(options, prior, cls, ctx.volumes, scene.camera, diameter));
   if (runs && options.anneal.subsample > 1 && filter::AnnealIterations(options) > 0)
     ctx.coarse_level = make_level(ctx.fine.factor * options.anneal.subsample);
-  if (prep.plane.found) ctx.plane = prep.plane;
+  if (prep.plane.found) ctx.plane = prep.plane, ctx.surfaces = prep.surfaces;
   if (options.support.contact > 0 && prep.plane.found) {
     std::vector<Eigen::Vector3d> pts;
     for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
@@ -549,7 +554,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   const FilterOptions& options = ctx.opt;
   const SceneInput& scene = ctx.scene;
   const filter::DiffusionContext diffusion(scene.camera, ctx.prior.layout, ctx.volumes, options, &ctx.plane,
-                                           0.5 * (ctx.bbox_corners[0] + ctx.bbox_corners[7]));
+                                           0.5 * (ctx.bbox_corners[0] + ctx.bbox_corners[7]), &ctx.surfaces);
   // Coarse-to-fine inlier threshold: thr1 falls geometrically from anneal_start_m to its
   // final value over the first anneal_fraction of the iterations, weighed on the coarse pixel
   // grid while it does (anneal_subsample > 1). Sets the threshold and the pixel grid of

@@ -93,12 +93,14 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   // answer in the wrong stable pose, or the right one turned or flipped, gets the right one.
   if (o.polish.stable && !ctx.stable.empty()) {
     const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
-    const Eigen::Vector3d n = ctx.plane.normal, ex = n.unitOrthogonal();
     for (const Particle& s : seeds) {
       const Eigen::Vector3d com = C * PoseToTransform(s.pose) * ctx.com_obj;
+      const SupportPlane* below = PlaneBelow(ctx, com);  // the seed's own support; none: not re-searched
+      if (!below) continue;
+      const Eigen::Vector3d n = below->normal, ex = n.unitOrthogonal();
       Eigen::Isometry3d T_cam_table = Eigen::Isometry3d::Identity();
       T_cam_table.linear() << ex, n.cross(ex), n;
-      T_cam_table.translation() = com - ctx.plane.Height(com) * n;
+      T_cam_table.translation() = com - below->Height(com) * n;
       for (std::size_t k = 0; k < std::min<std::size_t>(ctx.stable.size(), kStableMaxPoses); ++k) {
         if (ctx.stable[k].probability < kStableMinProbability) break;  // most probable first
         for (int j = 0; j < 2 * kStableYawStepsPerHalfTurn; ++j) {
@@ -120,7 +122,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
                       [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
     cands.resize(o.polish.keep);
   }
-  const DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o, &ctx.plane, centre);
+  const DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o, &ctx.plane, centre, &ctx.surfaces);
   Rng unused(0);  // the ICP move draws no random numbers
   std::vector<Particle> path_best(cands.size());  // best weighed state of each candidate
   for (auto& p : path_best) p.weight = -1;

@@ -17,8 +17,9 @@ PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options
   p.scoring.seeds = scene.seeds;
   std::vector<float>& z = p.scoring.depth.data;
   if (options.support.plane) {
-    p.plane = FindSupportPlane(scene.depth, scene.camera);
-    const std::vector<std::uint8_t> on = SupportPlanePixels(scene.depth, scene.camera, p.plane);
+    p.surfaces = FindSupportSurfaces(scene.depth, scene.camera);
+    if (p.surfaces.supports > 0) p.plane = p.surfaces.patches[0].plane;
+    const std::vector<int> on = SupportSurfacePixels(scene.depth, scene.camera, p.surfaces);
     for (std::size_t i = 0; i < z.size(); ++i)
       if (on[i] && z[i] > 0) {
         z[i] = 0;

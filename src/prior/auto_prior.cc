@@ -18,7 +18,7 @@ bool AutoPriorOptions::IsValid(std::string* why) const {
     return false;
   };
   std::string p;
-  if (!plane.IsValid(&p)) return fail("plane: " + p);
+  if (!surfaces.IsValid(&p)) return fail("surfaces: " + p);
   if (!(min_height_m >= 0 && min_height_m < max_height_m && std::isfinite(max_height_m)))
     return fail("need 0 <= min_height_m < max_height_m");
   if (!(max_step_fraction > 0 && max_step_fraction <= 1)) return fail("max_step_fraction must be in (0, 1]");
@@ -43,19 +43,37 @@ std::vector<CandidateRegion> FindCandidateRegions(const DepthImage& depth, const
   if (!opt.IsValid(&why)) throw Error("auto prior: " + why);
   if (depth.width != camera.width || depth.height != camera.height)
     throw Error("auto prior: the depth image's size differs from the camera's");
+  return FindCandidateRegions(depth, camera, FindSupportSurfaces(depth, camera, opt.surfaces), opt, labels_out);
+}
+
+std::vector<CandidateRegion> FindCandidateRegions(const DepthImage& depth, const Camera& camera,
+                                                  const SupportSurfaces& surfaces, const AutoPriorOptions& opt,
+                                                  std::vector<int>* labels_out) {
+  std::string why;
+  if (!opt.IsValid(&why)) throw Error("auto prior: " + why);
+  if (depth.width != camera.width || depth.height != camera.height)
+    throw Error("auto prior: the depth image's size differs from the camera's");
   const int W = depth.width, H = depth.height;
-  const SupportPlane plane = FindSupportPlane(depth, camera, opt.plane);
-  // Foreground: valid pixels standing above the plane's band (every valid pixel without a plane).
+  // Foreground: valid pixels off every patch, standing min_height_m–max_height_m above the band
+  // of the support just below them (every valid pixel off the patches without a support).
+  const std::vector<int> on = SupportSurfacePixels(depth, camera, surfaces, opt.surfaces);
   std::vector<std::uint8_t> fg(std::size_t(W) * H, 0);
+  std::vector<std::int8_t> support_of(std::size_t(W) * H, -1);
   for (int v = 0; v < H; ++v)
     for (int u = 0; u < W; ++u) {
       const float z = depth.at(u, v);
-      if (!(z > 0)) continue;
-      if (plane.found) {
-        const double h = plane.Height(camera.Backproject(u, v, z));
-        if (h < plane.Band(z, opt.plane) + opt.min_height_m || h > opt.max_height_m) continue;
+      const std::size_t i = std::size_t(v) * W + u;
+      if (!(z > 0) || on[i]) continue;
+      if (surfaces.supports > 0) {
+        const Eigen::Vector3d p = camera.Backproject(u, v, z);
+        const int s = surfaces.Below(p, opt.surfaces, opt.max_height_m);
+        if (s < 0) continue;
+        const SupportSurface& surface = surfaces.patches[std::size_t(s)];
+        const double h = surface.plane.Height(p);
+        if (h < surface.Band(z, opt.surfaces) + opt.min_height_m || h > opt.max_height_m) continue;
+        support_of[i] = std::int8_t(std::min(s, 127));
       }
-      fg[std::size_t(v) * W + u] = 1;
+      fg[i] = 1;
     }
   // 4-connected regions of foreground pixels with small depth steps (iterative flood fill).
   std::vector<int> label(std::size_t(W) * H, 0);
@@ -89,8 +107,12 @@ std::vector<CandidateRegion> FindCandidateRegions(const DepthImage& depth, const
       for (int i : members) label[std::size_t(i)] = -1;  // dropped: noise
       continue;
     }
-    CandidateRegion r{W, H, 0, 0, int(members.size()), 0};
+    CandidateRegion r{W, H, 0, 0, int(members.size()), 0, -1};
     zs.clear();
+    std::vector<int> votes(std::size_t(std::max(0, surfaces.supports)), 0);
+    for (int i : members)
+      if (support_of[std::size_t(i)] >= 0) ++votes[std::size_t(support_of[std::size_t(i)])];
+    if (!votes.empty()) r.support = int(std::max_element(votes.begin(), votes.end()) - votes.begin());
     for (int i : members) {
       const int u = i % W, v = i / W;
       r.x0 = std::min(r.x0, u), r.y0 = std::min(r.y0, v), r.x1 = std::max(r.x1, u + 1), r.y1 = std::max(r.y1, v + 1);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "core/plane_fit.h"
 #include "posefilter/error.h"
@@ -14,6 +15,7 @@ namespace {
 
 constexpr std::uint64_t kRansacSeed = 0x5eed'7ab1e;  // fixed: the same image gives the same plane
 constexpr int kMinPoints = 50;
+constexpr std::size_t kMaxOutline = 24;  // a patch's outline keeps at most this many vertices
 
 // Least-squares plane through `pts` (smallest eigenvector of the scatter matrix), its normal
 // turned towards the camera (the origin).
@@ -31,6 +33,29 @@ double Median(std::vector<double> v) {
   const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
+}
+
+// Convex hull of 2-D points (Andrew's monotone chain), counter-clockwise.
+std::vector<Eigen::Vector2d> Hull2d(std::vector<Eigen::Vector2d> pts) {
+  std::sort(pts.begin(), pts.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (pts.size() < 3) return pts;
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d> hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
+    hull[k++] = pts[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
 }
 
 }  // namespace
@@ -123,6 +148,300 @@ std::vector<std::uint8_t> SupportPlanePixels(const DepthImage& depth, const Came
       const float z = depth.at(u, v);
       if (z > 0 && std::fabs(plane.Height(camera.Backproject(u, v, z))) <= plane.Band(z, opt))
         on[std::size_t(v) * depth.width + u] = 1;
+    }
+  return on;
+}
+
+bool SupportSurfaceOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  std::string p;
+  if (!plane.IsValid(&p)) return fail("plane: " + p);
+  if (max_planes < 1) return fail("max_planes must be >= 1");
+  if (!(min_fraction > 0 && min_fraction <= 1)) return fail("min_fraction must be in (0, 1]");
+  if (neighbourhood < 1) return fail("neighbourhood must be >= 1");
+  if (!(min_area_m2 > 0 && std::isfinite(min_area_m2))) return fail("min_area_m2 must be > 0");
+  if (!(max_tilt_deg > 0 && max_tilt_deg < 90)) return fail("max_tilt_deg must be in (0, 90)");
+  if (!(large_area_m2 > 0 && std::isfinite(large_area_m2))) return fail("large_area_m2 must be > 0");
+  if (!(margin_m >= 0 && std::isfinite(margin_m))) return fail("margin_m must be >= 0");
+  if (!(min_rise_m >= 0 && std::isfinite(min_rise_m))) return fail("min_rise_m must be >= 0");
+  return true;
+}
+
+bool SupportSurface::Over(const Eigen::Vector3d& p, double margin_m) const {
+  if (outline.size() < 3) return false;
+  const Eigen::Vector3d q = p - origin;
+  const Eigen::Vector2d f(q.dot(e1), q.dot(e2));
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const Eigen::Vector2d a = outline[i], b = outline[(i + 1) % outline.size()];
+    const Eigen::Vector2d e = b - a;
+    const double len = e.norm();
+    if (!(len > 0)) continue;
+    // Outward distance of f from the edge (counter-clockwise outline: outward is to the right).
+    const double out = (e.x() * (f.y() - a.y()) - e.y() * (f.x() - a.x())) / -len;
+    if (out > margin_m) return false;
+  }
+  return true;
+}
+
+double SupportSurface::Band(double z, const SupportSurfaceOptions& opt) const {
+  return std::clamp(opt.plane.band_sigmas * plane.sigma_1m * z * z, opt.plane.min_band_m,
+                    opt.plane.max_band_m * std::max(1.0, z * z));
+}
+
+int SupportSurfaces::Below(const Eigen::Vector3d& p, const SupportSurfaceOptions& opt, double max_height_m) const {
+  int best = -1;
+  double best_h = 0;
+  for (int i = 0; i < supports; ++i) {
+    const SupportSurface& s = patches[std::size_t(i)];
+    const double h = s.plane.Height(p);
+    if (h < -s.Band(p.z(), opt)) continue;
+    if (h > max_height_m || (best >= 0 && h >= best_h)) continue;
+    if (!s.Over(p, opt.margin_m)) continue;
+    best = i, best_h = h;
+  }
+  return best;
+}
+
+SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camera, const SupportSurfaceOptions& opt) {
+  std::string why;
+  if (!opt.IsValid(&why)) throw Error("support surfaces: " + why);
+  if (depth.width != camera.width || depth.height != camera.height)
+    throw Error("support surfaces: the depth image's size differs from the camera's");
+  SupportSurfaces out;
+  const std::size_t valid = depth.CountValid();
+  if (valid < std::size_t(kMinPoints)) return out;
+  // The grid of samples (as FindSupportPlane): cell (gx, gy) holds pixel (gx·stride + stride/2, …).
+  const int stride = std::max(1, int(std::floor(std::sqrt(double(valid) / opt.plane.samples))));
+  const int gw = (depth.width - stride / 2 + stride - 1) / stride, gh = (depth.height - stride / 2 + stride - 1) / stride;
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<int> cell_of;                               // sample → grid cell
+  std::vector<int> at(std::size_t(gw) * std::size_t(gh), -1);  // grid cell → sample, −1 none
+  for (int gy = 0; gy < gh; ++gy)
+    for (int gx = 0; gx < gw; ++gx) {
+      const int u = gx * stride + stride / 2, v = gy * stride + stride / 2;
+      const float z = depth.at(u, v);
+      if (!(z > 0)) continue;
+      at[std::size_t(gy) * gw + gx] = int(pts.size());
+      cell_of.push_back(gy * gw + gx);
+      pts.push_back(camera.Backproject(u, v, z));
+    }
+  const std::size_t n = pts.size();
+  if (n < std::size_t(kMinPoints)) return out;
+  // Each sample's normal from its grid neighbours two cells away (zero where one is missing or
+  // across a depth step of more than 5 % of the depth): an inlier's normal must agree with the
+  // plane's, or a plane grazing the far field (whose band grows with z²) would collect the
+  // noise of every distant surface it cuts.
+  std::vector<Eigen::Vector3d> normal(n, Eigen::Vector3d::Zero());
+  for (std::size_t i = 0; i < n; ++i) {
+    const int gx = cell_of[i] % gw, gy = cell_of[i] / gw;
+    auto sample = [&](int x, int y) { return x < 0 || y < 0 || x >= gw || y >= gh ? -1 : at[std::size_t(y) * gw + x]; };
+    const int l = sample(gx - 2, gy), r = sample(gx + 2, gy), u = sample(gx, gy - 2), dn = sample(gx, gy + 2);
+    if (l < 0 || r < 0 || u < 0 || dn < 0) continue;
+    const double z = pts[i].z();
+    bool smooth = true;
+    for (int q : {l, r, u, dn}) smooth = smooth && std::fabs(pts[std::size_t(q)].z() - z) <= 0.05 * z;
+    if (!smooth) continue;
+    const Eigen::Vector3d nn = (pts[std::size_t(r)] - pts[std::size_t(l)]).cross(pts[std::size_t(dn)] - pts[std::size_t(u)]);
+    if (nn.norm() > 0) normal[i] = nn.normalized();
+  }
+  constexpr double kMaxBandM = 0.03;           // the RANSAC band's cap (far points), metres
+  const double cos_normal = std::cos(30 * M_PI / 180.0);  // an inlier's normal within 30° of the plane's
+  const double band = opt.plane.ransac_band_m;
+  auto inlier_at = [&](const Eigen::Vector3d& nn, double d, std::size_t i) {
+    const Eigen::Vector3d& p = pts[i];
+    if (std::fabs(nn.dot(p) + d) > std::min(kMaxBandM, band * p.z() * p.z())) return false;
+    return normal[i].isZero() || std::fabs(normal[i].dot(nn)) >= cos_normal;
+  };
+  std::vector<std::uint8_t> used(n, 0);
+  std::vector<int> pool(n);
+  std::iota(pool.begin(), pool.end(), 0);
+  Rng rng(kRansacSeed);
+  const int R = opt.neighbourhood;
+  std::vector<SupportSurface> patches;
+  for (int plane_index = 0; plane_index < opt.max_planes; ++plane_index) {
+    pool.erase(std::remove_if(pool.begin(), pool.end(), [&](int i) { return used[std::size_t(i)] != 0; }), pool.end());
+    if (double(pool.size()) < opt.min_fraction * double(n) || pool.size() < 3) break;
+    int best_count = 0;
+    Eigen::Vector3d best_n = Eigen::Vector3d::Zero();
+    double best_d = 0;
+    for (int it = 0; it < opt.plane.iterations; ++it) {
+      const int a = pool[rng.UniformInt(pool.size())];
+      const int ax = cell_of[std::size_t(a)] % gw, ay = cell_of[std::size_t(a)] / gw;
+      int b = -1, c = -1;
+      for (int t = 0; t < 20 && (b < 0 || c < 0); ++t) {
+        const int x = ax + int(rng.UniformInt(std::uint64_t(2 * R + 1))) - R, y = ay + int(rng.UniformInt(std::uint64_t(2 * R + 1))) - R;
+        if (x < 0 || y < 0 || x >= gw || y >= gh) continue;
+        const int q = at[std::size_t(y) * gw + x];
+        if (q < 0 || q == a || q == b || used[std::size_t(q)]) continue;
+        (b < 0 ? b : c) = q;
+      }
+      if (b < 0 || c < 0) continue;
+      Eigen::Vector3d nn = (pts[std::size_t(b)] - pts[std::size_t(a)]).cross(pts[std::size_t(c)] - pts[std::size_t(a)]);
+      const double len = nn.norm();
+      if (!(len > 1e-12)) continue;
+      nn /= len;
+      double d = -nn.dot(pts[std::size_t(a)]);
+      if (d < 0) nn = -nn, d = -d;
+      int count = 0;
+      for (int i : pool) count += inlier_at(nn, d, std::size_t(i));
+      if (count > best_count) best_count = count, best_n = nn, best_d = d;
+    }
+    if (double(best_count) < opt.min_fraction * double(n) || best_count < 3) break;
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<Eigen::Vector3d> in;
+      for (int i : pool)
+        if (inlier_at(best_n, best_d, std::size_t(i))) in.push_back(pts[std::size_t(i)]);
+      if (in.size() < 3 || !FitPlane(in, &best_n, &best_d)) break;
+    }
+    std::vector<int> members;
+    for (int i : pool)
+      if (inlier_at(best_n, best_d, std::size_t(i))) members.push_back(i);
+    if (double(members.size()) < opt.min_fraction * double(n) || members.size() < 3) {
+      // The refit moved off the hypothesis' inliers: take those out so the peeling goes on.
+      for (int i : pool) used[std::size_t(i)] |= inlier_at(best_n, best_d, std::size_t(i));
+      continue;
+    }
+    for (int i : members) used[std::size_t(i)] = 1;
+    // The plane's residual scale (as FindSupportPlane).
+    SupportPlane plane;
+    plane.normal = best_n;
+    plane.offset = best_d;
+    {
+      std::vector<double> scaled;
+      for (int i : members) {
+        const Eigen::Vector3d& p = pts[std::size_t(i)];
+        scaled.push_back((best_n.dot(p) + best_d) / (p.z() * p.z()));
+      }
+      const double med = Median(scaled);
+      for (double& v : scaled) v = std::fabs(v - med);
+      plane.sigma_1m = 1.4826 * Median(scaled);
+    }
+    plane.fraction = double(members.size()) / double(n);
+    plane.found = true;
+    // Patches: 8-connected members on the grid, bridging one missing sample.
+    std::vector<int> comp(std::size_t(gw) * gh, -1);
+    std::vector<std::uint8_t> member_cell(std::size_t(gw) * gh, 0);
+    for (int i : members) member_cell[std::size_t(cell_of[std::size_t(i)])] = 1;
+    const Eigen::Vector3d e1 = best_n.unitOrthogonal(), e2 = best_n.cross(e1);
+    const Eigen::Vector3d origin = -best_d * best_n;
+    int next = 0;
+    std::vector<int> stack, cells;
+    for (int i : members) {
+      const int start = cell_of[std::size_t(i)];
+      if (comp[std::size_t(start)] >= 0) continue;
+      cells.clear();
+      stack.assign(1, start);
+      comp[std::size_t(start)] = next;
+      while (!stack.empty()) {
+        const int cidx = stack.back();
+        stack.pop_back();
+        cells.push_back(cidx);
+        const int cx = cidx % gw, cy = cidx / gw;
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) {
+            const int x = cx + dx, y = cy + dy;
+            if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= gw || y >= gh) continue;
+            const int q = y * gw + x;
+            if (!member_cell[std::size_t(q)] || comp[std::size_t(q)] >= 0) continue;
+            comp[std::size_t(q)] = next;
+            stack.push_back(q);
+          }
+      }
+      ++next;
+      // Area: each sample stands for stride² pixels, a pixel for (z/fx)·(z/fy) / |cos| of the plane.
+      double area = 0;
+      std::vector<Eigen::Vector2d> ab;
+      for (int cidx : cells) {
+        const Eigen::Vector3d& p = pts[std::size_t(at[std::size_t(cidx)])];
+        const double cosine = std::max(0.05, std::fabs(best_n.dot(p.normalized())));
+        area += double(stride) * stride * (p.z() / camera.fx) * (p.z() / camera.fy) / cosine;
+        const Eigen::Vector3d q = p - origin;
+        ab.push_back(Eigen::Vector2d(q.dot(e1), q.dot(e2)));
+      }
+      if (area < opt.min_area_m2 || cells.size() < 3) continue;
+      SupportSurface patch;
+      patch.plane = plane;
+      patch.plane.fraction = double(cells.size()) / double(n);
+      patch.origin = origin;
+      patch.e1 = e1;
+      patch.e2 = e2;
+      patch.outline = Hull2d(std::move(ab));
+      if (patch.outline.size() > kMaxOutline) {  // evenly spaced vertices: a convex polygon inside it
+        std::vector<Eigen::Vector2d> fewer;
+        for (std::size_t k = 0; k < kMaxOutline; ++k) fewer.push_back(patch.outline[k * patch.outline.size() / kMaxOutline]);
+        patch.outline = std::move(fewer);
+      }
+      patch.area_m2 = area;
+      if (patch.outline.size() >= 3) patches.push_back(std::move(patch));
+    }
+  }
+  if (patches.empty()) return out;
+  // Up: the normal (not pointing down the image) whose parallel patches have the most area.
+  const double cos_tilt = std::cos(opt.max_tilt_deg * M_PI / 180.0);
+  double best_area = 0;
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();
+  for (const SupportSurface& c : patches) {
+    if (c.plane.normal.y() >= 0.1) continue;
+    double area = 0;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const SupportSurface& o : patches)
+      if (o.plane.normal.dot(c.plane.normal) >= cos_tilt) area += o.area_m2, sum += o.area_m2 * o.plane.normal;
+    if (area > best_area) best_area = area, up = sum.normalized();
+  }
+  for (SupportSurface& p : patches) p.support = !up.isZero() && p.plane.normal.dot(up) >= cos_tilt;
+  // An object's top: a horizontal patch less than min_rise_m above another it lies over.
+  auto centroid = [](const SupportSurface& p) {
+    Eigen::Vector2d m = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& q : p.outline) m += q;
+    m /= double(p.outline.size());
+    return Eigen::Vector3d(p.origin + m.x() * p.e1 + m.y() * p.e2);
+  };
+  std::vector<std::uint8_t> object_top(patches.size(), 0);
+  for (std::size_t i = 0; i < patches.size(); ++i)
+    for (std::size_t j = 0; j < patches.size() && patches[i].support; ++j) {
+      if (j == i || !patches[j].support) continue;
+      const Eigen::Vector3d c = centroid(patches[i]);
+      const double rise = patches[j].plane.Height(c);
+      if (rise > patches[j].plane.Band(c.z(), opt.plane) && rise < opt.min_rise_m && patches[j].Over(c, opt.margin_m)) object_top[i] = 1;
+    }
+  std::vector<SupportSurface> supports, structure;
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    SupportSurface& p = patches[i];
+    if (object_top[i]) continue;
+    if (p.support)
+      supports.push_back(std::move(p));
+    else if (p.area_m2 >= opt.large_area_m2)
+      structure.push_back(std::move(p));
+  }
+  auto larger = [](const SupportSurface& a, const SupportSurface& b) { return a.area_m2 > b.area_m2; };
+  std::stable_sort(supports.begin(), supports.end(), larger);
+  std::stable_sort(structure.begin(), structure.end(), larger);
+  out.supports = int(supports.size());
+  out.up = up;
+  out.patches = std::move(supports);
+  for (SupportSurface& p : structure) out.patches.push_back(std::move(p));
+  return out;
+}
+
+std::vector<int> SupportSurfacePixels(const DepthImage& depth, const Camera& camera, const SupportSurfaces& surfaces,
+                                      const SupportSurfaceOptions& opt) {
+  std::vector<int> on(std::size_t(depth.width) * depth.height, 0);
+  if (surfaces.patches.empty()) return on;
+  for (int v = 0; v < depth.height; ++v)
+    for (int u = 0; u < depth.width; ++u) {
+      const float z = depth.at(u, v);
+      if (!(z > 0)) continue;
+      const Eigen::Vector3d p = camera.Backproject(u, v, z);
+      for (std::size_t k = 0; k < surfaces.patches.size(); ++k) {
+        const SupportSurface& s = surfaces.patches[k];
+        if (std::fabs(s.plane.Height(p)) > s.Band(z, opt)) continue;
+        if (!s.Over(p, opt.margin_m)) continue;
+        on[std::size_t(v) * depth.width + u] = int(k) + 1;
+        break;
+      }
     }
   return on;
 }

@@ -34,6 +34,7 @@
 #include "posefilter/rng.h"
 #include "posefilter/scene_io.h"
 #include "synth/synth_util.h"
+#include "synth/world_parts.h"
 
 namespace posefilter {
 namespace {
@@ -45,6 +46,10 @@ constexpr int kPad = 400;                  // canvas margin of the objects' full
 
 using Vec2 = Eigen::Vector2d;
 using Polygon = std::vector<Vec2>;
+
+}  // namespace
+
+namespace synth {
 
 // Convex hull of 2-D points (Andrew's monotone chain), counter-clockwise.
 Polygon ConvexHull2d(std::vector<Vec2> pts) {
@@ -90,6 +95,14 @@ Polygon Shifted(const Polygon& p, const Vec2& d) {
   return out;
 }
 
+}  // namespace synth
+
+namespace {
+
+using synth::ConvexHull2d;
+using synth::Separated;
+using synth::Shifted;
+
 struct Placement {
   int model = -1;
   int pose = -1;
@@ -97,6 +110,10 @@ struct Placement {
   Polygon footprint;  // table frame, at the object's position
   double radius = 0;  // largest footprint distance from the position, metres
 };
+
+}  // namespace
+
+namespace synth {
 
 int DrawPose(const std::vector<StablePose>& poses, Rng& rng) {
   const double u = rng.Uniform();
@@ -110,7 +127,7 @@ int DrawPose(const std::vector<StablePose>& poses, Rng& rng) {
 
 // Unit normals of the clean depth (camera frame) by central differences, zero where a
 // neighbour is missing or more than jump_m away.
-std::vector<Eigen::Vector3f> DepthNormals(const DepthImage& d, const Camera& cam, double jump_m) {
+static std::vector<Eigen::Vector3f> DepthNormals(const DepthImage& d, const Camera& cam, double jump_m) {
   const int w = d.width, h = d.height;
   std::vector<Eigen::Vector3f> n(std::size_t(w) * h, Eigen::Vector3f::Zero());
   for (int v = 1; v + 1 < h; ++v)
@@ -129,7 +146,7 @@ std::vector<Eigen::Vector3f> DepthNormals(const DepthImage& d, const Camera& cam
 }
 
 // Removes disc (centre cu, cv, radius r pixels) from the depth.
-void DropDisc(DepthImage* d, double cu, double cv, double r) {
+static void DropDisc(DepthImage* d, double cu, double cv, double r) {
   const int ir = int(std::ceil(r));
   for (int v = std::max(0, int(cv) - ir); v <= std::min(d->height - 1, int(cv) + ir); ++v)
     for (int u = std::max(0, int(cu) - ir); u <= std::min(d->width - 1, int(cu) + ir); ++u)
@@ -286,6 +303,16 @@ Box JitterBox(const Box& b0, double sigma, double scale, Rng& rng) {
 Detection ToDetection(const std::string& cls, double score, const Box& b) {
   return {cls, score, b.cx - b.w / 2, b.cy - b.h / 2, b.w, b.h};
 }
+
+}  // namespace synth
+
+namespace {
+
+using synth::ApplySensor;
+using synth::DrawPose;
+using synth::JitterBox;
+using synth::NoisyMask;
+using synth::ToDetection;
 
 bool InRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 
@@ -497,6 +524,7 @@ TableScene TableWorld::MakeScene(const TableSceneOptions& opt, std::uint64_t see
   Eigen::Isometry3d T_C_W = Eigen::Isometry3d::Identity();
   std::vector<TableObject> objects;
   std::vector<std::vector<int>> alone;  // per object: its pixels rendered alone (indices)
+  double table_view = 0;                // fraction of the image the table covers, seen
   for (int attempt = 0; attempt < 30; ++attempt) {
     const double jx = rng_camera.Uniform(-0.05, 0.05), jy = rng_camera.Uniform(-0.05, 0.05);
     const double lift = rng_camera.Uniform(0.02, 0.08);
@@ -566,9 +594,11 @@ TableScene TableWorld::MakeScene(const TableSceneOptions& opt, std::uint64_t see
     s.clean_depth = DepthImage(W, H, 0.f);
     s.labels.assign(std::size_t(W) * H, 0);
     RenderDepth(floor, T_C_W, cam, &s.clean_depth, &s.labels, 0);
-    RenderDepth(table, T_C_W, cam, &s.clean_depth, &s.labels, 0);
+    RenderDepth(table, T_C_W, cam, &s.clean_depth, &s.labels, -1);  // -1 while counted, then 0
     for (std::size_t i = 0; i < objects.size(); ++i)
       RenderDepth(models_[std::size_t(objects[i].model)].mesh, objects[i].T_cam_obj, cam, &s.clean_depth, &s.labels, int(i) + 1);
+    table_view = double(std::count(s.labels.begin(), s.labels.end(), -1)) / double(W * H);
+    std::replace(s.labels.begin(), s.labels.end(), -1, 0);
     for (std::size_t i = 0; i < objects.size(); ++i) {
       TableObject& o = objects[i];
       o.visible_px = int(synth::CountLabel(s.labels, int(i) + 1));
@@ -593,6 +623,9 @@ TableScene TableWorld::MakeScene(const TableSceneOptions& opt, std::uint64_t see
   s.classes = ClassNames();
   const Eigen::Vector3d n = T_C_W.linear() * Eigen::Vector3d::UnitZ();
   s.table_plane << n, -n.dot(T_C_W.translation());
+  s.supports = {s.table_plane};
+  s.floor_plane << n, s.table_plane[3] + kTableHeightM;
+  s.support_view_fractions = {table_view};
 
   // 6. Prior: targets' boxes, false boxes; targets' masks.
   const std::vector<std::string> classes = ClassNames();
@@ -685,12 +718,17 @@ void WriteTableScene(const TableScene& s, const std::string& dir) {
   j["distance_m"] = s.distance_m;
   j["elevation_deg"] = s.elevation_deg;
   j["table_plane"] = {s.table_plane[0], s.table_plane[1], s.table_plane[2], s.table_plane[3]};
+  j["floor_plane"] = {s.floor_plane[0], s.floor_plane[1], s.floor_plane[2], s.floor_plane[3]};
+  j["supports"] = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < s.supports.size(); ++k)
+    j["supports"].push_back({{"plane", {s.supports[k][0], s.supports[k][1], s.supports[k][2], s.supports[k][3]}},
+                             {"view_fraction", k < s.support_view_fractions.size() ? s.support_view_fractions[k] : 0.0}});
   j["objects"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
     const TableObject& o = s.objects[i];
     j["objects"].push_back({{"obj", o.cls}, {"instance", i + 1}, {"target", o.target},
                             {"visible_fraction", o.visible_fraction}, {"visible_px", o.visible_px},
-                            {"stable_pose", o.stable_pose},
+                            {"stable_pose", o.stable_pose}, {"support", o.support},
                             {"bbox", {o.box.cx - o.box.w / 2, o.box.cy - o.box.h / 2, o.box.w, o.box.h}}});
   }
   write_json(j, "scene.json");

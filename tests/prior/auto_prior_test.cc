@@ -15,7 +15,7 @@
 namespace posefilter {
 namespace {
 
-SynthScene TableScene(const std::string& target, std::uint64_t seed, double occlusion = 0.0) {
+SynthScene SynthTableScene(const std::string& target, std::uint64_t seed, double occlusion = 0.0) {
   SynthOptions so;
   so.target = target;
   so.occlusion = occlusion;
@@ -36,7 +36,7 @@ std::array<int, 4> TargetPixelBox(const SynthScene& sc) {
 // Plane removal leaves the object's points: nearly every visible target pixel is in a region,
 // nearly no table pixel is, and the target's region holds its whole silhouette.
 TEST(AutoPriorTest, RegionsHoldTheObjectAndNotTheTable) {
-  const SynthScene sc = TableScene("box", 5);
+  const SynthScene sc = SynthTableScene("box", 5);
   std::vector<int> labels;
   const std::vector<CandidateRegion> regions = FindCandidateRegions(sc.depth, sc.camera, {}, &labels);
   ASSERT_FALSE(regions.empty());
@@ -70,7 +70,7 @@ TEST(AutoPriorTest, RegionsHoldTheObjectAndNotTheTable) {
 TEST(AutoPriorTest, DetectionsLeadTheFilterToThePose) {
   for (const char* target : {"box", "lshape"}) {
     SCOPED_TRACE(target);
-    const SynthScene sc = TableScene(target, 7);
+    const SynthScene sc = SynthTableScene(target, 7);
     const std::vector<Detection> dets = AutoDetections(sc.depth, sc.camera, {{sc.target.name, sc.target.Diameter()}});
     ASSERT_FALSE(dets.empty());
     const auto b = TargetPixelBox(sc);
@@ -97,7 +97,7 @@ TEST(AutoPriorTest, DetectionsLeadTheFilterToThePose) {
 
 // Nothing above the table: no region, no detection — a clear empty result.
 TEST(AutoPriorTest, AnEmptyTableHasNoCandidates) {
-  const SynthScene sc = TableScene("box", 5);
+  const SynthScene sc = SynthTableScene("box", 5);
   DepthImage table = sc.depth;
   for (std::size_t i = 0; i < table.data.size(); ++i)
     if (sc.labels[i] != 0) table.data[i] = 0;  // only the table's pixels remain
@@ -108,7 +108,7 @@ TEST(AutoPriorTest, AnEmptyTableHasNoCandidates) {
 // A region larger than the object (touching objects) is tiled with boxes of the object's
 // projected size; one of them holds the region's centre.
 TEST(AutoPriorTest, ARegionLargerThanTheObjectIsTiled) {
-  const SynthScene sc = TableScene("box", 5);
+  const SynthScene sc = SynthTableScene("box", 5);
   const double small = sc.target.Diameter() / 4;  // as if four objects stood there
   const std::vector<Detection> dets = AutoDetections(sc.depth, sc.camera, {{"part", small}});
   ASSERT_GT(dets.size(), 2u);
@@ -141,7 +141,7 @@ TEST(AutoPriorTest, ARegionLargerThanTheObjectIsTiled) {
 }
 
 TEST(AutoPriorTest, BadInputsAreErrors) {
-  const SynthScene sc = TableScene("box", 5);
+  const SynthScene sc = SynthTableScene("box", 5);
   testing_util::ExpectError([&] { FindCandidateRegions(DepthImage(10, 10, 1.f), sc.camera); }, {"size"});
   testing_util::ExpectError([&] { AutoDetections(sc.depth, sc.camera, {{"box", 0.0}}); }, {"'box'", "diameter"});
   AutoPriorOptions bad;

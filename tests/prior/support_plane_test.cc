@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "posefilter/auto_prior.h"
+#include "posefilter/room_world.h"
 #include "posefilter/synth.h"
 #include "test_util.h"
 
@@ -64,6 +66,87 @@ TEST(SupportPlaneTest, NoPlaneNoErrorButBadInputsAreErrors) {
   o = {};
   o.max_band_m = 0.001;
   testing_util::ExpectInvalid(o, "band");
+}
+
+// ---- Support surfaces, plural (FindSupportSurfaces) ------------------------------------------
+
+const TableWorld& SmallWorld() {
+  static const TableWorld* w =
+      new TableWorld({MakeBox(0.12, 0.08, 0.16, "box"), MakeCylinder(0.04, 0.14, 32, "cylinder"),
+                      MakeBox(0.07, 0.07, 0.07, "cube"), MakeCylinder(0.03, 0.10, 24, "can")});
+  return *w;
+}
+
+// Whether patch p lies in `plane` (camera frame, n up): normal within 5°, the centre of its
+// outline within 1.5 cm of the plane.
+bool LiesIn(const SupportSurface& p, const Eigen::Vector4d& plane) {
+  Eigen::Vector2d m = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& q : p.outline) m += q;
+  m /= double(p.outline.size());
+  const Eigen::Vector3d c = p.origin + m.x() * p.e1 + m.y() * p.e2;
+  return p.plane.normal.dot(plane.head<3>()) > std::cos(5 * M_PI / 180) && std::fabs(plane.head<3>().dot(c) + plane[3]) < 0.015;
+}
+
+// The index of the first of `count` patches that lies in `plane`, −1 for none.
+int MatchingPatch(const SupportSurfaces& s, const Eigen::Vector4d& plane, int count) {
+  for (int i = 0; i < count; ++i)
+    if (LiesIn(s.patches[std::size_t(i)], plane)) return i;
+  return -1;
+}
+
+// In rooms with the objects on one or two raised surfaces: every support surface of the scene
+// is found as a support, parallel to the floor; each object's centre lies over its own
+// support, which is the surface just below it; the stage 1's regions hold most of each
+// target's visible pixels and stand on the target's support.
+TEST(SupportSurfacesTest, FindsEveryRaisedSurfaceOfARoom) {
+  int found = 0, total = 0, own = 0, objects = 0, held = 0, targets = 0;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    RoomSceneOptions o;
+    o.two_surfaces_probability = seed % 2 ? 1.0 : 0.0;
+    o.shelf_probability = 0;
+    o.max_objects = 3;
+    const TableScene sc = MakeRoomScene(SmallWorld(), o, seed);
+    const SupportSurfaces s = FindSupportSurfaces(sc.depth, sc.camera);
+    ASSERT_GT(s.supports, 0);
+    EXPECT_GT(s.up.dot(sc.floor_plane.head<3>()), std::cos(5 * M_PI / 180));
+    for (const Eigen::Vector4d& plane : sc.supports) {
+      ++total;
+      found += MatchingPatch(s, plane, s.supports) >= 0;
+    }
+    std::vector<int> labels;
+    const std::vector<CandidateRegion> regions = FindCandidateRegions(sc.depth, sc.camera, s, AutoPriorOptions{}, &labels);
+    for (std::size_t i = 0; i < sc.objects.size(); ++i) {
+      const TableObject& obj = sc.objects[i];
+      const int below = s.Below(obj.T_cam_obj.translation(), SupportSurfaceOptions{});
+      ++objects;
+      own += below >= 0 && LiesIn(s.patches[std::size_t(below)], sc.supports[std::size_t(obj.support)]);
+      if (!obj.target) continue;
+      int visible = 0, in_region = 0;
+      for (std::size_t q = 0; q < labels.size(); ++q)
+        if (sc.labels[q] == int(i) + 1 && sc.depth.data[q] > 0) ++visible, in_region += labels[q] > 0;
+      ++targets;
+      held += in_region > 0.8 * visible;
+    }
+  }
+  // One surface of these scenes is missed today (docs/ALGORITHM.md §16): its objects have no support.
+  EXPECT_GE(found, total - 1);
+  EXPECT_GE(own, objects - 2);
+  EXPECT_GE(held, targets - 1);
+}
+
+TEST(SupportSurfacesTest, BadOptionsAreErrors) {
+  SupportSurfaceOptions o;
+  o.max_tilt_deg = 90;
+  testing_util::ExpectInvalid(o, "max_tilt_deg");
+  o = {};
+  o.min_area_m2 = 0;
+  testing_util::ExpectInvalid(o, "min_area_m2");
+  o = {};
+  o.plane.iterations = 0;
+  testing_util::ExpectInvalid(o, "plane: iterations");
+  const Camera cam = testing_util::PinholeCamera(500, 500);
+  testing_util::ExpectError([&] { FindSupportSurfaces(DepthImage(10, 10, 1.f), cam); }, {"size"});
+  EXPECT_EQ(FindSupportSurfaces(DepthImage(cam.width, cam.height, 0.f), cam).supports, 0);
 }
 
 }  // namespace

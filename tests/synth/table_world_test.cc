@@ -1,6 +1,7 @@
 // Table-top scenes of real meshes seen by the structured-light sensor model
 // (posefilter/table_world.h).
 #include "posefilter/table_world.h"
+#include "posefilter/room_world.h"
 
 #include <gtest/gtest.h>
 
@@ -189,6 +190,114 @@ TEST(TableWorldTest, TheYcbVideoWorldWritesItsScenes) {
   for (const char* f : {"depth.png", "camera.json", "gt.json", "detections.json", "prior.pyr", "classes.txt", "mask.png", "mask_classes.json",
                         "label.png", "rgb.png", "scene.json"})
     EXPECT_TRUE(std::filesystem::exists(dir.dir() / "scene" / f)) << f;
+}
+
+// ---- The room world (posefilter/room_world.h) ----------------------------------------------
+
+TableScene Room(std::uint64_t seed, double two_surfaces = 0.3, double shelf = 0.25) {
+  RoomSceneOptions o;
+  o.two_surfaces_probability = two_surfaces;
+  o.shelf_probability = shelf;
+  return MakeRoomScene(World(), o, seed);
+}
+
+// The height of the lowest vertex of object o above plane (camera frame, n up), metres.
+double LowestAbove(const TableObject& o, const Eigen::Vector4d& plane) {
+  double lowest = 1e30;
+  for (const auto& v : World().models()[std::size_t(o.model)].mesh.vertices)
+    lowest = std::min(lowest, plane.head<3>().dot(o.T_cam_obj * v.cast<double>()) + plane[3]);
+  return lowest;
+}
+
+TEST(RoomWorldTest, TheSameSeedMakesTheSameRoom) {
+  const TableScene a = Room(11), b = Room(11), c = Room(12);
+  EXPECT_EQ(a.depth.data, b.depth.data);
+  EXPECT_EQ(a.masks, b.masks);
+  ASSERT_EQ(a.objects.size(), b.objects.size());
+  for (std::size_t i = 0; i < a.objects.size(); ++i) EXPECT_EQ(a.objects[i].T_cam_obj.matrix(), b.objects[i].T_cam_obj.matrix());
+  EXPECT_NE(a.depth.data, c.depth.data);
+}
+
+// Every object rests on its support surface, 0.4–1.2 m above the floor and parallel to it;
+// the camera is 0.5–1.5 m from the objects, looking down 15–60°; the supports cover 5–40 %
+// of the view in most scenes; the floor, walls and furniture fill much of the rest, the
+// background reaching metres beyond the objects; with two surfaces both hold objects.
+TEST(RoomWorldTest, ObjectsRestOnRaisedSurfacesInARoom) {
+  int in_range = 0, scenes = 0, two = 0, far_background = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    const TableScene s = Room(seed, seed % 2 ? 1.0 : 0.0, seed == 2 ? 1.0 : 0.0);
+    ++scenes;
+    ASSERT_FALSE(s.objects.empty());
+    ASSERT_EQ(s.supports.size(), s.support_view_fractions.size());
+    EXPECT_GE(s.distance_m, 0.5);
+    EXPECT_LE(s.distance_m, 1.5);
+    EXPECT_GE(s.elevation_deg, 15);
+    EXPECT_LE(s.elevation_deg, 60);
+    const Eigen::Vector3d up = s.floor_plane.head<3>();
+    EXPECT_NEAR(up.norm(), 1.0, 1e-9);
+    for (const Eigen::Vector4d& p : s.supports) {
+      EXPECT_GT(p.head<3>().dot(up), std::cos(1e-6));  // horizontal
+      const double height = s.floor_plane[3] - p[3];    // the surface's height above the floor
+      EXPECT_GE(height, 0.4 - 1e-9);
+      EXPECT_LE(height, 1.2 + 1e-9);
+    }
+    std::vector<int> on(s.supports.size(), 0);
+    for (const TableObject& o : s.objects) {
+      ASSERT_GE(o.support, 0);
+      ASSERT_LT(std::size_t(o.support), s.supports.size());
+      EXPECT_NEAR(LowestAbove(o, s.supports[std::size_t(o.support)]), 0.0, 1e-4) << o.cls;
+      ++on[std::size_t(o.support)];
+    }
+    for (int n : on) EXPECT_GT(n, 0) << "a support without objects, seed " << seed;
+    if (s.supports.size() == 2) {
+      ++two;
+      EXPECT_GE(std::fabs(s.supports[0][3] - s.supports[1][3]), 0.1 - 1e-9);
+    }
+    double view = 0;
+    for (double f : s.support_view_fractions) view += f;
+    in_range += view >= 0.05 && view <= 0.4;
+    // Depth well beyond the objects (floor, walls, furniture): at least 1 m farther than they are.
+    int far = 0;
+    for (float z : s.clean_depth.data) far += z > s.distance_m + 1.0;
+    far_background += far > int(s.clean_depth.data.size() / 20);
+  }
+  EXPECT_GE(in_range, scenes - 1);
+  EXPECT_GE(two, 1);
+  EXPECT_GE(far_background, scenes / 2);
+}
+
+// The same targets, boxes and masks as the table world.
+TEST(RoomWorldTest, TargetsHaveBoxesAndMasks) {
+  const TableScene s = Room(3);
+  int targets = 0;
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const TableObject& o = s.objects[i];
+    if (!o.target) continue;
+    const Detection& d = s.detections[std::size_t(targets++)];
+    EXPECT_EQ(d.cls, o.cls);
+    EXPECT_GT(BoxIoU(DetectionBox(d), o.box), 0.5);
+    EXPECT_GT(std::count(s.masks.begin(), s.masks.end(), std::uint16_t(i + 1)), 0);
+  }
+  EXPECT_GT(targets, 0);
+  EXPECT_EQ(s.detections.size(), std::size_t(targets + 2));
+}
+
+TEST(RoomWorldTest, BadOptionsAreErrors) {
+  RoomSceneOptions o;
+  o.min_surface_height_m = 0.05;
+  ExpectInvalid(o, "min_surface_height_m");
+  o = {};
+  o.max_surface_view = 0.01;
+  ExpectInvalid(o, "max_surface_view");
+  o = {};
+  o.max_furniture = 1;
+  ExpectInvalid(o, "max_furniture");
+  o = {};
+  o.two_surfaces_probability = 2;
+  ExpectInvalid(o, "two_surfaces_probability");
+  o = {};
+  o.max_objects = 6;
+  ExpectError([&] { MakeRoomScene(World(), o, 1); }, {"max_objects", "5 classes"});
 }
 
 }  // namespace
