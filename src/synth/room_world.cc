@@ -39,7 +39,7 @@ using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 using Polygon = std::vector<Vec2>;
 
-bool InRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+using synth::InRange;
 
 Eigen::Isometry3d Pose(const Vec3& t, double yaw) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -244,7 +244,7 @@ RgbImage PreviewImage(const SynthScene& s) {
   return img;
 }
 
-bool InRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+using synth::InRange;
 
 }  // namespace
 

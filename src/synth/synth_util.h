@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -13,6 +14,9 @@
 #include "posefilter/rng.h"
 
 namespace posefilter::synth {
+
+// v is finite and lo <= v <= hi (the synthetic worlds' option checks).
+inline bool InRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 
 // Uniformly distributed rotation: a normalised 4-D Gaussian is a uniform unit quaternion.
 Eigen::Matrix3d RandomRotation(Rng& rng);

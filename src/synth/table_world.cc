@@ -314,7 +314,7 @@ using synth::JitterBox;
 using synth::NoisyMask;
 using synth::ToDetection;
 
-bool InRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+using synth::InRange;
 
 }  // namespace
 
