@@ -45,9 +45,16 @@ int RunDemo(int argc, char** argv) {
     }
     std::string why;
     if (!synth.IsValid(&why)) throw Error("invalid scene option: " + why);
+    // The scene's files and the overlay go into --out; --view is none of them.
+    CheckOutputPaths({{view_path, "--view"}}, {});
+    MakeOutputFolder(out_dir, "--out");
+    std::vector<NamedPath> outputs = {{view_path, "--view"}};
+    for (const std::string& f : SynthSceneFileNames(synth.target))
+      outputs.push_back({(std::filesystem::path(out_dir) / f).string(), "--out (" + f + ")"});
+    outputs.push_back({(std::filesystem::path(out_dir) / "overlay.png").string(), "--out (overlay.png)"});
+    CheckOutputPaths(outputs, {});
     const SynthScene scene = MakeSynthScene(synth, scene_seed);
     WriteSynthScene(scene, out_dir);
-    if (!view_path.empty()) CheckOutputPaths({{view_path, "--view"}}, {});
     std::printf("scene: %s (%s at %.2f m, %.0f%% occluded, %zu detections) written to %s/\n", synth.target.c_str(),
                 scene.target.name.c_str(), scene.distance_m, 100 * scene.occlusion_achieved, scene.detections.size(),
                 out_dir.c_str());

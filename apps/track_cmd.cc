@@ -148,9 +148,7 @@ int RunTrack(int argc, char** argv) {
           throw Error("--out-dir " + out_dir + ": holds the input " + in.option + " " + in.path +
                       ", a name of the per-frame results; it would be overwritten");
       }
-      std::error_code ec;
-      fs::create_directories(out_dir, ec);
-      if (ec || !fs::is_directory(out_dir)) throw Error(out_dir + ": cannot create directory (--out-dir)");
+      MakeOutputFolder(out_dir, "--out-dir");
     }
 
     // The frames, the meshes and the ground truth.

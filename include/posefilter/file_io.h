@@ -80,6 +80,12 @@ struct NamedPath {
 // WriteFileAtomically and AppendFileDurably refuse such special files too.
 void CheckOutputPaths(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
 
+// Makes the output folder `path` given by `option` ("--out"), with its parents, before any
+// work writes into it. Throws Error naming the option and path if the path is empty, exists and
+// is not a folder (a file, a FIFO, a device; a symbolic link to a folder is a folder), one of
+// its names is longer than the file system allows, or the folder cannot be made or written.
+void MakeOutputFolder(const std::string& path, const std::string& option);
+
 // What `path` is when it exists and is not a regular file, not following a final symlink ("a
 // symbolic link", "a FIFO", "a character device", "a directory", …); "" for a regular file or
 // a path that does not exist.

@@ -121,9 +121,12 @@ std::vector<SynthScene> MakeSynthSequence(const SynthOptions& opt, const SynthMo
 
 // Creates `dir` (and parents) and writes: depth.png (16-bit, depth_scale), camera.json (with
 // depth_scale), gt.json, <target>.ply, detections.json, prior.pyr (raw pyramid, float32),
-// classes.txt (one class per line), label.png (8-bit gray, raw label values) and rgb.png (a
-// shaded depth preview for humans). Throws Error naming the path on I/O failure.
+// classes.txt (one class per line), label.png (8-bit gray, raw label values), rgb.png (a
+// shaded depth preview for humans) and synth.json (target, distance, occlusion, box, classes). Throws Error naming the path on I/O failure.
 void WriteSynthScene(const SynthScene& scene, const std::string& dir);
+// The names of the files WriteSynthScene writes into its folder for a scene whose target is
+// named `target_name` (the mesh is <target_name>.ply).
+std::vector<std::string> SynthSceneFileNames(const std::string& target_name);
 
 // Writes a sequence as a YCB-Video-style dataset folder (posefilter/bop.h, ReadYcbvFolder) that
 // `track`, `run-dataset` and `estimate` read: dir/models/<target>.ply and, per frame t (from

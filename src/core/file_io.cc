@@ -213,6 +213,28 @@ std::string TrimTornLastLine(const std::string& path) {
   return text.substr(keep);
 }
 
+void MakeOutputFolder(const std::string& path, const std::string& option) {
+  if (path.empty()) throw Error(option + ": empty value; give a folder");
+  const std::string name = option + " " + path;
+  std::error_code ec;
+  // Follows a final symlink: a link to a folder is that folder.
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::exists(st) && !fs::is_directory(st)) {
+    const std::string kind = SpecialFileKind(path);
+    throw Error(name + ": is " + (kind.empty() ? std::string("a file") : kind) + ", not a folder");
+  }
+  if (!fs::exists(st)) {
+    for (const fs::path& part : fs::path(path)) {
+      const std::size_t n = part.string().size();
+      if (n > 255) throw Error(name + ": the name " + part.string().substr(0, 16) + "... is " + std::to_string(n) +
+                               " bytes, longer than a file name may be (255)");
+    }
+    fs::create_directories(path, ec);
+    if (ec || !fs::is_directory(path)) throw Error(name + ": cannot make the folder: " + ec.message());
+  }
+  if (::access(path.c_str(), W_OK | X_OK) != 0) throw Error(name + ": the folder is not writable");
+}
+
 bool SamePath(const std::string& a, const std::string& b) {
   std::error_code ea, eb;
   if (fs::exists(a, ea) && fs::exists(b, eb)) return fs::equivalent(a, b, ea);  // hard links too

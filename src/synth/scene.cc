@@ -584,6 +584,11 @@ void WriteSynthScene(const SynthScene& s, const std::string& dir) {
   }
 }
 
+std::vector<std::string> SynthSceneFileNames(const std::string& target_name) {
+  return {"depth.png", "camera.json", "gt.json", target_name + ".ply", "detections.json", "prior.pyr",
+          "classes.txt", "label.png", "rgb.png", "synth.json"};
+}
+
 void WriteSynthSequence(const std::vector<SynthScene>& frames, const std::string& dir, const std::string& name) {
   namespace fs = std::filesystem;
   if (frames.empty()) throw Error(dir + ": no frames to write");

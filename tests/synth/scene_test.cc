@@ -417,6 +417,12 @@ TEST(SynthScene, WriteSynthSceneRoundTrips) {
   const RgbImage rgb = LoadRgbPng((d / "rgb.png").string());
   EXPECT_EQ(rgb.width, s.camera.width);
   EXPECT_TRUE(fs::exists(d / "synth.json"));
+  // SynthSceneFileNames lists exactly what was written (demo checks its --view against them).
+  std::vector<std::string> written, listed = SynthSceneFileNames(s.target.name);
+  for (const auto& e : fs::directory_iterator(d)) written.push_back(e.path().filename().string());
+  std::sort(written.begin(), written.end());
+  std::sort(listed.begin(), listed.end());
+  EXPECT_EQ(written, listed);
   fs::remove_all(TempDir("write"));
 }
 
