@@ -77,6 +77,8 @@ class OutputPolicyTest : public CliTest {
     res.weight = 0.5;
     res.iterations = 2;
     WriteResultsJson({res}, results_);
+    results_csv_ = Path("results.csv");
+    testing_util::WriteFile(results_csv_, "scene_id,im_id,obj_id,score,R,t,time\n");
     demo_ = Path("demo");
     fs::create_directories(demo_);
     testing_util::WriteFile((fs::path(demo_) / "depth.png").string(), "an earlier demo's image");
@@ -109,11 +111,13 @@ class OutputPolicyTest : public CliTest {
         {"eval", {"eval", "--results", results_, "--gt", gt, "--mesh", "box=" + mesh}, "--json",
          {{results_, kInput}, {gt, kInput}, {mesh, kInput}}},
         // Inputs found through --dataset: a frame's files and the dataset's meshes.
+        {"eval", {"eval", "--dataset", seq_, "--results", results_csv_, "--no-vsd", "--quiet"}, "--json",
+         {{frame_gt, kInput}, {frame_depth, kInput}, {seq_mesh, kInput}, {results_csv_, kInput}}},
         {"track", track, "--csv", {{frame_gt, kInput}, {frame_depth, kInput}, {seq_mesh, kInput}}},
         {"gt-detections", {"gt-detections", "--gt", gt, "--camera", camera, "--models-dir", Scene(""), "--quiet"},
          "--out", {{gt, kInput}, {camera, kInput}, {mesh, kInput}}},
         {"run-dataset", with({"run-dataset", "--dataset", seq_, "--gt-boxes", "0.1", "--quiet"}, small), "--out",
-         {{frame_gt, kNotResults}, {seq_mesh, kNotResults}}},
+         {{frame_gt, kNotResults}, {frame_depth, kNotResults}, {seq_mesh, kNotResults}}},
         {"suite", with({"suite", "--count", "1"}, small), "--json", {}},
         {"bench", {"bench"}, "--json", {}},
         {"hw-report", {"hw-report", "--cores", "1"}, "--json", {}},
@@ -123,7 +127,7 @@ class OutputPolicyTest : public CliTest {
     };
   }
 
-  std::string seq_, frame_, results_, demo_;
+  std::string seq_, frame_, results_, results_csv_, demo_;
 };
 
 TEST_F(OutputPolicyTest, EveryOutputOptionRefusesWhatItMustNotWriteAndChangesNothing) {
