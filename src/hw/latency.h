@@ -180,15 +180,17 @@ constexpr int kRcFillDepth = 0;
 // FT read: 12 words into registers, no drain.
 constexpr int kRcFtReadDepth = 0;
 // Vertex stage, last vertex → stage empty: input, products, sums, divider operands and the near
-// test (4), the 1/W divider (32 stages; the two 22-stage snapping dividers are padded to 32 and
-// run beside it), the snapped vertex (1), face setup F1–F4 (4: area and box products, culling
-// and clipping, edge setup, E_k at the box's first pixel), done (1).
+// test (4), the 1/W divider (32 stages), its word (1), the face's 1/W words to the FIFO entry F5
+// (4), done (1). Beside the 1/W divider: the two 21-stage snapping dividers padded to 30, the
+// snapped vertex (1) and the x/y face setup F0–F5 (6: edge differences and box order, area
+// products, culling and clipping, edge offsets, edge products, E_k at the box's first pixel).
 constexpr int kRcVertexDepth = 42;
 // Pixel stage, counted from the vertex stage's first triangle: third vertex → FIFO push → pop
-// and last pixel → stage empty (inside test and e' (1), Σe' and the e'·(1/W) products (1),
-// Σe'·(1/W) (1), the depth divider (24 stages), z_r and the memory read (2), the compare (2),
-// done (1)), less the vertex stage's own depth: kRcVertexDepth + kRcPixelDepth = 77.
-constexpr int kRcPixelDepth = 35;
+// and last pixel → stage empty (inside test and e' (1), Σe' and the partial products of
+// e'·(1/W) (1), the products (1), Σe'·(1/W) (1), the depth divider (24 stages), z_r and the
+// memory read (2), the compare (2), done (1)), less the vertex stage's own depth:
+// kRcVertexDepth + kRcPixelDepth = 78.
+constexpr int kRcPixelDepth = 36;
 // z pass: read (1), neighbour registers (1), compare (2), done (1).
 constexpr int kRcZpassDepth = 5;
 // Triangle FIFO between the vertex and the pixel stage: 16 entries of 446 bits in LUTRAM (the

@@ -10,8 +10,9 @@
 //   FACES  vertex stage ──triangle FIFO──▶ pixel stage, concurrently:
 //          vertex stage: 3·num_faces vertices, II = 1 across faces: FT·[v;1] (exact),
 //            near test, 1/W (32-stage divider) and the two snapping dividers (21 stages,
-//            padded to 32), guard band; per face: 2·Area, culling, clipped bounding box,
-//            edge setup (A, B, E at the first pixel, owned-edge minimum, sh) → FIFO
+//            padded to 30: x, y two clocks ahead of 1/W), guard band; per face: 2·Area,
+//            culling, clipped bounding box, edge setup (A, B, E at the first pixel, owned-edge
+//            minimum, sh) → FIFO, every product between registers
 //          pixel stage: one pixel of the current triangle's clipped box per cycle, no bubble
 //            between rows or triangles; inside test, depth recovery (24-stage divider), then
 //            zbuffer = 0: CompareFragment against the fragment memory;
@@ -139,8 +140,11 @@ module raster_core #(
   logic [1:0]  vk;            // corner of the next vertex
   logic [7:0]  inflight;      // faces between their first vertex and the FIFO
   logic [$clog2(TRI_FIFO_DEPTH):0] fifo_count;
+  // nverts: 3·num_faces, registered (num_faces is stable while a particle is processed, and
+  // FACES starts at least 13 clocks after the window word), so no multiplier is in front of the
+  // end-of-faces test.
   logic [12:0] nverts;
-  assign nverts = 13'(num_faces) * 13'd3;
+  always_ff @(posedge clk) nverts <= 13'(num_faces) * 13'd3;
   wire credit_ok = (32'(fifo_count) + 32'(inflight)) < TRI_FIFO_DEPTH;
   assign vert_ready = state == S_FACES && vcnt != nverts && (vk != 0 || credit_ok);
   wire vert_hs = vert_valid && vert_ready;
@@ -213,55 +217,77 @@ module raster_core #(
     v3_ny      <= snap_num(v2_h[1], v2_h[2][50:1]);
   end
 
-  // Dividers: 1/W (32 stages) and the two snapping dividers (21 stages + 11 padding).
+  // Dividers: 1/W (32 stages) and the two snapping dividers (21 stages + 9 padding). The
+  // snapped x, y leave two clocks before 1/W: the face setup's x/y stages (F0–F3) run two clocks
+  // ahead of the 1/W words, which join them in F4 (the FIFO entry).
   logic [31:0] q_iz;
   logic [20:0] q_x, q_y;
   logic        ov_iz, ov_x, ov_y;
   rc_div #(.QW(32), .NW(60), .DW(51), .PAD(0)) u_div_iz (
       .clk, .n(60'h1 << 58), .d(v3_w), .q(q_iz), .ovf(ov_iz));
-  rc_div #(.QW(21), .NW(61), .DW(51), .PAD(11)) u_div_x (
+  rc_div #(.QW(21), .NW(61), .DW(51), .PAD(9)) u_div_x (
       .clk, .n(v3_nx), .d(v3_w), .q(q_x), .ovf(ov_x));
-  rc_div #(.QW(21), .NW(61), .DW(51), .PAD(11)) u_div_y (
+  rc_div #(.QW(21), .NW(61), .DW(51), .PAD(9)) u_div_y (
       .clk, .n(v3_ny), .d(v3_w), .q(q_y), .ovf(ov_y));
   logic       vd_v, vd_near_ok, vd_negx, vd_negy, vd_any;
   logic [1:0] vd_k;
-  rc_delay #(.W(5), .L(32)) u_vdel (
+  rc_delay #(.W(5), .L(30)) u_vdel (
       .clk, .rst, .vin(v3_v), .din({v3_k, v3_near_ok, v3_negx, v3_negy}),
       .vout(vd_v), .dout({vd_k, vd_near_ok, vd_negx, vd_negy}), .vpre(), .dpre(), .any(vd_any));
 
-  // V4: the snapped vertex (ScreenVertex): x, y F8, 1/W F26, ok.
+  // V4: the snapped vertex (ScreenVertex) x, y F8 and its ok flag (near test, no snapping
+  // overflow: |x|, |y| < GUARD), two clocks ahead of its 1/W.
   logic        v4_v, v4_ok;
   logic [1:0]  v4_k;
   logic signed [22:0] v4_x, v4_y;
-  logic [31:0] v4_iz;
   always_ff @(posedge clk) begin
     v4_v  <= rst ? 1'b0 : vd_v;
     v4_k  <= vd_k;
-    v4_ok <= vd_near_ok && !ov_iz && !ov_x && !ov_y;  // no overflow: |x|, |y| < GUARD
+    v4_ok <= vd_near_ok && !ov_x && !ov_y;
     v4_x  <= vd_negx ? -$signed({1'b0, q_x}) : $signed({1'b0, q_x});
     v4_y  <= vd_negy ? -$signed({1'b0, q_y}) : $signed({1'b0, q_y});
-    v4_iz <= q_iz;
+  end
+  // VI: the vertex's 1/W (F26) and its ok flag (no overflow), as the 1/W divider delivers them,
+  // two clocks after V4 (vz: V4's valid and corner one clock later).
+  logic        vz_v, vi_v, vi_ok;
+  logic [1:0]  vz_k, vi_k;
+  logic [31:0] vi_iz;
+  always_ff @(posedge clk) begin
+    vz_v  <= rst ? 1'b0 : v4_v;
+    vz_k  <= v4_k;
+    vi_v  <= rst ? 1'b0 : vz_v;
+    vi_k  <= vz_k;
+    vi_ok <= !ov_iz;
+    vi_iz <= q_iz;
   end
 
-  // Face assembly: corners 0 and 1 wait in registers for corner 2.
+  // Face assembly: corners 0 and 1 wait in registers for corner 2 (x, y from V4; 1/W from VI).
   logic signed [22:0] fa_x[2], fa_y[2];
   logic [31:0] fa_iz[2];
-  logic        fa_ok[2];
-  always_ff @(posedge clk)
+  logic        fa_ok[2], fa_izok[2];
+  always_ff @(posedge clk) begin
     if (v4_v && v4_k != 2) begin
       fa_x[v4_k[0]]  <= v4_x;
       fa_y[v4_k[0]]  <= v4_y;
-      fa_iz[v4_k[0]] <= v4_iz;
       fa_ok[v4_k[0]] <= v4_ok;
     end
+    if (vi_v && vi_k != 2) begin
+      fa_iz[vi_k[0]]   <= vi_iz;
+      fa_izok[vi_k[0]] <= vi_ok;
+    end
+  end
 
-  // F1: 2·Area products (eq. 6.12 [ALGORITHM.md]: (V2x−V0x)(V1y−V0y) − (V2y−V0y)(V1x−V0x)) and the box.
-  logic        f1_v, f1_ok;
-  logic signed [22:0] f1_x[3], f1_y[3];
-  logic [31:0] f1_iz[3];
-  logic signed [47:0] f1_p1, f1_p2;
-  logic signed [22:0] f1_minx, f1_maxx, f1_miny, f1_maxy;
-  logic signed [23:0] f1_a[3], f1_b[3];
+  // F0: the edge differences and the corners' order for the box.
+  // Edge k runs from Va = V[k+1] to Vb = V[k+2]: A_k = Vb.y − Va.y, B_k = Va.x − Vb.x
+  // (ap_int<24>). The area's differences are edges: V2x − V0x = B_1, V1y − V0y = A_2,
+  // V2y − V0y = −A_1, V1x − V0x = −B_2, so 2·Area = B_1·A_2 − A_1·B_2. The signs of the same
+  // differences order the corners for the box (their sign bits, no comparators):
+  // x0 < x1 ⇔ B_2 < 0, x1 < x2 ⇔ B_0 < 0, x2 < x0 ⇔ B_1 < 0;
+  // y0 > y1 ⇔ A_2 < 0, y1 > y2 ⇔ A_0 < 0, y2 > y0 ⇔ A_1 < 0.
+  logic        f0_v, f0_ok;
+  logic signed [22:0] f0_x[3], f0_y[3];
+  logic signed [23:0] f0_a[3], f0_b[3];
+  logic signed [22:0] f0_minx, f0_maxx, f0_miny, f0_maxy;
   logic signed [22:0] cx[3], cy[3];
   assign cx[0] = fa_x[0];
   assign cx[1] = fa_x[1];
@@ -269,12 +295,6 @@ module raster_core #(
   assign cy[0] = fa_y[0];
   assign cy[1] = fa_y[1];
   assign cy[2] = v4_y;
-  // Edge k runs from Va = V[k+1] to Vb = V[k+2]: A_k = Vb.y − Va.y, B_k = Va.x − Vb.x
-  // (ap_int<24>). The area's differences are edges: V2x − V0x = B_1, V1y − V0y = A_2,
-  // V2y − V0y = −A_1, V1x − V0x = −B_2, so 2·Area = B_1·A_2 − A_1·B_2. The signs of the same
-  // differences order the corners for the box (their sign bits, no comparators):
-  // x0 < x1 ⇔ B_2 < 0, x1 < x2 ⇔ B_0 < 0, x2 < x0 ⇔ B_1 < 0;
-  // y0 > y1 ⇔ A_2 < 0, y1 > y2 ⇔ A_0 < 0, y2 > y0 ⇔ A_1 < 0.
   logic signed [23:0] ea[3], eb[3];
   for (genvar k = 0; k < 3; k++) begin : g_ab
     assign ea[k] = 24'(cy[(k + 2) % 3]) - 24'(cy[(k + 1) % 3]);
@@ -294,28 +314,48 @@ module raster_core #(
   wire xlt01 = eb[2][23], xlt12 = eb[0][23], xlt20 = eb[1][23];
   wire ygt01 = ea[2][23], ygt12 = ea[0][23], ygt20 = ea[1][23];
   always_ff @(posedge clk) begin
-    f1_v  <= rst ? 1'b0 : (v4_v && v4_k == 2);
-    f1_ok <= fa_ok[0] && fa_ok[1] && v4_ok;
-    for (int k = 0; k < 3; k++) f1_x[k] <= cx[k];
-    for (int k = 0; k < 3; k++) f1_y[k] <= cy[k];
-    f1_iz[0] <= fa_iz[0];
-    f1_iz[1] <= fa_iz[1];
-    f1_iz[2] <= v4_iz;
-    f1_p1 <= 48'(eb[1]) * 48'(ea[2]);  // (V2x − V0x)(V1y − V0y)
-    f1_p2 <= 48'(ea[1]) * 48'(eb[2]);  // (V2y − V0y)(V1x − V0x) = (−A_1)(−B_2)
+    f0_v  <= rst ? 1'b0 : (v4_v && v4_k == 2);
+    f0_ok <= fa_ok[0] && fa_ok[1] && v4_ok;
     for (int k = 0; k < 3; k++) begin
-      f1_a[k] <= ea[k];
-      f1_b[k] <= eb[k];
+      f0_x[k] <= cx[k];
+      f0_y[k] <= cy[k];
+      f0_a[k] <= ea[k];
+      f0_b[k] <= eb[k];
     end
-    f1_minx <= first3(cx[0], cx[1], cx[2], xlt01, xlt12, xlt20);
-    f1_maxx <= last3(cx[0], cx[1], cx[2], xlt01, xlt12, xlt20);
-    f1_maxy <= first3(cy[0], cy[1], cy[2], ygt01, ygt12, ygt20);
-    f1_miny <= last3(cy[0], cy[1], cy[2], ygt01, ygt12, ygt20);
+    f0_minx <= first3(cx[0], cx[1], cx[2], xlt01, xlt12, xlt20);
+    f0_maxx <= last3(cx[0], cx[1], cx[2], xlt01, xlt12, xlt20);
+    f0_maxy <= first3(cy[0], cy[1], cy[2], ygt01, ygt12, ygt20);
+    f0_miny <= last3(cy[0], cy[1], cy[2], ygt01, ygt12, ygt20);
+  end
+
+  // F1: 2·Area products (eq. 6.12 [ALGORITHM.md]: (V2x−V0x)(V1y−V0y) − (V2y−V0y)(V1x−V0x)),
+  // 24 × 24 bits from registered operands.
+  logic        f1_v, f1_ok;
+  logic signed [22:0] f1_x[3], f1_y[3];
+  logic signed [47:0] f1_p1, f1_p2;
+  logic signed [22:0] f1_minx, f1_maxx, f1_miny, f1_maxy;
+  logic signed [23:0] f1_a[3], f1_b[3];
+  always_ff @(posedge clk) begin
+    f1_v  <= rst ? 1'b0 : f0_v;
+    f1_ok <= f0_ok;
+    for (int k = 0; k < 3; k++) begin
+      f1_x[k] <= f0_x[k];
+      f1_y[k] <= f0_y[k];
+      f1_a[k] <= f0_a[k];
+      f1_b[k] <= f0_b[k];
+    end
+    f1_p1 <= 48'(f0_b[1]) * 48'(f0_a[2]);  // (V2x − V0x)(V1y − V0y)
+    f1_p2 <= 48'(f0_a[1]) * 48'(f0_b[2]);  // (V2y − V0y)(V1x − V0x) = (−A_1)(−B_2)
+    f1_minx <= f0_minx;
+    f1_maxx <= f0_maxx;
+    f1_miny <= f0_miny;
+    f1_maxy <= f0_maxy;
   end
 
   // F2: 2·Area, culling (2·Area ≤ 0, §6.2), box in pixels (ceil of min, floor of max) clipped
-  // to the window (absolute pixel coordinates, signed 16 bits).
-  logic        f2_v, f2_ok, f2_nonempty;
+  // to the window (absolute pixel coordinates, signed 16 bits). The face's three 1/W (F26) and
+  // their ok flag join here from VI and travel beside the x/y stages to the FIFO entry.
+  logic        f2_v, f2_ok, f2_izok, f2_nonempty;
   logic signed [22:0] f2_x[3], f2_y[3];
   logic signed [23:0] f2_a[3], f2_b[3];
   logic [31:0] f2_iz[3];
@@ -338,29 +378,32 @@ module raster_core #(
   always_ff @(posedge clk) begin
     f2_v        <= rst ? 1'b0 : f1_v;
     f2_ok       <= f1_ok;
+    f2_izok     <= fa_izok[0] && fa_izok[1] && vi_ok;
     f2_nonempty <= ulo_c <= uhi_c && vlo_c <= vhi_c;
     for (int k = 0; k < 3; k++) f2_x[k] <= f1_x[k];
     for (int k = 0; k < 3; k++) f2_y[k] <= f1_y[k];
     for (int k = 0; k < 3; k++) f2_a[k] <= f1_a[k];
     for (int k = 0; k < 3; k++) f2_b[k] <= f1_b[k];
-    for (int k = 0; k < 3; k++) f2_iz[k] <= f1_iz[k];
+    f2_iz[0] <= fa_iz[0];
+    f2_iz[1] <= fa_iz[1];
+    f2_iz[2] <= vi_iz;
     f2_area2 <= area2_c;
     f2_ulo <= ulo_c;
     f2_uhi <= uhi_c;
     f2_vlo <= vlo_c;
     f2_vhi <= vhi_c;
   end
-  // Front-facing (not culled): ok and 2·Area > 0, from the registered 2·Area's sign and a zero
-  // test (no comparator behind the subtraction).
-  wire f2_front = f2_ok && !f2_area2[49] && f2_area2 != '0;
+  // Front-facing (not culled): ok (x, y and 1/W) and 2·Area > 0, from the registered 2·Area's
+  // sign and a zero test (no comparator behind the subtraction).
+  wire f2_front = f2_ok && f2_izok && !f2_area2[49] && f2_area2 != '0;
 
-  // F3: edge setup (eq. 6.13–6.18 [ALGORITHM.md]). Edge k opposite corner k, from Va = V[k+1] to
-  // Vb = V[k+2]: A = Vb.y − Va.y, B = Va.x − Vb.x (formed in F1); products of E_k at the first pixel
-  // A·(u_lo·256 − Va.x) + B·(v_lo·256 − Va.y) (operands ap_int<24>); owned edge: A > 0 or
-  // A = 0 and B > 0 (min_e = 0, else 1); sh = max(BitLength(2·Area) − 24, 0).
+  // F3–F5: edge setup (eq. 6.13–6.18 [ALGORITHM.md]). Edge k opposite corner k, from Va = V[k+1]
+  // to Vb = V[k+2]: A = Vb.y − Va.y, B = Va.x − Vb.x (formed in F0); E_k at the first pixel
+  // A·(u_lo·256 − Va.x) + B·(v_lo·256 − Va.y) (operands ap_int<24>): F3 the offsets, F4 the
+  // products, F5 their sum; owned edge: A > 0 or A = 0 and B > 0 (min_e = 0, else 1);
+  // sh = max(BitLength(2·Area) − 24, 0).
   logic        f3_v, f3_push;
-  logic signed [23:0] f3_a[3], f3_b[3];
-  logic signed [47:0] f3_pa[3], f3_pb[3];
+  logic signed [23:0] f3_a[3], f3_b[3], f3_dx[3], f3_dy[3];
   logic [2:0]  f3_mine;
   logic [4:0]  f3_sh;
   logic [31:0] f3_iz[3];
@@ -376,16 +419,14 @@ module raster_core #(
       if (f2_area2[i] && (f2_area2[48:0] >> (i + 1)) == '0) sh_c = sh_c | 5'(i - 23);
   end
   for (genvar k = 0; k < 3; k++) begin : g_edge
-    localparam int A_ = (k + 1) % 3, B_ = (k + 2) % 3;
-    wire signed [23:0] ak = f2_a[k];  // from F1
+    localparam int A_ = (k + 1) % 3;
+    wire signed [23:0] ak = f2_a[k];
     wire signed [23:0] bk = f2_b[k];
-    wire signed [23:0] dx = 24'({f2_ulo, 8'b0}) - 24'(f2_x[A_]);
-    wire signed [23:0] dy = 24'({f2_vlo, 8'b0}) - 24'(f2_y[A_]);
     always_ff @(posedge clk) begin
       f3_a[k]  <= ak;
       f3_b[k]  <= bk;
-      f3_pa[k] <= ak * dx;
-      f3_pb[k] <= bk * dy;
+      f3_dx[k] <= 24'({f2_ulo, 8'b0}) - 24'(f2_x[A_]);
+      f3_dy[k] <= 24'({f2_vlo, 8'b0}) - 24'(f2_y[A_]);
       // A > 0 or (A = 0 and B > 0), from signs and zero tests.
       f3_mine[k] <= !((!ak[23] && ak != '0) || (ak == '0 && !bk[23] && bk != '0));
     end
@@ -402,7 +443,35 @@ module raster_core #(
     f3_addr0 <= 16'(f2_vlo - $signed({6'b0, v0})) * 16'(KW) + 16'(f2_ulo - $signed({6'b0, u0}));
   end
 
-  // F4: E_k at the first pixel (ap_int<50>), the FIFO entry.
+  // F4: the products A·dx and B·dy (24 × 24 bits from registered operands).
+  logic        f4_v, f4_push;
+  logic signed [47:0] f4_pa[3], f4_pb[3];
+  logic signed [23:0] f4_a[3], f4_b[3];
+  logic [2:0]  f4_mine;
+  logic [4:0]  f4_sh;
+  logic [31:0] f4_iz[3];
+  logic [7:0]  f4_xlo, f4_xhi, f4_ylo, f4_yhi;
+  logic [15:0] f4_addr0;
+  always_ff @(posedge clk) begin
+    f4_v    <= rst ? 1'b0 : f3_v;
+    f4_push <= f3_push;
+    for (int k = 0; k < 3; k++) begin
+      f4_pa[k] <= f3_a[k] * f3_dx[k];
+      f4_pb[k] <= f3_b[k] * f3_dy[k];
+      f4_a[k]  <= f3_a[k];
+      f4_b[k]  <= f3_b[k];
+      f4_iz[k] <= f3_iz[k];
+    end
+    f4_mine  <= f3_mine;
+    f4_sh    <= f3_sh;
+    f4_xlo   <= f3_xlo;
+    f4_xhi   <= f3_xhi;
+    f4_ylo   <= f3_ylo;
+    f4_yhi   <= f3_yhi;
+    f4_addr0 <= f3_addr0;
+  end
+
+  // F5: E_k at the first pixel (ap_int<50>), the FIFO entry.
   typedef struct packed {
     logic [7:0]  xlo, xhi, ylo, yhi;
     logic [15:0] addr0;
@@ -413,24 +482,24 @@ module raster_core #(
     logic [2:0][31:0] iz;
   } tri_t;
   localparam int TRI_W = 4 * 8 + 16 + 3 * 50 + 2 * 3 * 24 + 3 + 5 + 3 * 32;  // 446 bits
-  logic f4_v, f4_push;
-  tri_t f4_t;
+  logic f5_v, f5_push;
+  tri_t f5_t;
   always_ff @(posedge clk) begin
-    f4_v    <= rst ? 1'b0 : f3_v;
-    f4_push <= f3_push;
-    f4_t.xlo <= f3_xlo;
-    f4_t.xhi <= f3_xhi;
-    f4_t.ylo <= f3_ylo;
-    f4_t.yhi <= f3_yhi;
-    f4_t.addr0 <= f3_addr0;
+    f5_v    <= rst ? 1'b0 : f4_v;
+    f5_push <= f4_push;
+    f5_t.xlo <= f4_xlo;
+    f5_t.xhi <= f4_xhi;
+    f5_t.ylo <= f4_ylo;
+    f5_t.yhi <= f4_yhi;
+    f5_t.addr0 <= f4_addr0;
     for (int k = 0; k < 3; k++) begin
-      f4_t.e[k]  <= 50'(f3_pa[k]) + 50'(f3_pb[k]);
-      f4_t.a[k]  <= f3_a[k];
-      f4_t.b[k]  <= f3_b[k];
-      f4_t.iz[k] <= f3_iz[k];
+      f5_t.e[k]  <= 50'(f4_pa[k]) + 50'(f4_pb[k]);
+      f5_t.a[k]  <= f4_a[k];
+      f5_t.b[k]  <= f4_b[k];
+      f5_t.iz[k] <= f4_iz[k];
     end
-    f4_t.mine <= f3_mine;
-    f4_t.sh   <= f3_sh;
+    f5_t.mine <= f4_mine;
+    f5_t.sh   <= f4_sh;
   end
   // faces_front: faces that passed the near/guard test and culling (even with an empty box).
   wire face_front_now = f2_v && f2_front;
@@ -439,21 +508,25 @@ module raster_core #(
   logic tri_pop, tri_empty;
   tri_t tri_head;
   rc_fifo #(.W(TRI_W), .DEPTH(TRI_FIFO_DEPTH)) u_fifo (
-      .clk, .rst, .push(f4_v && f4_push), .din(f4_t), .pop(tri_pop), .head(tri_head),
+      .clk, .rst, .push(f5_v && f5_push), .din(f5_t), .pop(tri_pop), .head(tri_head),
       .empty(tri_empty), .count(fifo_count));
 
   // ================================================================ pixel stage
   // Pixel generator: the current pixel of the current triangle (registers), stepped by
   // +256·A per column and +256·B per row (eq. 6.19–6.20 [ALGORITHM.md]).
   logic        pg_act;
-  logic [7:0]  pg_x, pg_y, pg_xlo, pg_xhi, pg_yhi;
+  logic [7:0]  pg_x, pg_y, pg_xlo, pg_xhm1, pg_yhi;
   logic [15:0] pg_addr, pg_rowaddr;
   logic signed [49:0] pg_e[3], pg_rowe[3];
   logic signed [23:0] pg_a[3], pg_b[3];
   logic [2:0]  pg_mine;
   logic [4:0]  pg_sh;
   logic [31:0] pg_iz[3];
-  wire pg_lastcol = pg_x == pg_xhi;
+  // pg_lastcol: the current pixel is in the box's last column, a register formed for the next
+  // clock (at the pop: x_lo = x_hi; at a row change: pg_w1, x_lo = x_hi of the current
+  // triangle; within a row: x = x_hi − 1, against pg_xhm1 = x_hi − 1), so the step's select
+  // has no comparator in front of it.
+  logic        pg_lastcol, pg_w1;
   wire pg_last = pg_lastcol && pg_y == pg_yhi;
   // One adder per edge: the next column (E + 256·A) or the next row's first pixel
   // (E at the row start + 256·B).
@@ -471,7 +544,9 @@ module raster_core #(
       pg_x <= tri_head.xlo;
       pg_y <= tri_head.ylo;
       pg_xlo <= tri_head.xlo;
-      pg_xhi <= tri_head.xhi;
+      pg_xhm1 <= tri_head.xhi - 1'b1;
+      pg_w1 <= tri_head.xlo == tri_head.xhi;
+      pg_lastcol <= tri_head.xlo == tri_head.xhi;
       pg_yhi <= tri_head.yhi;
       pg_addr <= tri_head.addr0;
       pg_rowaddr <= tri_head.addr0;
@@ -485,6 +560,7 @@ module raster_core #(
       pg_mine <= tri_head.mine;
       pg_sh <= tri_head.sh;
     end else if (pg_act) begin
+      pg_lastcol <= pg_lastcol ? pg_w1 : pg_x == pg_xhm1;
       if (pg_lastcol) begin
         pg_x <= pg_xlo;
         pg_y <= pg_y + 1'b1;
@@ -505,7 +581,7 @@ module raster_core #(
   // P1: inside test (E_k > 0, or E_k = 0 on an owned edge) and e_k' = (E_k >> sh)[23:0].
   // p*_v: an inside fragment; p*_s: the slot is occupied (inside or not) — the drain of the
   // pixel stage is data-independent.
-  logic        p1_v, p1_s, p2_s, p3_s, p4_s, p5_s, c1_s, c2_s;
+  logic        p1_v, p1_s, p2_s, p2b_s, p3_s, p4_s, p5_s, c1_s, c2_s;
   // E_k ≥ min_e (min_e ∈ {0, 1}) from the sign and a zero test, without a comparator.
   logic [2:0]  pg_in;
   for (genvar k = 0; k < 3; k++) begin : g_inside
@@ -524,17 +600,35 @@ module raster_core #(
     p1_addr <= pg_addr;
   end
 
-  // P2: Σe' (ap_uint<26>) and the products e_k'·(1/W_k) (F26).
+  // P2: Σe' (ap_uint<26>) and the partial products of e_k'·(1/W_k): e'·iz[16:0] (24 × 17 bits)
+  // and e'·iz[31:17] (24 × 15 bits), one DSP48E2 each with its output register.
   logic        p2_v;
   logic [25:0] p2_se;
-  logic [55:0] p2_pr[3];
+  logic [40:0] p2_lo[3];
+  logic [38:0] p2_hi[3];
   logic [15:0] p2_addr;
   always_ff @(posedge clk) begin
     p2_v <= rst ? 1'b0 : p1_v;
     p2_s <= rst ? 1'b0 : p1_s;
     p2_se <= 26'(p1_en[0]) + 26'(p1_en[1]) + 26'(p1_en[2]);
-    for (int k = 0; k < 3; k++) p2_pr[k] <= 56'(p1_en[k]) * 56'(p1_iz[k]);
+    for (int k = 0; k < 3; k++) begin
+      p2_lo[k] <= 41'(p1_en[k]) * 41'(p1_iz[k][16:0]);
+      p2_hi[k] <= 39'(p1_en[k]) * 39'(p1_iz[k][31:17]);
+    end
     p2_addr <= p1_addr;
+  end
+
+  // P2b: the products e_k'·(1/W_k) = lo + hi·2^17 (F26, 56 bits).
+  logic        p2b_v;
+  logic [25:0] p2b_se;
+  logic [55:0] p2b_pr[3];
+  logic [15:0] p2b_addr;
+  always_ff @(posedge clk) begin
+    p2b_v <= rst ? 1'b0 : p2_v;
+    p2b_s <= rst ? 1'b0 : p2_s;
+    p2b_se <= p2_se;
+    for (int k = 0; k < 3; k++) p2b_pr[k] <= 56'(p2_lo[k]) + (56'(p2_hi[k]) << 17);
+    p2b_addr <= p2_addr;
   end
 
   // P3: Σ e_k'·(1/W_k) (ap_uint<58>).
@@ -543,11 +637,11 @@ module raster_core #(
   logic [57:0] p3_sez;
   logic [15:0] p3_addr;
   always_ff @(posedge clk) begin
-    p3_v <= rst ? 1'b0 : p2_v;
-    p3_s <= rst ? 1'b0 : p2_s;
-    p3_se <= p2_se;
-    p3_sez <= 58'(p2_pr[0]) + 58'(p2_pr[1]) + 58'(p2_pr[2]);
-    p3_addr <= p2_addr;
+    p3_v <= rst ? 1'b0 : p2b_v;
+    p3_s <= rst ? 1'b0 : p2b_s;
+    p3_se <= p2b_se;
+    p3_sez <= 58'(p2b_pr[0]) + 58'(p2b_pr[1]) + 58'(p2b_pr[2]);
+    p3_addr <= p2b_addr;
   end
 
   // Depth recovery (eq. 6.21–6.22 [ALGORITHM.md] on 1/z): z_r = floor(Σe'·2^46 / Σe'·iz), F20, 24 stages;
@@ -736,8 +830,9 @@ module raster_core #(
   end
 
   // ---------------------------------------------------------------- control
-  wire vert_busy = v0_v || v1_v || v2_v || v3_v || vd_any || v4_v || f1_v || f2_v || f3_v || f4_v;
-  wire pix_busy = !tri_empty || pg_act || p1_s || p2_s || p3_s || pd_any || p4_s || p5_s || c1_s || c2_s;
+  wire vert_busy = v0_v || v1_v || v2_v || v3_v || vd_any || v4_v || vz_v || vi_v || f0_v || f1_v ||
+                   f2_v || f3_v || f4_v || f5_v;
+  wire pix_busy = !tri_empty || pg_act || p1_s || p2_s || p2b_s || p3_s || pd_any || p4_s || p5_s || c1_s || c2_s;
   wire faces_done = vcnt == nverts && !vert_busy && !pix_busy;
   logic z3_s, z4_s;  // the two CompareFragment stages behind Z2
   // Z3: a covered centre's counts, registered before they are accumulated.
@@ -762,7 +857,7 @@ module raster_core #(
       inflight <= '0;
     end else begin
       // Face credits.
-      inflight <= inflight + ((vert_hs && vk == 0) ? 1 : 0) - (f4_v ? 1 : 0);
+      inflight <= inflight + ((vert_hs && vk == 0) ? 1 : 0) - (f5_v ? 1 : 0);
       case (state)
         S_IDLE:
           if (win_valid) begin

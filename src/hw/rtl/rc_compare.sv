@@ -59,13 +59,18 @@ module rc_compare (
   //   rr < 0     ⇔ prod > 2^29 + 2^17
   //   rr > 1024  ⇔ c ≥ 1025·2^18 ⇔ prod ≤ 2^28 − 2^17 (bits 17–27 ones)
   // and between them rr = c[28:18], so c is needed modulo 2^29 only (one 29-bit subtraction).
+  // χ = 0, for the occluded flag, is formed beside χ rather than tested behind its multiplexers:
+  // on the ramp, χ = 0 ⇔ rr < 1 ⇔ c < 2^18 ⇔ prod > 2^29 − 2^17 (bits 17–28 ones), which also
+  // covers rr < 0, and rr > 1024 (prod ≤ 2^28 − 2^17) never meets it.
   logic [10:0] chi_c;
   logic [28:0] c29;
-  logic        rr_neg, rr_big;
+  logic        rr_neg, rr_big, rr_zero, chi_zero;
   assign c29    = 29'((30'd1 << 29) + (30'd1 << 17) - 30'(s2_prod[28:0]));
   assign rr_neg = s2_prod[44:30] != '0 ||
                   (s2_prod[29] && (s2_prod[28:18] != '0 || (s2_prod[17] && s2_prod[16:0] != '0)));
   assign rr_big = s2_prod[44:28] == '0 && !(s2_prod[27:17] == '1 && s2_prod[16:0] != '0);
+  assign rr_zero = s2_prod[44:29] != '0 || (s2_prod[28:17] == '1 && s2_prod[16:0] != '0);
+  assign chi_zero = hard ? !s2_le_hard : !s2_le_thr1 && (s2_ge_2thr1 || rr_zero);
   always_comb begin
     if (hard) chi_c = s2_le_hard ? 11'd1024 : 11'd0;
     else if (s2_le_thr1) chi_c = 11'd1024;
@@ -77,7 +82,7 @@ module rc_compare (
   always_ff @(posedge clk) begin
     out_valid <= rst ? 1'b0 : s2_v;
     chi       <= chi_c;
-    occluded  <= (chi_c == 0) && s2_d[25];
+    occluded  <= chi_zero && s2_d[25];
     in_band   <= s2_ad <= {1'b0, align_band};
     d         <= s2_d;
   end

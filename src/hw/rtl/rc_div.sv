@@ -13,8 +13,8 @@
 // in [−d, d) and is computed modulo 2^(DW+1), so the stage adder is DW + 1 bits wide: per bit one
 // LUT (operand bit XOR d bit XOR sign) feeding the carry chain, and no restore multiplexer.
 //
-// PAD extra register stages equalise the latency of dividers that run side by side (vertex
-// stage: the 32-stage 1/W divider and the two 21-stage snapping dividers).
+// PAD extra register stages set the latency of a divider that runs beside others (vertex stage:
+// the two 21-stage snapping dividers padded to 30, two clocks ahead of the 32-stage 1/W divider).
 //
 // No valid bit: the divider always advances; the caller carries its own sideband through a
 // delay line of the same latency (rc_delay).

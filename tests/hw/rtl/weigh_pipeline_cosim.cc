@@ -17,18 +17,22 @@
 // cycle model of the same call: the longer of the image copy (img_width·img_height) and the
 // model copy (1024 + num_faces) plus ComposeRounds (src/hw/cycle_model.h) of the particles'
 // ParticleWork and the rounds' distributor cycles, recorded by the C model, or the merger's ρ
-// copy and II (6300 + 3·n) if that is longer. Further passes (--bubbles K, seeds seed + 1 … seed + K) replay the
+// copy and II (6300 + 3·n) if that is longer; Σ RTL / Σ model cycles over the calls must lie in
+// [0.9, R] (R = --max-ratio, default 1.1). Further passes (--bubbles K, seeds seed + 1 … seed + K) replay the
 // calls with random bubbles on every interface: a stream whose next word is due raises valid
 // with probability 1 − rate per clock and holds it and its data until the handshake; out_ready
 // is 1 with probability 1 − rate. Every pass must be bit-exact.
 //
 // Usage: weigh_pipeline_cosim [calls (default 4)] [particles per call (default 23)] [seed]
 //            [--bubbles K] [--rate R] [--set torus|torus-small|mesh=FILE[:SCALE]]
-//            [--image WxH] [--max-window S] [--violate-handshake]
+//            [--image WxH] [--max-window S] [--max-ratio R] [--violate-handshake]
 //   --set torus-small (default) a 128-face torus; torus: the 2048-face torus; mesh=FILE a PLY/OBJ
 //                      file × SCALE, simplified to ≤ 2048 faces and ≤ 1024 vertices
 //   --image WxH        depth image size (default 160x120; ≤ 640x480)
 //   --max-window S     largest window side (default 48; ≤ 200)
+//   --max-ratio R      upper bound of Σ RTL / Σ model cycles (default 1.1); whole 2048-face
+//                      meshes in large windows need more, as the cores' shared vertex stream
+//                      couples their rates (docs/HARDWARE.md §12)
 //   --violate-handshake  in the bubble passes, the inputs drop valid before ready (an illegal
 //                      source): the input handshake assertions must fire (counted instead of
 //                      stopping the run); exit 0 only if they did
@@ -476,13 +480,16 @@ struct Gen {
 int main(int argc, char** argv) {
   int calls = 4, n = 23, positional = 0, bubbles = 0, img_w = 160, img_h = 120, max_win = 48;
   uint64_t seed = 4242;
-  double rate = 0.3;
+  double rate = 0.3, max_ratio = 1.1;
   bool violate = false;
+  // Line-buffered, so a long run's log shows each call as it finishes.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   std::string set = "torus-small";
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     if (arg == "--bubbles" && a + 1 < argc) bubbles = std::atoi(argv[++a]);
     else if (arg == "--rate" && a + 1 < argc) rate = std::atof(argv[++a]);
+    else if (arg == "--max-ratio" && a + 1 < argc) max_ratio = std::atof(argv[++a]);
     else if (arg == "--violate-handshake") violate = true;
     else if (arg == "--set" && a + 1 < argc) set = argv[++a];
     else if (arg == "--image" && a + 1 < argc) {
@@ -497,12 +504,12 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: weigh_pipeline_cosim [calls] [particles] [seed] [--bubbles K] [--rate R] "
                    "[--set torus|torus-small|mesh=FILE[:SCALE]] [--image WxH] [--max-window S] "
-                   "[--violate-handshake]\n");
+                   "[--max-ratio R] [--violate-handshake]\n");
       return 2;
     }
   }
-  if (calls < 1 || n < 1 || n > kMaxParticles || bubbles < 0 || !(rate >= 0 && rate < 1) || img_w < 1 ||
-      img_w > kImageWidth || img_h < 1 || img_h > kImageHeight || max_win < 1 || max_win > kMaxWindow) {
+  if (calls < 1 || n < 1 || n > kMaxParticles || bubbles < 0 || !(rate >= 0 && rate < 1) || !(max_ratio >= 1) ||
+      img_w < 1 || img_w > kImageWidth || img_h < 1 || img_h > kImageHeight || max_win < 1 || max_win > kMaxWindow) {
     std::fprintf(stderr, "weigh_pipeline_cosim: arguments out of range\n");
     return 2;
   }
@@ -595,8 +602,8 @@ int main(int argc, char** argv) {
                 fired > 0 ? "fired, as they must" : "NONE: the handshake assertions do not work");
     return fired > 0 ? 0 : 1;
   }
-  if (ratio < 0.9 || ratio > 1.1) {
-    std::printf("cycles more than 10 %% from the cycle model\n");
+  if (ratio < 0.9 || ratio > max_ratio) {
+    std::printf("cycles outside [0.9, %.2f] x the cycle model\n", max_ratio);
     ++failures;
   }
   std::printf(failures ? "FAILED\n" : "PASSED\n");
