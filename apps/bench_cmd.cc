@@ -51,6 +51,7 @@
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/synth.h"
 #include "render/cpu_kernel.h"
+#include "hw/host/verilator_transport.h"
 #include "render/gpu_kernel.h"
 
 namespace posefilter::cli {
@@ -59,7 +60,8 @@ namespace {
 
 // Engine names the bench knows of; the available ones are those FilterOptions::IsValid accepts
 // (and, for gpu, that find a Vulkan device).
-const std::vector<std::string> kKnownEngines = {"reference", "cpu", "hw", "gpu"};
+// rtl (the Verilated weighing pipeline) is known but never a default: it simulates every clock.
+const std::vector<std::string> kKnownEngines = {"reference", "cpu", "hw", "gpu", "rtl"};
 
 // An engine name of the bench: a FilterOptions engine, or "cpu/<isa>" — the cpu engine with
 // its instruction set forced (FilterOptions::cpu_isa: avx512, avx2, portable).
@@ -75,6 +77,7 @@ bool EngineAvailable(const std::string& engine, std::string* why = nullptr) {
   FilterOptions o;
   ApplyEngine(engine, &o);
   if (!o.IsValid(why)) return false;
+  if (engine == "rtl") return hw::host::VerilatorTransportBuilt(why);
   return engine != "gpu" || render::GpuAvailable(why);
 }
 
@@ -139,7 +142,7 @@ int RunBench(int argc, char** argv) {
   for (const auto& e : kKnownEngines)
     if (EngineAvailable(e)) {
       available.push_back(e);
-      if (e != "gpu" || GpuDevice().find("(cpu)") == std::string::npos) defaults.push_back(e);
+      if (e != "rtl" && (e != "gpu" || GpuDevice().find("(cpu)") == std::string::npos)) defaults.push_back(e);
     }
   for (const char* isa : {"portable", "avx2", "avx512"})
     if (EngineAvailable(std::string("cpu/") + isa)) cpu_isas.push_back(isa);
@@ -265,7 +268,7 @@ int RunBench(int argc, char** argv) {
     // weighing of the same pose is tested in tests/hw).
     const EngineRun* first_float = nullptr;
     for (const auto& r : runs) {
-      if (r.engine == "hw") continue;
+      if (r.engine == "hw" || r.engine == "rtl") continue;
       if (first_float == nullptr) first_float = &r;
       agree = agree && r.check_fragments == first_float->check_fragments;
     }

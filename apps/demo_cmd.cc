@@ -46,7 +46,6 @@ int RunDemo(int argc, char** argv) {
     std::string why;
     if (!synth.IsValid(&why)) throw Error("invalid scene option: " + why);
     // The scene's files and the overlay go into --out; --view is none of them.
-    CheckOutputPaths({{view_path, "--view"}}, {});
     MakeOutputFolder(out_dir, "--out");
     std::vector<NamedPath> outputs = {{view_path, "--view"}};
     for (const std::string& f : SynthSceneFileNames(synth.target))

@@ -418,6 +418,7 @@ int RunSuite(int argc, char** argv) {
     nlohmann::json rows = nlohmann::json::array();
     int found = 0;
     double total_ms = 0;
+    FilterStats rtl_stats;  // --engine rtl: the Verilated weighings' clocks, summed over scenes
     std::printf("%5s %-9s %6s %9s %8s %6s %7s %7s %5s %8s\n", "seed", "target", "occl", "ADD-S[mm]", "%diam", "found",
                 "weight", "gt_w", "iter", "time[ms]");
     for (int i = 0; i < count; ++i) {
@@ -439,6 +440,7 @@ int RunSuite(int argc, char** argv) {
       const PoseErrors e = ComputePoseErrors(SamplePoints(scene.target), diameter, r.T_cam_obj, scene.gt[0].T_cam_obj);
       found += e.adds_ok;
       total_ms += r.time_ms;
+      rtl_stats += r.stats;
       std::printf("%5llu %-9s %6.2f %9.1f %8.1f %6s %7.3f %7.3f %5d %8.0f\n", (unsigned long long)seed, so.target.c_str(),
                   scene.occlusion_achieved, 1000 * e.adds, 100 * e.adds / diameter, e.adds_ok ? "yes" : "NO", r.weight,
                   gt_weight, r.iterations, r.time_ms);
@@ -451,6 +453,12 @@ int RunSuite(int argc, char** argv) {
     const double recall = double(found) / count;
     std::printf("recall (ADD-S < 10%% of diameter): %d/%d = %.0f%%, mean time %.0f ms per object\n", found, count,
                 100 * recall, total_ms / count);
+    if (rtl_stats.rtl_calls > 0)
+      std::printf("rtl: %.0f clocks per weighing simulated (weighing pipeline, AP_START to AP_DONE), cycle model %.0f "
+                  "(ratio %.3f), over %lld weighings\n",
+                  double(rtl_stats.rtl_cycles) / double(rtl_stats.rtl_calls),
+                  double(rtl_stats.rtl_model_cycles) / double(rtl_stats.rtl_calls),
+                  double(rtl_stats.rtl_cycles) / double(rtl_stats.rtl_model_cycles), (long long)rtl_stats.rtl_calls);
     if (!json_path.empty()) WriteJson(json_path, {{"scenes", rows}, {"recall_adds", recall}});
   });
 }

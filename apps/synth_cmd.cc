@@ -124,7 +124,7 @@ int RunSynth(int argc, char** argv) {
         throw Error("invalid scene option: " + why);
       }
       const TableWorld ycb = TableWorld::LoadYcbVideo(models_dir);
-      MakeOutputFolder(out_dir, "--out");
+      CheckOutputFolder(out_dir, "--out");
       for (int i = 0; i < count; ++i) {
         char name[32];
         std::snprintf(name, sizeof name, "scene_%03d", i);
@@ -175,7 +175,7 @@ int RunSynth(int argc, char** argv) {
       if (app.count("--count")) throw Error("--sequence writes one moving scene; --count does not apply");
       motion.frames = sequence;
       if (!motion.IsValid(&why)) throw Error("invalid --sequence motion: " + why);
-      MakeOutputFolder(out_dir, "--out");
+      CheckOutputFolder(out_dir, "--out");
       const std::vector<SynthScene> frames = MakeSynthSequence(opt, motion, seed);
       WriteSynthSequence(frames, out_dir);
       std::printf("%s  target %s  %zu frames  distance %.3f m  slide %.3f m/frame  turn %.3f rad/frame%s\n", out_dir.c_str(),
@@ -185,7 +185,7 @@ int RunSynth(int argc, char** argv) {
     }
     if (app.count("--speed") + app.count("--turn") + app.count("--jump-frame") + app.count("--jump"))
       throw Error("--speed, --turn, --jump-frame and --jump describe a --sequence; give --sequence N");
-    MakeOutputFolder(out_dir, "--out");
+    CheckOutputFolder(out_dir, "--out");
     for (int i = 0; i < count; ++i) {
       char name[32];
       std::snprintf(name, sizeof name, "scene_%03d", i);

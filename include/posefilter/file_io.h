@@ -80,10 +80,13 @@ struct NamedPath {
 // WriteFileAtomically and AppendFileDurably refuse such special files too.
 void CheckOutputPaths(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
 
-// Makes the output folder `path` given by `option` ("--out"), with its parents, before any
-// work writes into it. Throws Error naming the option and path if the path is empty, exists and
-// is not a folder (a file, a FIFO, a device; a symbolic link to a folder is a folder), one of
-// its names is longer than the file system allows, or the folder cannot be made or written.
+// Checks, before any work, that the output folder `path` given by `option` ("--out") can be
+// written or made with its parents. Throws Error naming the option and path if the path is
+// empty, exists and is not a folder (a file, a FIFO, a device; a symbolic link to a folder is a
+// folder) or is not writable, one of its names is longer than a file name may be, or its nearest
+// existing parent is not a writable folder. Makes nothing.
+void CheckOutputFolder(const std::string& path, const std::string& option);
+// CheckOutputFolder, then makes the folder with its parents (Error naming the option on failure).
 void MakeOutputFolder(const std::string& path, const std::string& option);
 
 // What `path` is when it exists and is not a regular file, not following a final symlink ("a

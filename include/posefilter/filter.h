@@ -33,6 +33,8 @@
 
 namespace posefilter {
 
+class PreparedModel;  // a mesh prepared once for the filter (posefilter/prepared_model.h)
+
 // Counters of one run, the quantities the thesis reports (§7.4, §7.5.3–7.5.4).
 struct FilterStats {
   std::int64_t init_cdf_reads = 0, init_cdf_reads_linear = 0;          // with / without tracker
@@ -40,6 +42,10 @@ struct FilterStats {
   std::int64_t faces_total = 0, faces_front = 0;   // summed over all weighings
   std::int64_t fragments = 0;                      // counted fragments (N_raster) summed
   std::int64_t weighings = 0;                      // particle scores computed
+  // The rtl engine only: clocks of its weighings in the Verilated accelerator (CYCLES, AP_START
+  // to AP_DONE) and the cycle model's clocks for the same part (docs/HARDWARE.md §16), summed
+  // over rtl_calls weighings (one per iteration).
+  std::int64_t rtl_calls = 0, rtl_cycles = 0, rtl_model_cycles = 0;
 
   FilterStats& operator+=(const FilterStats& o) {
     init_cdf_reads += o.init_cdf_reads;
@@ -50,6 +56,9 @@ struct FilterStats {
     faces_front += o.faces_front;
     fragments += o.fragments;
     weighings += o.weighings;
+    rtl_calls += o.rtl_calls;
+    rtl_cycles += o.rtl_cycles;
+    rtl_model_cycles += o.rtl_model_cycles;
     return *this;
   }
 };
@@ -126,13 +135,22 @@ SceneInput SubsampleScene(const SceneInput& scene, int factor);
 
 // Runs the filter for one object. `cls` indexes prior.classes. Throws Error on invalid
 // options, a class index out of range, a prior of the wrong image size, or when no prior
-// cell has both probability mass and valid depth.
+// cell has both probability mass and valid depth. The mesh is prepared for this one estimate
+// (PrepareModel, posefilter/prepared_model.h).
 EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                            const FilterOptions& options, const ProgressFn& progress = nullptr);
+// The same on a mesh prepared once (PrepareModel): the same result, bit for bit, without the
+// mesh's preparation when the model holds what `options` read (PreparedModel::Covers; else
+// the missing part is prepared for this estimate). Any number of estimates may share `model`,
+// from any threads.
+EstimateResult EstimatePose(const SceneInput& scene, const PreparedModel& model, const Prior& prior, int cls,
                             const FilterOptions& options, const ProgressFn& progress = nullptr);
 
 // Weighs given hypotheses (pose object → base, prior cell whose window is used) exactly as
 // the filter would with `options` (final inlier thresholds): eq. 7.4 [ALGORITHM.md] per hypothesis.
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                               const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses);
+std::vector<double> WeighPoses(const SceneInput& scene, const PreparedModel& model, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses);
 
 }  // namespace posefilter

@@ -16,12 +16,14 @@
 // Units: metres; poses object → camera. Deterministic given the options' seed.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "posefilter/filter.h"
 #include "posefilter/filter_options.h"
 #include "posefilter/mesh.h"
+#include "posefilter/prepared_model.h"
 #include "posefilter/prior.h"
 
 namespace posefilter {
@@ -36,12 +38,15 @@ struct ScenePassOptions {
   bool IsValid(std::string* why) const;
 };
 
-// One estimated object of the scene: its mesh (metres), its class in the prior, and the
-// per-object estimate (EstimatePose's result with the same scene, prior and options).
+// One estimated object of the scene: its mesh (metres), its class in the prior, the
+// per-object estimate (EstimatePose's result with the same scene, prior and options), and
+// optionally the mesh prepared once (PrepareModel of *mesh, shared with the per-object
+// estimate; null: the pass's weighing and re-estimate prepare the mesh for themselves).
 struct SceneObject {
   const Mesh* mesh = nullptr;
   int cls = 0;
   EstimateResult estimate;
+  std::shared_ptr<const PreparedModel> model = nullptr;
 };
 
 struct ScenePassResult {

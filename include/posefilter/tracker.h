@@ -23,12 +23,14 @@
 #include <Eigen/Geometry>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "posefilter/filter.h"
 #include "posefilter/filter_options.h"
 #include "posefilter/mesh.h"
+#include "posefilter/prepared_model.h"
 #include "posefilter/prior.h"
 
 namespace posefilter {
@@ -129,6 +131,12 @@ class Tracker {
 
   int frames() const { return frame_; }  // frames processed so far
   const std::vector<Mesh>& meshes() const { return meshes_; }
+  // The meshes prepared once for the sequence, in the meshes' order: for the searches
+  // (PrepareModel with the tracking step's options, in the constructor; the judgements of
+  // initialised poses use them too) and for the (re-)initialisations (with `init`'s options,
+  // by an object's first initialisation; null until then; its scene passes use them too).
+  const std::vector<std::shared_ptr<const PreparedModel>>& models() const { return models_; }
+  const std::vector<std::shared_ptr<const PreparedModel>>& init_models() const { return init_models_; }
   const TrackOptions& options() const { return options_; }
 
  private:
@@ -156,8 +164,15 @@ class Tracker {
   TrackResult Judge(const Camera& cam, std::size_t k, const EstimateResult& e) const;
   void Accept(std::size_t k, const TrackResult& r);
 
+  // The mesh weighed by the searches (its level of detail at filter.render.lod_max_faces).
+  const Mesh& SearchMesh(std::size_t k) const;
+  // Object k's model for the (re-)initialisations, prepared by the first call (the serial part
+  // of Track calls it).
+  const std::shared_ptr<const PreparedModel>& InitModel(std::size_t k);
+
   std::vector<Mesh> meshes_;      // as given
-  std::vector<Mesh> lod_;         // at TrackOptions::filter.render.lod_max_faces
+  std::vector<std::shared_ptr<const PreparedModel>> models_;       // per mesh: the searches'
+  std::vector<std::shared_ptr<const PreparedModel>> init_models_;  // per mesh: the initialisations' (InitModel)
   TrackOptions options_;
   std::vector<State> states_;
   DepthImage scoring_;            // this frame's depth without its support plane's pixels

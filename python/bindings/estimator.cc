@@ -1,5 +1,8 @@
 // python/bindings/estimator.cc — the Estimator class (Python's entry to EstimatePose) and its Result and BatchResult.
+#include <mutex>
+
 #include "bindings.h"
+#include "posefilter/prepared_model.h"
 #include "posefilter/support_plane.h"
 #include "posefilter/view.h"
 
@@ -41,10 +44,49 @@ Prior PriorFromPython(py::handle prior_arg, const std::vector<std::string>& objs
   return PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
 }
 
+// The meshes an Estimator has prepared (PrepareModel with its options), most recent last: an
+// estimate on a mesh equal to one of them (name, vertices and faces) reuses its model.
+// Shared by the Estimator's copies, behind one lock (estimates run without the GIL).
+class ModelCache {
+ public:
+  // At most this many models are kept (count); the least recently used goes first.
+  static constexpr std::size_t kMaxModels = 64;
+
+  std::shared_ptr<const PreparedModel> Get(const Mesh& mesh, const FilterOptions& options) {
+    {
+      const std::lock_guard<std::mutex> hold(lock_);
+      for (auto it = models_.begin(); it != models_.end(); ++it) {
+        const Mesh& m = (*it)->mesh();
+        if (m.name == mesh.name && m.faces == mesh.faces && m.vertices == mesh.vertices) {
+          std::shared_ptr<const PreparedModel> found = *it;
+          models_.erase(it);
+          models_.push_back(found);
+          return found;
+        }
+      }
+    }
+    std::shared_ptr<const PreparedModel> made = PrepareModel(mesh, options);  // outside the lock
+    const std::lock_guard<std::mutex> hold(lock_);
+    models_.push_back(made);
+    if (models_.size() > kMaxModels) models_.erase(models_.begin());
+    return made;
+  }
+  std::size_t size() {
+    const std::lock_guard<std::mutex> hold(lock_);
+    return models_.size();
+  }
+
+ private:
+  std::mutex lock_;
+  std::vector<std::shared_ptr<const PreparedModel>> models_;
+};
+
 class Estimator {
  public:
   explicit Estimator(const FilterOptions& o) : options_(CheckedFilterOptions(o)) {}
   const FilterOptions& options() const { return options_; }
+  // Meshes prepared so far and kept (ModelCache).
+  std::size_t prepared_models() const { return models_->size(); }
 
   // See the docstring in PYBIND11_MODULE.
   py::object Estimate(py::handle depth, const Camera& camera, py::handle mesh_arg, py::handle prior_arg,
@@ -144,6 +186,7 @@ class Estimator {
       // The filter runs without the GIL; between iterations it takes the GIL back briefly to
       // honour Ctrl-C and to call `progress(obj, iteration, best_weight)`.
       py::gil_scoped_release release;
+      std::vector<std::shared_ptr<const PreparedModel>> models(meshes.size());  // prepared once per mesh
       for (std::size_t i = 0; i < meshes.size(); ++i) {
         const std::string& name = objs[i];
         const ProgressFn fn = [&callback, &name](int it, double w) {
@@ -152,13 +195,14 @@ class Estimator {
           if (!callback.is_none()) callback(name, it, w);
         };
         scene.seeds = i < seeds.size() ? seeds[i] : std::vector<PoseSeed>{};
-        out.items.push_back(EstimatePose(scene, meshes[i], prior, cls[i], options_, fn));
+        models[i] = models_->Get(meshes[i], options_);
+        out.items.push_back(EstimatePose(scene, *models[i], prior, cls[i], options_, fn));
         out.items.back().obj = name;
       }
       // Several objects sharing the prior: the joint scene pass (posefilter/scene_pass.h).
       if (scene_pass && meshes.size() > 1 && scene.mask.empty()) {
         std::vector<SceneObject> objects;
-        for (std::size_t i = 0; i < meshes.size(); ++i) objects.push_back({&meshes[i], cls[i], out.items[i]});
+        for (std::size_t i = 0; i < meshes.size(); ++i) objects.push_back({&meshes[i], cls[i], out.items[i], models[i]});
         scene.seeds.clear();
         const std::vector<ScenePassResult> passed = RunScenePass(scene, prior, objects, options_);
         for (std::size_t i = 0; i < passed.size(); ++i) {
@@ -178,6 +222,7 @@ class Estimator {
 
  private:
   FilterOptions options_;
+  std::shared_ptr<ModelCache> models_ = std::make_shared<ModelCache>();
 };
 
 // Result.view / BatchResult.view: the viewer page (posefilter/view.h) of `results` on their
@@ -331,6 +376,9 @@ void BindEstimation(py::module_& m) {
       }), EstimatorDoc().c_str())
       .def_property_readonly("options", [](const Estimator& e) { return KeywordDict(e.options(), FilterKeywords()); },
                              "dict of every option")
+      .def_property_readonly("prepared_models", &Estimator::prepared_models,
+                             "meshes prepared so far and kept (at most 64): an estimate on an equal mesh (name, "
+                             "vertices, faces) reuses its level of detail, hull, stable poses and coarse meshes")
       .def_static("defaults", [] { return KeywordDict(FilterOptions{}, FilterKeywords()); }, "dict of the default options")
       .def_static("option_table", [] {
         // One dict per option: the table of posefilter/option_table.h.

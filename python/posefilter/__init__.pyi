@@ -221,7 +221,7 @@ class Estimator:
     def __init__(
         self,
         *,
-        engine: str = ...,  # 'cpu', cpu|reference|hw|gpu
+        engine: str = ...,  # 'cpu', cpu|reference|hw|gpu|rtl
         cpu_isa: str = ...,  # 'auto', auto|avx512|avx2|portable
         threads: int = ...,  # 0, >= 0
         seed: int = ...,  # 1, [0, 2^64 - 1]
@@ -287,6 +287,8 @@ class Estimator:
     # END options
     @property
     def options(self) -> dict[str, Any]: ...
+    @property
+    def prepared_models(self) -> int: ...
     @staticmethod
     def defaults() -> dict[str, Any]: ...
     @staticmethod

@@ -83,6 +83,26 @@ def test_same_seed_same_pose_other_seed_other_pose(easy_scene):
     assert not np.array_equal(a.best_weight_history, c.best_weight_history)
 
 
+def test_an_estimator_prepares_each_mesh_once(easy_scene):
+    """The Estimator keeps the meshes it prepared: a second estimate on an equal mesh reuses the
+    model (same result as a fresh Estimator's), another mesh is prepared once more."""
+    args = (easy_scene.depth, easy_scene.camera, easy_scene.target, easy_scene.prior)
+    est = pf.Estimator(seed=11, **TINY)
+    assert est.prepared_models == 0
+    a = est.estimate(*args)
+    b = est.estimate(*args)
+    assert est.prepared_models == 1
+    fresh = pf.Estimator(seed=11, **TINY).estimate(*args)
+    for r in (b, fresh):
+        np.testing.assert_array_equal(a.pose, r.pose)
+        np.testing.assert_array_equal(a.best_weight_history, r.best_weight_history)
+        assert a.weight == r.weight
+    mesh = easy_scene.target
+    est.estimate(easy_scene.depth, easy_scene.camera, pf.Mesh(mesh.vertices * 1.0001, mesh.faces, mesh.name),
+                 easy_scene.prior)
+    assert est.prepared_models == 2
+
+
 def test_depth_dtypes_and_layouts_give_the_same_pose(easy_scene, tiny_estimator):
     s = easy_scene
     ref = tiny_estimator.estimate(s.depth, s.camera, s.target, s.prior)

@@ -213,26 +213,40 @@ std::string TrimTornLastLine(const std::string& path) {
   return text.substr(keep);
 }
 
-void MakeOutputFolder(const std::string& path, const std::string& option) {
+void CheckOutputFolder(const std::string& path, const std::string& option) {
   if (path.empty()) throw Error(option + ": empty value; give a folder");
   const std::string name = option + " " + path;
   std::error_code ec;
   // Follows a final symlink: a link to a folder is that folder.
   const fs::file_status st = fs::status(path, ec);
-  if (fs::exists(st) && !fs::is_directory(st)) {
-    const std::string kind = SpecialFileKind(path);
-    throw Error(name + ": is " + (kind.empty() ? std::string("a file") : kind) + ", not a folder");
-  }
-  if (!fs::exists(st)) {
-    for (const fs::path& part : fs::path(path)) {
-      const std::size_t n = part.string().size();
-      if (n > 255) throw Error(name + ": the name " + part.string().substr(0, 16) + "... is " + std::to_string(n) +
-                               " bytes, longer than a file name may be (255)");
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st)) {
+      const std::string kind = SpecialFileKind(path);
+      throw Error(name + ": is " + (kind.empty() ? std::string("a file") : kind) + ", not a folder");
     }
-    fs::create_directories(path, ec);
-    if (ec || !fs::is_directory(path)) throw Error(name + ": cannot make the folder: " + ec.message());
+    if (::access(path.c_str(), W_OK | X_OK) != 0) throw Error(name + ": the folder is not writable");
+    return;
   }
-  if (::access(path.c_str(), W_OK | X_OK) != 0) throw Error(name + ": the folder is not writable");
+  for (const fs::path& part : fs::path(path)) {
+    const std::size_t n = part.string().size();
+    if (n > 255)
+      throw Error(name + ": the name " + part.string().substr(0, 16) + "... is " + std::to_string(n) +
+                  " bytes, longer than a file name may be (255)");
+  }
+  // The folder is made with its parents: the nearest existing one must be a writable folder.
+  fs::path up = fs::absolute(fs::path(path), ec).parent_path();
+  while (!up.empty() && !fs::exists(fs::symlink_status(up, ec)) && up != up.root_path()) up = up.parent_path();
+  if (!up.empty() && fs::exists(up, ec)) {
+    if (!fs::is_directory(up, ec)) throw Error(name + ": " + up.string() + " is not a folder");
+    if (::access(up.c_str(), W_OK | X_OK) != 0) throw Error(name + ": the folder " + up.string() + " is not writable");
+  }
+}
+
+void MakeOutputFolder(const std::string& path, const std::string& option) {
+  CheckOutputFolder(path, option);
+  std::error_code ec;
+  fs::create_directories(path, ec);
+  if (ec || !fs::is_directory(path)) throw Error(option + " " + path + ": cannot make the folder: " + ec.message());
 }
 
 bool SamePath(const std::string& a, const std::string& b) {

@@ -14,10 +14,13 @@
 #include "filter/engine.h"
 #include "filter/filter_context.h"
 #include "filter/host_setup.h"
+#include "filter/rtl_engine.h"
+#include "filter/model_lod.h"
 #include "filter/polish.h"
 #include "filter/scene_prep.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
+#include "posefilter/prepared_model.h"
 
 namespace posefilter::filter {
 
@@ -26,6 +29,7 @@ bool ParseEngine(const std::string& name, Engine* out) {
   else if (name == "cpu") *out = Engine::kCpu;
   else if (name == "hw") *out = Engine::kHw;
   else if (name == "gpu") *out = Engine::kGpu;
+  else if (name == "rtl") *out = Engine::kRtl;
   else return false;
   return true;
 }
@@ -124,8 +128,9 @@ PolishResult PolishPoses(const PreparedScene& prep, const Mesh& mesh, const Prio
   if (seeds.empty()) throw Error("polish: no seed pose");
   FilterOptions o = options;
   o.engine = "cpu";  // the host's float weighing
-  Mesh lod;
-  Context ctx = BuildContext(prep, MeshAtLod(mesh, o.render.lod_max_faces, &lod), prior, cls, o, false);
+  // The caller's scene, borrowed for this call (an owner-less pointer: nothing to free).
+  const std::shared_ptr<const PreparedScene> borrowed(std::shared_ptr<void>(), &prep);
+  const Context ctx = BuildContext(borrowed, LodFor(nullptr, mesh, o, false, prep.plane.found), prior, cls, o, false);
   std::vector<Particle> ps(seeds.size());
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     if (seeds[i].cell < 0 || seeds[i].cell >= prior.layout.CellCount()) throw Error("polish: seed cell index out of range");
@@ -133,7 +138,8 @@ PolishResult PolishPoses(const PreparedScene& prep, const Mesh& mesh, const Prio
     ps[i].cell = seeds[i].cell;
   }
   FilterStats local;
-  const Particle best = Polish(ctx, ps, stats ? stats : &local);
+  Scratch scratch = MakeScratch(ctx);
+  const Particle best = Polish(ctx, scratch, ps, stats ? stats : &local);
   return {best.pose, best.cell, best.weight};
 }
 
@@ -166,16 +172,21 @@ Error NoInitialMassError(const Prior& prior, int cls, const FilterOptions& optio
 
 namespace posefilter {
 
-EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
-                            const FilterOptions& options, const ProgressFn& progress) {
+namespace {
+
+// EstimatePose with the mesh's prepared model (null: prepared on the fly for the float engines).
+EstimateResult Estimate(const SceneInput& scene, const PreparedModel* model, const Mesh& mesh, const Prior& prior,
+                        int cls, const FilterOptions& options, const ProgressFn& progress) {
   const auto t_start = filter::Clock::now();
   ThrowIfInvalid(options, OptionNaming::kField);
-  const filter::PreparedScene prep = filter::PrepareScene(scene, options);
+  const auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
   filter::Engine engine = filter::Engine::kCpu;
   filter::ParseEngine(options.engine, &engine);  // a valid name (checked above)
-  const std::unique_ptr<filter::EngineRuns> runs = engine == filter::Engine::kHw
-                                                       ? filter::MakeHwEngine(prep, mesh, prior, cls, options)
-                                                       : filter::MakeFloatEngine(prep, mesh, prior, cls, options);
+  const std::unique_ptr<filter::EngineRuns> runs =
+      engine == filter::Engine::kHw    ? filter::MakeHwEngine(*prep, mesh, prior, cls, options)
+      : engine == filter::Engine::kRtl ? filter::MakeRtlEngine(*prep, mesh, prior, cls, options)
+          : filter::MakeFloatEngine(prep, filter::LodFor(model, mesh, options, true, prep->plane.found), prior, cls,
+                                    options);
   // Independent runs (restarts), each with its own random stream; the best weight wins.
   EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
     return runs->Run(rng, run_progress);
@@ -188,6 +199,18 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
   best.obj = mesh.name;
   best.time_ms = filter::MsSince(t_start);
   return best;
+}
+
+}  // namespace
+
+EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                            const FilterOptions& options, const ProgressFn& progress) {
+  return Estimate(scene, nullptr, mesh, prior, cls, options, progress);
+}
+
+EstimateResult EstimatePose(const SceneInput& scene, const PreparedModel& model, const Prior& prior, int cls,
+                            const FilterOptions& options, const ProgressFn& progress) {
+  return Estimate(scene, &model, model.mesh(), prior, cls, options, progress);
 }
 
 }  // namespace posefilter

@@ -19,8 +19,9 @@ namespace posefilter::filter {
 
 // The engine of FilterOptions::engine, parsed once per estimate: "reference" (float, readable),
 // "cpu" (the SIMD kernel, same results), "hw" (the C-simulated hardware, hw_driver.cc), "gpu"
-// (Vulkan compute shaders, render/gpu_kernel.h; same counts).
-enum class Engine { kReference, kCpu, kHw, kGpu };
+// (Vulkan compute shaders, render/gpu_kernel.h; same counts), "rtl" (the hw engine with its
+// weighing pipeline in Verilated RTL, rtl_engine.cc; the hw engine's results).
+enum class Engine { kReference, kCpu, kHw, kGpu, kRtl };
 // Sets *out and returns true for a known engine name; false otherwise (*out untouched).
 bool ParseEngine(const std::string& name, Engine* out);
 

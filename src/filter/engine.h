@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "filter/driver.h"
+#include "filter/model_lod.h"
 #include "filter/scene_prep.h"
 #include "posefilter/filter.h"
 #include "posefilter/rng.h"
@@ -36,9 +37,12 @@ class EngineRuns {
 };
 
 // The engine's runs for one estimate on the prepared scene (PrepareScene, with the same
-// options); `prep`, `mesh` and `prior` outlive the result. Throws Error on inputs the engine
-// cannot take.
-std::unique_ptr<EngineRuns> MakeFloatEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
+// options). The float engines share the scene and the mesh's level of detail (LodFor, holding
+// what their options read); `prior` outlives the result. The hw engine takes the mesh itself
+// (it makes its own hardware mesh); `prep`, `mesh` and `prior` outlive its result. Throws
+// Error on inputs the engine cannot take.
+std::unique_ptr<EngineRuns> MakeFloatEngine(std::shared_ptr<const PreparedScene> prep,
+                                            std::shared_ptr<const ModelLod> model, const Prior& prior, int cls,
                                             const FilterOptions& options);  // particle_filter.cc
 std::unique_ptr<EngineRuns> MakeHwEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                                          const FilterOptions& options);  // hw_driver.cc

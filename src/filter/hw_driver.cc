@@ -32,6 +32,7 @@
 #include "filter/driver.h"
 #include "filter/engine.h"
 #include "filter/host_setup.h"
+#include "filter/hw_weigh.h"
 #include "filter/scene_prep.h"
 #include "hw/cycle_model.h"
 #include "hw/latency.h"
@@ -153,6 +154,8 @@ class HwRunner {
   HwMemories& mem() { return *mem_; }
   const WeighConfig& config() const { return cfg_; }
   std::string mesh_name;
+  // The weighing each iteration runs (null: the C model's HwWeighTopCores); not owned.
+  void SetWeigh(filter::HwWeighStrategy* weigh) { weigh_ = weigh; }
 
   // One run (initialisation to convergence). `on_iteration` (may be empty) is called after
   // each weighing with the iteration index and whether a trace was requested for it.
@@ -202,8 +205,12 @@ class HwRunner {
       if (weigh_trace) weigh_trace->Clear();
       if (update_trace) update_trace->Clear();
       DepthDistributionCounts dd;
-      HwWeighTopCores(cfg_.num_cores, N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem,
+      if (weigh_)
+        weigh_->Weigh(cfg_.num_cores, N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem,
                       m.sorted_w, m.sorted_idx, m.stats, m.offsets, &dd, weigh_trace);
+      else
+        HwWeighTopCores(cfg_.num_cores, N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem,
+                        m.tri_mem, m.sorted_w, m.sorted_idx, m.stats, m.offsets, &dd, weigh_trace);
       for (int p = 0; p < N; ++p) {
         res.stats.faces_total += m.stats[p].faces_total.to_int();
         res.stats.faces_front += m.stats[p].faces_front.to_int();
@@ -230,6 +237,7 @@ class HwRunner {
       if (progress) progress(it, best_w);
       if (last) break;
     }
+    if (weigh_) weigh_->EndRun(&res.stats);
     res.pose_base = SampleToPose(best);
     res.T_cam_obj = prep_.scoring.camera.base_to_camera * PoseToTransform(res.pose_base);
     res.weight = best_w;
@@ -427,14 +435,19 @@ class HwRunner {
   ResampleParams rprm_;
   DiffusionParams dprm_{};
   int num_vertices_ = 0;
+  filter::HwWeighStrategy* weigh_ = nullptr;
 };
 
 // The hw engine's runs (filter/engine.h): the hardware's memories are loaded once, each run
 // starts the C-simulated hardware from its own seeds.
 class HwEngine final : public filter::EngineRuns {
  public:
-  HwEngine(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& options)
-      : prep_(prep), mesh_(mesh), prior_(prior), cls_(cls), options_(options), runner_(prep, mesh, prior, cls, options) {}
+  HwEngine(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& options,
+           std::unique_ptr<filter::HwWeighStrategy> weigh = nullptr)
+      : prep_(prep), mesh_(mesh), prior_(prior), cls_(cls), options_(options), runner_(prep, mesh, prior, cls, options),
+        weigh_(std::move(weigh)) {
+    runner_.SetWeigh(weigh_.get());
+  }
 
   EstimateResult Run(Rng& rng, const ProgressFn& progress) override {
     EstimateResult r = runner_.Run(rng, progress, nullptr, nullptr, nullptr);
@@ -455,6 +468,7 @@ class HwEngine final : public filter::EngineRuns {
   int cls_;
   FilterOptions options_;
   HwRunner runner_;
+  std::unique_ptr<filter::HwWeighStrategy> weigh_;  // null: the C model's weighing
   std::vector<filter::PolishSeed> seeds_;  // each run's best particle
 };
 
@@ -465,6 +479,11 @@ namespace filter {
 std::unique_ptr<EngineRuns> MakeHwEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                                          const FilterOptions& options) {
   return std::make_unique<HwEngine>(prep, mesh, prior, cls, options);
+}
+
+std::unique_ptr<EngineRuns> MakeHwEngineWith(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
+                                             const FilterOptions& options, std::unique_ptr<HwWeighStrategy> weigh) {
+  return std::make_unique<HwEngine>(prep, mesh, prior, cls, options, std::move(weigh));
 }
 
 }  // namespace filter

@@ -61,7 +61,7 @@ const std::vector<OptionInfo>& Table() {
   static const std::vector<OptionInfo> t = {
       // ---- engine and run
       Row("engine", POSEFILTER_FIELD(engine), "Engine", kAny, kAllEngines, "engine that weighs the particles",
-          "cpu|reference|hw|gpu"),
+          "cpu|reference|hw|gpu|rtl"),
       Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kEngineCpu | kEngineGpu,
           "cpu kernel's instruction set (the cpu engine; the gpu engine's ICP weighings): auto (the best this CPU "
           "runs), avx512, avx2 or portable (same results)",
@@ -229,6 +229,7 @@ unsigned EngineBit(const std::string& engine) {
   if (engine == "cpu") return kEngineCpu;
   if (engine == "hw") return kEngineHw;
   if (engine == "gpu") return kEngineGpu;
+  if (engine == "rtl") return kEngineHw;  // the hw engine with its weighing in RTL: the hw engine's options
   return 0;
 }
 
@@ -425,7 +426,7 @@ bool ValidateFilterOptions(const FilterOptions& o, OptionNaming naming, std::str
   if (o.threads > MaxWorkerThreads())
     return fail(name("threads") + " must be in [0, " + std::to_string(MaxWorkerThreads()) +
                 "] (0 = all cores; at most 4 per hardware thread; got " + std::to_string(o.threads) + ")");
-  if (o.engine == "hw") {  // the hardware's limits (posefilter/hw_engine.h)
+  if (o.engine == "hw" || o.engine == "rtl") {  // the hardware's limits (posefilter/hw_engine.h)
     if (o.num_particles > kHwMaxParticles)
       return fail(name("num_particles") + " must be <= " + std::to_string(kHwMaxParticles) + " with the hw engine (got " +
                   std::to_string(o.num_particles) + ")");

@@ -3,8 +3,6 @@
 // (Weigh, WeighAll, WeighPoses), one run of the filter (RunFilter) and the float engines'
 // EngineRuns (engine.h), whose final polish is polish.cc. EstimatePose, the driver every engine
 // shares, is in driver.cc; the options' checks in option_table.cc.
-#include <omp.h>
-
 #include <algorithm>
 #include <numeric>
 #include <cmath>
@@ -24,6 +22,7 @@
 #include "filter/engine.h"
 #include "filter/filter_context.h"
 #include "filter/host_setup.h"
+#include "filter/model_lod.h"
 #include "filter/online_sorter.h"
 #include "filter/polish.h"
 #include "filter/scene_prep.h"
@@ -34,6 +33,7 @@
 #include "posefilter/filter.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
+#include "posefilter/prepared_model.h"
 #include "posefilter/rng.h"
 #include "posefilter/stable_poses.h"
 
@@ -46,6 +46,8 @@ using filter::Context;
 using filter::Level;
 using filter::MsSince;
 using filter::Particle;
+using filter::RunState;
+using filter::Scratch;
 using filter::WeighAll;
 
 // Coarse orientation class of a pose for niching: which signed axis of the base frame the
@@ -66,19 +68,19 @@ int RotationBin(const Pose6& pose) {
   return (za * 2 + zs) * 4 + x_slot * 2 + xs;
 }
 
-// Computes cell c's heuristic volume and window if not done yet (on demand because a run uses
-// a few hundred of a pyramid's thousands of cells). Not thread-safe: the serial steps call it, and
-// WeighAll calls it for its particles' cells before its parallel loop.
-void PrepareCell(const Context& ctx, int c) {
-  if (ctx.window_ready[std::size_t(c)]) return;
+// Computes cell c's heuristic volume and window into the scratch if not done yet (on demand
+// because a run uses a few hundred of a pyramid's thousands of cells). The serial steps call
+// it: WeighAll for its particles' cells before its parallel loop.
+void PrepareCell(const Context& ctx, Scratch& scratch, int c) {
+  if (scratch.window_ready[std::size_t(c)]) return;
   // The object's diameter in pixels at the depth of the cell's volume centre; the window's
   // cap grows with the fine level's pixel stride (a window of that many pixels of the level).
-  const Camera& cam = ctx.scene.camera;
+  const Camera& cam = ctx.scene().camera;
   const double min_side =
-      filter::MinWindowSide(ctx.opt, ctx.diameter, cam, ctx.volumes.Valid(c) ? &ctx.volumes.Get(c) : nullptr);
-  ctx.windows[std::size_t(c)] = filter::CellWindow(ctx.prior.boxes[std::size_t(c)], min_side,
-                                                   ctx.opt.render.max_window_px * ctx.fine.factor, cam.width, cam.height);
-  ctx.window_ready[std::size_t(c)] = 1;
+      filter::MinWindowSide(ctx.opt, ctx.model->diameter, cam, ctx.volumes.Valid(c) ? &ctx.volumes.Get(c) : nullptr);
+  scratch.windows[std::size_t(c)] = filter::CellWindow(ctx.prior->boxes[std::size_t(c)], min_side,
+                                                       ctx.opt.render.max_window_px * ctx.fine().factor, cam.width, cam.height);
+  scratch.window_ready[std::size_t(c)] = 1;
 }
 
 // The window a particle is weighed in (ours, FilterOptions::render.grow_window): its cell's window
@@ -87,12 +89,12 @@ void PrepareCell(const Context& ctx, int c) {
 // would exceed max(max_window_px, the cell window's) keeps the cell window's extent, as does
 // a pose with a corner behind the near plane. Without growing, a pose that fits the scene but
 // hangs out of a jittered detection box loses its outside pixels to a pose that does not.
-PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) {
-  const PixelRect& w = ctx.windows[cell];
+PixelRect ParticleWindow(const Context& ctx, const Scratch& scratch, const Eigen::Isometry3d& T, int cell) {
+  const PixelRect& w = scratch.windows[std::size_t(cell)];
   if (!ctx.opt.render.grow_window) return w;
-  const Camera& cam = ctx.scene.camera;
+  const Camera& cam = ctx.scene().camera;
   double u_lo = 1e30, u_hi = -1e30, v_lo = 1e30, v_hi = -1e30;
-  for (const Eigen::Vector3d& c : ctx.bbox_corners) {
+  for (const Eigen::Vector3d& c : ctx.model->bbox_corners) {
     const Eigen::Vector3d p = T * c;
     if (p.z() < ctx.opt.render.near_m) return w;
     const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
@@ -109,7 +111,7 @@ PixelRect ParticleWindow(const Context& ctx, const Eigen::Isometry3d& T, int cel
     *out_size = int(b - a);
   };
   PixelRect r = w;
-  const int cap = ctx.opt.render.max_window_px * ctx.fine.factor;  // full-image pixels
+  const int cap = ctx.opt.render.max_window_px * ctx.fine().factor;  // full-image pixels
   grow(w.u0, w.width, u_lo, u_hi, cam.width, cap, &r.u0, &r.width);
   grow(w.v0, w.height, v_lo, v_hi, cam.height, cap, &r.v0, &r.height);
   return r;
@@ -125,7 +127,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   const Volume& vol = ctx.volumes.Get(cell);
   // The support below the centre of the cell's visible surface (none: the start of Listing 7.5 [ALGORITHM.md]).
   const SupportPlane* below = ctx.stable.empty() ? nullptr
-                                                 : PlaneBelow(ctx, ctx.scene.camera.base_to_camera * ctx.surface_volumes.Get(cell).Centre());
+                                                 : PlaneBelow(ctx, ctx.scene().camera.base_to_camera * ctx.surface_volumes.Get(cell).Centre());
   Particle p;
   p.cell = cell;
   const Eigen::Vector3d c = vol.Centre();
@@ -145,7 +147,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
     std::size_t k = 0;
     for (double acc = ctx.stable[0].probability; k + 1 < ctx.stable.size() && u_pose >= acc;)
       acc += ctx.stable[++k].probability;
-    const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
+    const Eigen::Isometry3d& C = ctx.scene().camera.base_to_camera;
     const Eigen::Vector3d centre = C * ctx.surface_volumes.Get(cell).Centre();
     const Eigen::Vector3d n = below->normal;
     Eigen::Isometry3d T_cam_table = Eigen::Isometry3d::Identity();
@@ -156,7 +158,7 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
     // the box pulls the surface's centre towards the camera).
     Eigen::Vector3d away = centre - n * n.dot(centre);
     if (away.norm() > 1e-9) away.normalize();
-    T_cam_table.translation() = centre - below->Height(centre) * n + back * 0.5 * ctx.diameter * away;
+    T_cam_table.translation() = centre - below->Height(centre) * n + back * 0.5 * ctx.model->diameter * away;
     const Eigen::Isometry3d T_cam_obj =
         T_cam_table * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * ctx.stable[k].T_table_obj;
     p.pose = TransformToPose(C.inverse() * T_cam_obj);
@@ -171,21 +173,20 @@ Particle NewParticle(const Context& ctx, int cell, Rng& rng) {
   return p;
 }
 
-// The pixel level weighings use at the moment (Context::coarse), its scene and its normals.
-const Level& CurrentLevel(const Context& ctx) { return ctx.coarse ? ctx.coarse_level : ctx.fine; }
-const SceneInput& LevelScene(const Context& ctx) { return CurrentLevel(ctx).scene; }
-render::SceneNormalTiles& LevelNormals(const Context& ctx) { return CurrentLevel(ctx).normals; }
+// The pixel level weighings use at the moment (RunState::level).
+const Level& CurrentLevel(const Context& ctx, const RunState& run) { return ctx.levels[run.level]; }
 
 // Particle p's transform object → camera (FT without P).
 Eigen::Isometry3d CameraFromObject(const Context& ctx, const Particle& p) {
-  return ctx.scene.camera.base_to_camera * PoseToTransform(p.pose);
+  return ctx.scene().camera.base_to_camera * PoseToTransform(p.pose);
 }
 
 // The window a particle at T (object → camera) in `cell` is weighed in: ParticleWindow, on
 // the pixel grid of the current level.
-PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) {
-  const PixelRect w = ParticleWindow(ctx, T, cell);
-  const int s = CurrentLevel(ctx).factor;
+PixelRect WeighWindow(const Context& ctx, const RunState& run, const Scratch& scratch, const Eigen::Isometry3d& T,
+                      int cell) {
+  const PixelRect w = ParticleWindow(ctx, scratch, T, cell);
+  const int s = CurrentLevel(ctx, run).factor;
   if (s == 1) return w;
   // The level's pixels i whose full-resolution pixel s·i lies in [u0, u1): ceil(u0 / s) ≤ i < ceil(u1 / s).
   auto up = [s](int a) { return (a + s - 1) / s; };  // a ≥ 0: windows lie inside the image
@@ -199,7 +200,7 @@ PixelRect WeighWindow(const Context& ctx, const Eigen::Isometry3d& T, int cell) 
 // support plane beyond contact_tolerance_m (0 without a plane).
 double ContactPenalty(const Context& ctx, const Eigen::Isometry3d& T) {
   if (ctx.hull.empty()) return 0.0;
-  const SupportPlane* below = PlaneBelow(ctx, T * ctx.box_centre);  // the object's own support
+  const SupportPlane* below = PlaneBelow(ctx, T * ctx.model->box_centre);  // the object's own support
   if (!below) return 0.0;
   double lowest = 1e30;
   for (const Eigen::Vector3d& v : ctx.hull) lowest = std::min(lowest, below->Height(T * v));
@@ -209,36 +210,36 @@ double ContactPenalty(const Context& ctx, const Eigen::Isometry3d& T) {
 
 // The kernel parameters of particle p at T (object → camera) on the current level; `icp`:
 // with the level's scene normals.
-ScoreKernelParams ParticleParams(const Context& ctx, const Particle& p, const Eigen::Isometry3d& T, bool icp) {
-  const Level& level = CurrentLevel(ctx);
+ScoreKernelParams ParticleParams(const Context& ctx, const RunState& run, const Scratch& scratch, const Particle& p,
+                                 const Eigen::Isometry3d& T, bool icp) {
+  const Level& level = CurrentLevel(ctx, run);
   const SceneInput& scene = level.scene;
-  const Mesh& mesh = level.mesh.faces.empty() ? ctx.mesh : level.mesh;
-  ScoreKernelParams k = MakeKernelParams(mesh, T, scene.camera);
+  ScoreKernelParams k = MakeKernelParams(*level.mesh, T, scene.camera);
   k.near_m = float(ctx.opt.render.near_m);
-  k.window = WeighWindow(ctx, T, p.cell);
+  k.window = WeighWindow(ctx, run, scratch, T, p.cell);
   k.depth = scene.depth.data.data();
   k.depth_width = scene.depth.width;
   k.depth_height = scene.depth.height;
-  k.inlier = ctx.inlier;
+  k.inlier = run.inlier;
   k.zbuffer = ctx.opt.render.zbuffer;
   k.align_band_m = float(ctx.opt.diffusion.align_band_m);
   k.edge_band_m = float(ctx.opt.score.edge_band_m);
-  k.scene_normals = icp ? LevelNormals(ctx).data() : nullptr;
+  k.scene_normals = icp ? scratch.normals[run.level].data() : nullptr;
   return k;
 }
 
 // Weight of eq. 7.4 [ALGORITHM.md] of particle p at T (object → camera) from its kernel result on the
 // current level, whose window is `window`.
-double WeightFromScore(const Context& ctx, const Particle& p, const Eigen::Isometry3d& T, const PixelRect& window,
-                       const ScoreKernelResult* out) {
-  const Level& level = CurrentLevel(ctx);
+double WeightFromScore(const Context& ctx, const RunState& run, const Particle& p, const Eigen::Isometry3d& T,
+                       const PixelRect& window, const ScoreKernelResult* out) {
+  const Level& level = CurrentLevel(ctx, run);
   const double I = out->inlier_sum;
   // Without a z-buffer fragments may overlap, so each ratio is capped at 1.
   const std::int64_t n_raster = ctx.opt.score.occlusion_aware ? out->n_raster - out->n_occluded : out->n_raster;
   const double r_raster = n_raster > 0 ? std::min(1.0, I / double(n_raster)) : 0.0;
   const long nd = long(level.valid_depth.Count(window));
   const double r_depth = nd > 0 ? std::min(1.0, I / double(nd)) : 0.0;
-  const double rho = ctx.prior.Prob(p.cell, ctx.cls);
+  const double rho = ctx.prior->Prob(p.cell, ctx.cls);
   const double r_edge = out->n_edge > 0 ? double(out->n_edge_continued) / double(out->n_edge) : 0.0;
   return std::max(0.0, ctx.opt.score.alpha * r_raster + ctx.opt.score.beta * r_depth + ctx.opt.score.gamma * rho - ctx.opt.score.delta * r_edge -
                            ContactPenalty(ctx, T));
@@ -248,49 +249,67 @@ double WeightFromScore(const Context& ctx, const Particle& p, const Eigen::Isome
 // engine's ICP weighings) or the reference kernel (the reference engine, and the hw engine's
 // float polish); `ws` is the calling worker's own scratch memory. With `icp`, the kernel also
 // sums the ICP normal equations (scene normals passed); the weight does not depend on it.
-double Weigh(const Context& ctx, const Particle& p, bool icp, render::CpuWorkspace* ws, ScoreKernelResult* out) {
+double Weigh(const Context& ctx, const RunState& run, const Scratch& scratch, const Particle& p, bool icp,
+             render::CpuWorkspace* ws, ScoreKernelResult* out) {
   const Eigen::Isometry3d T = CameraFromObject(ctx, p);
-  const ScoreKernelParams k = ParticleParams(ctx, p, T, icp);
-  const render::FacePlanes* planes = &CurrentLevel(ctx).face_planes;
+  const ScoreKernelParams k = ParticleParams(ctx, run, scratch, p, T, icp);
+  const render::FacePlanes* planes = CurrentLevel(ctx, run).face_planes;
   const bool cpu_kernel = ctx.engine == filter::Engine::kCpu || ctx.engine == filter::Engine::kGpu;
   *out = cpu_kernel ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
-  return WeightFromScore(ctx, p, T, k.window, out);
+  return WeightFromScore(ctx, run, p, T, k.window, out);
 }
 
-// Records a weighing's result in its particle and the statistics.
-void Record(Particle& p, double weight, const ScoreKernelResult& r, bool icp, std::int64_t* faces_total,
-            std::int64_t* faces_front, std::int64_t* fragments, std::int64_t* weighings) {
+// Records a weighing's result in its particle (WeighAll adds its counters to the statistics).
+void Record(Particle& p, double weight, const ScoreKernelResult& r, bool icp) {
   p.weight = weight;
   p.depth_offset = r.depth_diff_count > 0 ? r.depth_diff_sum / double(r.depth_diff_count) : 0.0;
   p.icp_valid = icp && filter::SolveIcpStep(r, &p.icp_step);
   p.icp_known = icp;
   p.scored = true;
-  *faces_total += r.faces_total;
-  *faces_front += r.faces_front;
-  *fragments += r.n_raster;
-  ++*weighings;
 }
 
 }  // namespace
 
 namespace filter {
 
-void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats, bool icp) {
+const SupportSurfaces& Context::surfaces() const {
+  static const SupportSurfaces kNone{};
+  return prep->plane.found ? prep->surfaces : kNone;
+}
+
+RunState FinalRunState(const Context& ctx) { return RunState{ctx.opt.score.inlier, kFineLevel}; }
+
+Scratch MakeScratch(const Context& ctx) {
+  Scratch s;
+  for (int l = 0; l < 2; ++l) {
+    const Level& level = ctx.levels[std::size_t(l)];
+    if (l == kCoarseLevel && !ctx.has_coarse()) break;
+    s.normals[std::size_t(l)] = render::SceneNormalTiles(level.scene.depth.width, level.scene.depth.height);
+  }
+  const std::size_t cells = std::size_t(ctx.prior->layout.CellCount());
+  s.windows.resize(cells);  // PrepareCell fills them in as cells are used
+  s.window_ready.assign(cells, 0);
+  return s;
+}
+
+void WeighAll(const Context& ctx, const RunState& run, Scratch& scratch, std::vector<Particle>& ps, FilterStats* stats,
+              bool icp) {
   const int n = int(ps.size());
-  std::int64_t faces_total = 0, faces_front = 0, fragments = 0, weighings = 0;
   const int threads = WorkerThreads(ctx.opt.threads);
-  if (int(ctx.workspaces.size()) < threads) ctx.workspaces.resize(std::size_t(threads));
-  for (const Particle& p : ps) PrepareCell(ctx, p.cell);  // the windows the workers read
+  if (int(scratch.workspaces.size()) < threads) scratch.workspaces.resize(std::size_t(threads));
+  for (const Particle& p : ps) PrepareCell(ctx, scratch, p.cell);  // the windows the workers read
   if (icp) {  // the scene normals under the windows of the ICP weighings
     std::vector<PixelRect> windows;
     for (const Particle& p : ps)
-      if (!p.scored) windows.push_back(WeighWindow(ctx, CameraFromObject(ctx, p), p.cell));
-    const SceneInput& scene = LevelScene(ctx);
-    LevelNormals(ctx).Prepare(scene.depth, scene.camera, windows, ctx.opt.threads);
+      if (!p.scored) windows.push_back(WeighWindow(ctx, run, scratch, CameraFromObject(ctx, p), p.cell));
+    const SceneInput& scene = CurrentLevel(ctx, run).scene;
+    scratch.normals[run.level].Prepare(scene.depth, scene.camera, windows, ctx.opt.threads);
   }
+  // Per particle: its kernel result (the counters are summed in particle order after the loop).
+  std::vector<ScoreKernelResult> results(static_cast<std::size_t>(n));
+  std::vector<std::uint8_t> weighed(std::size_t(n), 0);
   if (ctx.engine == Engine::kGpu && !icp) {
     // The gpu engine: every unscored particle of the set in one batch on the device.
-    const Level& level = CurrentLevel(ctx);
     std::vector<int> idx;
     std::vector<Eigen::Isometry3d> poses;
     std::vector<ScoreKernelParams> params;
@@ -298,35 +317,41 @@ void WeighAll(const Context& ctx, std::vector<Particle>& ps, FilterStats* stats,
       if (ps[i].scored) continue;
       idx.push_back(i);
       poses.push_back(CameraFromObject(ctx, ps[i]));
-      params.push_back(ParticleParams(ctx, ps[i], poses.back(), false));
+      params.push_back(ParticleParams(ctx, run, scratch, ps[i], poses.back(), false));
     }
     if (!params.empty()) {
-      if (!level.gpu) level.gpu = std::make_shared<render::GpuKernel>(params[0]);
-      std::vector<ScoreKernelResult> results;
-      level.gpu->Score(params, &results);
+      std::shared_ptr<render::GpuKernel>& gpu = scratch.gpu[run.level];
+      if (!gpu) gpu = std::make_shared<render::GpuKernel>(params[0]);
+      std::vector<ScoreKernelResult> batch;
+      gpu->Score(params, &batch);
       for (std::size_t j = 0; j < idx.size(); ++j) {
-        Particle& p = ps[std::size_t(idx[j])];
-        Record(p, WeightFromScore(ctx, p, poses[j], params[j].window, &results[j]), results[j], false, &faces_total,
-               &faces_front, &fragments, &weighings);
+        const std::size_t i = std::size_t(idx[j]);
+        Particle& p = ps[i];
+        const double weight = WeightFromScore(ctx, run, p, poses[j], params[j].window, &batch[j]);
+        Record(p, weight, batch[j], false);
+        results[i] = batch[j];
+        weighed[i] = 1;
       }
     }
   } else {
-#pragma omp parallel num_threads(threads) reduction(+ : faces_total, faces_front, fragments, weighings)
-    {
-      render::CpuWorkspace& ws = ctx.workspaces[std::size_t(omp_get_thread_num())];  // this worker's own
-#pragma omp for schedule(dynamic, 4)
-      for (int i = 0; i < n; ++i) {
-        if (ps[i].scored) continue;
-        ScoreKernelResult r;
-        const double weight = Weigh(ctx, ps[i], icp, &ws, &r);
-        Record(ps[i], weight, r, icp, &faces_total, &faces_front, &fragments, &weighings);
-      }
-    }
+    // Each worker weighs with its own workspace; particle i's outputs are its own.
+    ParallelFor(threads, n, 4, [&](int worker, int i) {
+      if (ps[std::size_t(i)].scored) return;
+      render::CpuWorkspace& ws = scratch.workspaces[std::size_t(worker)];
+      ScoreKernelResult& r = results[std::size_t(i)];
+      const double weight = Weigh(ctx, run, scratch, ps[std::size_t(i)], icp, &ws, &r);
+      Record(ps[std::size_t(i)], weight, r, icp);
+      weighed[std::size_t(i)] = 1;
+    });
   }
-  stats->faces_total += faces_total;
-  stats->faces_front += faces_front;
-  stats->fragments += fragments;
-  stats->weighings += weighings;
+  for (int i = 0; i < n; ++i) {
+    if (!weighed[std::size_t(i)]) continue;
+    const ScoreKernelResult& r = results[std::size_t(i)];
+    stats->faces_total += r.faces_total;
+    stats->faces_front += r.faces_front;
+    stats->fragments += r.n_raster;
+    ++stats->weighings;
+  }
 }
 
 }  // namespace filter
@@ -401,29 +426,34 @@ SceneInput SubsampleScene(const SceneInput& scene, int factor) {
 
 namespace filter {
 
-Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
-                     const FilterOptions& options, bool runs) {
-  std::string why;  // options: checked by the caller (ThrowIfInvalid)
-  if (!mesh.IsValid(&why)) throw Error("mesh '" + mesh.name + "': " + why);
+Context BuildContext(std::shared_ptr<const PreparedScene> prep_ptr, std::shared_ptr<const ModelLod> model,
+                     const Prior& prior, int cls, const FilterOptions& options, bool runs) {
+  const PreparedScene& prep = *prep_ptr;  // options: checked by the caller (ThrowIfInvalid)
+  const Mesh& mesh = model->lod;
   const SceneInput& scene = prep.scoring;
   if (cls < 0 || cls >= int(prior.classes.size())) throw Error("class index out of range for the prior");
   if (prior.layout.image_width != scene.camera.width || prior.layout.image_height != scene.camera.height)
     throw Error("prior was made for a different image size than the camera's");
 
-  Context ctx{.scene = scene, .mesh = mesh, .prior = prior, .cls = cls, .opt = options, .inlier = options.score.inlier};
+  Context ctx;
+  ctx.prep = std::move(prep_ptr);
+  ctx.model = std::move(model);
+  ctx.prior = &prior;
+  ctx.cls = cls;
+  ctx.opt = options;
   // cpu_isa names a supported variant or is "auto" (options were validated).
   if (!filter::ParseEngine(options.engine, &ctx.engine)) throw Error("unknown engine '" + options.engine + "'");
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
   if (std::string gpu_missing; ctx.engine == filter::Engine::kGpu && !render::GpuAvailable(&gpu_missing))
     throw Error(gpu_missing);  // before any set-up
-  const double diameter = mesh.Diameter();
-  ctx.diameter = diameter;
+  const ModelLod& m = *ctx.model;
+  const double diameter = m.diameter;
   CheckMeshScale(mesh.name, diameter, prep.support);
   const HeuristicOptions hopt = VolumeOptions(options, diameter);
   ctx.volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
-  // A pixel level of the given factor: the scene, N_depth table and normals subsampled, and
-  // (factor > 1, anneal_simplify) the mesh simplified to faces / factor² faces (at least
+  // A pixel level of the given factor: the scene and N_depth table subsampled, and (factor > 1,
+  // anneal_simplify) the model's mesh simplified to faces / factor² faces (at least
   // kCoarseMinFaces; a mesh meshoptimizer cannot bring to the budget is weighed as it is).
   auto make_level = [&](int factor) {
     Level l;
@@ -431,67 +461,32 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
     l.scene = factor > 1 ? SubsampleScene(scene, factor) : scene;
     const DepthImage support = factor > 1 ? SubsampleScene(SceneInput{prep.support, scene.camera}, factor).depth : prep.support;
     l.valid_depth = render::ValidDepthSat(support.data.data(), support.width, support.height);
-    l.normals = render::SceneNormalTiles(support.width, support.height);
+    l.mesh = &mesh;
+    l.face_planes = &m.face_planes;
     if (factor > 1 && options.anneal.simplify) {
       const int budget = filter::CoarseMeshFaces(int(mesh.faces.size()), factor);
       if (int(mesh.faces.size()) > budget) {
-        try {
-          l.mesh = SimplifyMesh(mesh, budget);
-        } catch (const Error&) {
-        }
+        const CoarseMesh* coarse = m.Coarse(budget);
+        if (!coarse) throw Error("internal: mesh '" + mesh.name + "' was not prepared for this coarse level");
+        if (coarse->simplified) l.mesh = &coarse->mesh, l.face_planes = &coarse->face_planes;
       }
     }
-    // The cpu kernel's pre-cull table (the cpu engine; the gpu engine's ICP weighings): of the
-    // same arrays every weighing's parameters point at.
-    if (ctx.engine == filter::Engine::kCpu || ctx.engine == filter::Engine::kGpu)
-      l.face_planes = render::BuildFacePlanes(
-          MakeKernelParams(l.mesh.faces.empty() ? mesh : l.mesh, Eigen::Isometry3d::Identity(), scene.camera));
     return l;
   };
-  ctx.fine = make_level(filter::FineFactor(options, prior, cls, ctx.volumes, scene.camera, diameter));
+  ctx.levels[kFineLevel] = make_level(filter::FineFactor(options, prior, cls, ctx.volumes, scene.camera, diameter));
   if (runs && options.anneal.subsample > 1 && filter::AnnealIterations(options) > 0)
-    ctx.coarse_level = make_level(ctx.fine.factor * options.anneal.subsample);
-  if (prep.plane.found) ctx.plane = prep.plane, ctx.surfaces = prep.surfaces;
+    ctx.levels[kCoarseLevel] = make_level(ctx.fine().factor * options.anneal.subsample);
   if (options.support.contact > 0 && prep.plane.found) {
-    std::vector<Eigen::Vector3d> pts;
-    for (const auto& v : mesh.vertices) pts.push_back(v.cast<double>());
-    ctx.hull = ComputeConvexHull(pts, "mesh '" + mesh.name + "'").vertices;
+    if (!m.hull_error.empty()) throw Error(m.hull_error);
+    ctx.hull = m.hull;
   }
   if (runs && options.support.stable_start > 0 && prep.plane.found) {
-    ctx.stable = ComputeStablePoses(mesh);
-    if (!ctx.stable.empty())
-      ctx.com_obj = ctx.stable[0].T_table_obj.inverse() * Eigen::Vector3d(0, 0, ctx.stable[0].com_height_m);
+    if (!m.stable_error.empty()) throw Error(m.stable_error);
+    ctx.stable = m.stable;
     HeuristicOptions surface = hopt;
     surface.depth_extension_m = 0;
     ctx.surface_volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, surface, options.threads);
   }
-  const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
-  for (int i = 0; i < 8; ++i)
-    ctx.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  ctx.box_centre = 0.5 * (lo + hi);
-  ctx.box_half = 0.5 * (hi - lo);
-  {
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const auto& v : mesh.vertices) mean += v.cast<double>();
-    mean /= double(mesh.vertices.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const auto& v : mesh.vertices) cov += (v.cast<double>() - mean) * (v.cast<double>() - mean).transpose();
-    Eigen::Matrix3d A = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors();
-    if (A.determinant() < 0) A.col(2) = -A.col(2);
-    Eigen::Vector3d plo = Eigen::Vector3d::Constant(1e30), phi = Eigen::Vector3d::Constant(-1e30);
-    for (const auto& v : mesh.vertices) {
-      const Eigen::Vector3d q = A.transpose() * v.cast<double>();
-      plo = plo.cwiseMin(q);
-      phi = phi.cwiseMax(q);
-    }
-    if ((phi - plo).prod() < 0.9 * (hi - lo).prod() && A.allFinite()) {
-      ctx.box_axes = A;
-      ctx.box_centre = A * (0.5 * (plo + phi));
-      ctx.box_half = 0.5 * (phi - plo);
-    }
-  }
-  ctx.windows.resize(cells);  // PrepareCell fills them in as cells are used
-  ctx.window_ready.assign(std::size_t(cells), 0);
   // Hypotheses for niching: every cell labelled, unbounded (a cell no detection reaches
   // keeps its anchor box, and a label of its own).
   HypothesisLabeller labeller;
@@ -503,7 +498,7 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
   if (runs && options.seed_start > 0) {
     const Eigen::Isometry3d base_from_cam = scene.camera.base_to_camera.inverse();
     for (const PoseSeed& seed : scene.seeds) {
-      const Eigen::Vector3d centre = seed.T_cam_obj * ctx.box_centre;
+      const Eigen::Vector3d centre = seed.T_cam_obj * m.box_centre;
       if (!(centre.z() > 0)) continue;
       const Eigen::Vector2d px = scene.camera.Project(centre);
       int best = -1;
@@ -523,12 +518,14 @@ Context BuildContext(const PreparedScene& prep, const Mesh& mesh, const Prior& p
 
 }  // namespace filter
 
-std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
-                               const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
-  ThrowIfInvalid(options, OptionNaming::kField);
-  Mesh lod;  // the mesh rendered at options.render.lod_max_faces (unused at 0: the full mesh)
-  const filter::PreparedScene prep = filter::PrepareScene(scene, options);
-  const Context ctx = BuildContext(prep, MeshAtLod(mesh, options.render.lod_max_faces, &lod), prior, cls, options, false);
+namespace {
+
+// WeighPoses on the prepared scene and the model's level of detail.
+std::vector<double> WeighPreparedPoses(std::shared_ptr<const filter::PreparedScene> prep,
+                                       std::shared_ptr<const filter::ModelLod> lod, const Prior& prior, int cls,
+                                       const FilterOptions& options,
+                                       const std::vector<std::pair<Pose6, int>>& hypotheses) {
+  const Context ctx = BuildContext(std::move(prep), std::move(lod), prior, cls, options, false);
   std::vector<Particle> ps(hypotheses.size());
   for (std::size_t i = 0; i < hypotheses.size(); ++i) {
     if (hypotheses[i].second < 0 || hypotheses[i].second >= prior.layout.CellCount())
@@ -537,10 +534,29 @@ std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const 
     ps[i].cell = hypotheses[i].second;
   }
   FilterStats stats;
-  WeighAll(ctx, ps, &stats);
+  Scratch scratch = filter::MakeScratch(ctx);
+  WeighAll(ctx, filter::FinalRunState(ctx), scratch, ps, &stats);
   std::vector<double> w(ps.size());
   for (std::size_t i = 0; i < ps.size(); ++i) w[i] = ps[i].weight;
   return w;
+}
+
+}  // namespace
+
+std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
+                               const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
+  ThrowIfInvalid(options, OptionNaming::kField);
+  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
+  auto lod = filter::LodFor(nullptr, mesh, options, false, prep->plane.found);
+  return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
+}
+
+std::vector<double> WeighPoses(const SceneInput& scene, const PreparedModel& model, const Prior& prior, int cls,
+                               const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
+  ThrowIfInvalid(options, OptionNaming::kField);
+  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
+  auto lod = filter::LodFor(&model, model.mesh(), options, false, prep->plane.found);
+  return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
 }
 
 namespace {
@@ -548,13 +564,15 @@ namespace {
 // One run of the filter (initialisation to convergence) on a prepared context.
 // `leaders` receives the best particle of each (hypothesis, orientation bin) niche of the
 // final set, best first, at most FilterOptions::polish.seeds of them.
-EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng& rng, const ProgressFn& progress,
-                         std::vector<Particle>* leaders) {
+EstimateResult RunFilter(const Context& ctx, Scratch& scratch, const std::vector<double>& cell_mass, Rng& rng,
+                         const ProgressFn& progress, std::vector<Particle>* leaders) {
   EstimateResult res;
   const FilterOptions& options = ctx.opt;
-  const SceneInput& scene = ctx.scene;
-  const filter::DiffusionContext diffusion(scene.camera, ctx.prior.layout, ctx.volumes, options, &ctx.plane,
-                                           0.5 * (ctx.bbox_corners[0] + ctx.bbox_corners[7]), &ctx.surfaces);
+  const SceneInput& scene = ctx.scene();
+  const std::array<Eigen::Vector3d, 8>& corners = ctx.model->bbox_corners;
+  const filter::DiffusionContext diffusion(scene.camera, ctx.prior->layout, ctx.volumes, options, &ctx.plane(),
+                                           0.5 * (corners[0] + corners[7]), &ctx.surfaces());
+  RunState run;  // this run's thresholds and pixel level, set per iteration
   // Coarse-to-fine inlier threshold: thr1 falls geometrically from anneal_start_m to its
   // final value over the first anneal_fraction of the iterations, weighed on the coarse pixel
   // grid while it does (anneal_subsample > 1). Sets the threshold and the pixel grid of
@@ -562,16 +580,16 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
   const int anneal_its = filter::AnnealIterations(options);
   auto set_threshold = [&](int it) {
     const float thr = float(filter::AnnealedThreshold(options, it, anneal_its));
-    const bool changed = thr != ctx.inlier.thr1_m;
-    ctx.inlier.thr1_m = thr;
-    ctx.inlier.hard_thr_m = filter::ScaledHardThreshold<float>(options.score.inlier, thr);
+    const bool changed = thr != run.inlier.thr1_m;
+    run.inlier.thr1_m = thr;
+    run.inlier.hard_thr_m = filter::ScaledHardThreshold<float>(options.score.inlier, thr);
     // Never the run's last possible iteration: its weights are the answer's.
-    const bool coarse = ctx.coarse_level.factor > 1 && it < anneal_its && it + 1 < options.stop.max_iterations;
-    const bool level_changed = coarse != ctx.coarse;
-    ctx.coarse = coarse;
+    const bool coarse = ctx.has_coarse() && it < anneal_its && it + 1 < options.stop.max_iterations;
+    const bool level_changed = coarse != (run.level == filter::kCoarseLevel);
+    run.level = coarse ? filter::kCoarseLevel : filter::kFineLevel;
     return changed || level_changed;
   };
-  ctx.inlier = options.score.inlier;
+  run.inlier = options.score.inlier;
   set_threshold(0);  // the oversampled start is weighed with the first iteration's threshold
 
   // 1. Initialisation: importance sampling of the prior's cells (§7.4).
@@ -587,7 +605,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     res.stats.init_cdf_reads = init.reads();
     res.stats.init_cdf_reads_linear = init.reads_linear();
     if (options.init_oversample > 1) {
-      WeighAll(ctx, drawn, &res.stats);
+      WeighAll(ctx, run, scratch, drawn, &res.stats);
       filter::OnlineSorter sorter(M);
       for (int i = 0; i < M; ++i) sorter.Insert(drawn[i].weight, i);
       for (int i = 0; i < N; ++i) current[i] = drawn[sorter.sorted()[i].index];
@@ -602,7 +620,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
     if (set_threshold(it))
       for (auto& p : current) p.scored = false;
     // 2. Weigh.
-    WeighAll(ctx, current, &res.stats);
+    WeighAll(ctx, run, scratch, current, &res.stats);
     // 3. Sort online as the weights arrive.
     const int Nc = int(current.size());
     filter::OnlineSorter sorter(Nc);
@@ -681,7 +699,7 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
         parents.push_back(current[parent]);
         parents.back().scored = false;
       }
-      WeighAll(ctx, parents, &res.stats, /*icp=*/true);
+      WeighAll(ctx, run, scratch, parents, &res.stats, /*icp=*/true);
       int k = 0;
       for (const auto& [parent, children] : icp_children) {
         for (int j : children) {
@@ -709,32 +727,33 @@ EstimateResult RunFilter(Context& ctx, const std::vector<double>& cell_mass, Rng
 
 namespace {
 
-// The float engines' runs: one context (windows, volumes, levels, LOD mesh) serves every run.
+// The float engines' runs: one context (levels, volumes, hypotheses) and one scratch (windows,
+// workspaces, normals) serve every run and the final polish; each run keeps its own RunState.
 class FloatEngine final : public filter::EngineRuns {
  public:
-  FloatEngine(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
-              const FilterOptions& options)
-      : ctx_(BuildContext(prep, MeshAtLod(mesh, options.render.lod_max_faces, &lod_), prior, cls, options, true)) {
+  FloatEngine(std::shared_ptr<const filter::PreparedScene> prep, std::shared_ptr<const filter::ModelLod> model,
+              const Prior& prior, int cls, const FilterOptions& options)
+      : ctx_(BuildContext(prep, std::move(model), prior, cls, options, true)), scratch_(filter::MakeScratch(ctx_)) {
     // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
     cell_mass_.assign(std::size_t(prior.layout.CellCount()), 0.0);
     for (int c = 0; c < prior.layout.CellCount(); ++c)
       if (ctx_.volumes.Valid(c)) cell_mass_[std::size_t(c)] = prior.Prob(c, cls);
     if (!(std::accumulate(cell_mass_.begin(), cell_mass_.end(), 0.0) > 0))
-      throw filter::NoInitialMassError(prior, cls, options, &prep);
+      throw filter::NoInitialMassError(prior, cls, options, prep.get());
   }
 
   EstimateResult Run(Rng& rng, const ProgressFn& progress) override {
-    return RunFilter(ctx_, cell_mass_, rng, progress, &run_bests_);
+    return RunFilter(ctx_, scratch_, cell_mass_, rng, progress, &run_bests_);
   }
 
   filter::PolishResult PolishRuns(FilterStats* stats) override {
-    const Particle p = filter::Polish(ctx_, run_bests_, stats);
+    const Particle p = filter::Polish(ctx_, scratch_, run_bests_, stats);
     return {p.pose, p.cell, p.weight};
   }
 
  private:
-  Mesh lod_;  // the mesh rendered at render.lod_max_faces (unused at 0: the full mesh); before ctx_
-  Context ctx_;
+  const Context ctx_;
+  Scratch scratch_;
   std::vector<double> cell_mass_;
   std::vector<Particle> run_bests_;  // seeds of the final polish, from every run
 };
@@ -743,9 +762,9 @@ class FloatEngine final : public filter::EngineRuns {
 
 namespace filter {
 
-std::unique_ptr<EngineRuns> MakeFloatEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
-                                            const FilterOptions& options) {
-  return std::make_unique<FloatEngine>(prep, mesh, prior, cls, options);
+std::unique_ptr<EngineRuns> MakeFloatEngine(std::shared_ptr<const PreparedScene> prep, std::shared_ptr<const ModelLod> model,
+                                            const Prior& prior, int cls, const FilterOptions& options) {
+  return std::make_unique<FloatEngine>(std::move(prep), std::move(model), prior, cls, options);
 }
 
 }  // namespace filter

@@ -52,12 +52,11 @@ std::vector<Eigen::Matrix3d> CubeRotations() {
 
 }  // namespace
 
-Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* stats) {
+Particle Polish(const Context& ctx, Scratch& scratch, const std::vector<Particle>& seeds, FilterStats* stats) {
   const FilterOptions& o = ctx.opt;
-  ctx.inlier = o.score.inlier;  // final thresholds, every pixel, the full mesh
-  ctx.coarse = false;
-  const Eigen::Vector3d centre = ctx.box_centre;
-  const Eigen::Matrix3d& A = ctx.box_axes;
+  const RunState run = FinalRunState(ctx);  // final thresholds, the fine level, the level-of-detail mesh
+  const Eigen::Vector3d centre = ctx.model->box_centre;
+  const Eigen::Matrix3d& A = ctx.model->box_axes;
   std::vector<Eigen::Matrix3d> turns = CubeRotations();
   if (!o.polish.turns) turns.resize(1);
   // Pivots: a turn about the centre, and (polish_pivots) the same turn followed by the shift
@@ -66,7 +65,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   // and, turned, e' = |R|·e; corner σ ∈ {±1}³ moves the centre by σ∘(e − e') (box frame).
   // Turns that keep the box (e' = e) need no shift. The turns R are the cube's in the box's
   // frame: A·R·Aᵀ in the object frame.
-  const Eigen::Vector3d half = ctx.box_half;
+  const Eigen::Vector3d half = ctx.model->box_half;
   std::vector<Particle> cands;
   for (const Particle& s : seeds)
     for (const Eigen::Matrix3d& R : turns) {
@@ -92,9 +91,9 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   // least 1 % probability (at most 8), turned about the plane's normal in 24 steps of 15°: an
   // answer in the wrong stable pose, or the right one turned or flipped, gets the right one.
   if (o.polish.stable && !ctx.stable.empty()) {
-    const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
+    const Eigen::Isometry3d& C = ctx.scene().camera.base_to_camera;
     for (const Particle& s : seeds) {
-      const Eigen::Vector3d com = C * PoseToTransform(s.pose) * ctx.com_obj;
+      const Eigen::Vector3d com = C * PoseToTransform(s.pose) * ctx.model->com_obj;
       const SupportPlane* below = PlaneBelow(ctx, com);  // the seed's own support; none: not re-searched
       if (!below) continue;
       const Eigen::Vector3d n = below->normal, ex = n.unitOrthogonal();
@@ -117,17 +116,18 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   }
   // With pivots, weigh every copy once and polish only the best polish_keep of them.
   if ((o.polish.pivots || o.polish.stable) && int(cands.size()) > o.polish.keep) {
-    WeighAll(ctx, cands, stats, /*icp=*/true);
+    WeighAll(ctx, run, scratch, cands, stats, /*icp=*/true);
     std::partial_sort(cands.begin(), cands.begin() + o.polish.keep, cands.end(),
                       [](const Particle& a, const Particle& b) { return a.weight > b.weight; });
     cands.resize(o.polish.keep);
   }
-  const DiffusionContext diffusion(ctx.scene.camera, ctx.prior.layout, ctx.volumes, o, &ctx.plane, centre, &ctx.surfaces);
+  const DiffusionContext diffusion(ctx.scene().camera, ctx.prior->layout, ctx.volumes, o, &ctx.plane(), centre,
+                                   &ctx.surfaces());
   Rng unused(0);  // the ICP move draws no random numbers
   std::vector<Particle> path_best(cands.size());  // best weighed state of each candidate
   for (auto& p : path_best) p.weight = -1;
   for (int step = 0; step <= o.polish.steps; ++step) {
-    WeighAll(ctx, cands, stats, /*icp=*/true);
+    WeighAll(ctx, run, scratch, cands, stats, /*icp=*/true);
     for (std::size_t i = 0; i < cands.size(); ++i)
       if (cands[i].weight > path_best[i].weight) path_best[i] = cands[i];
     if (step == o.polish.steps) break;
@@ -142,10 +142,10 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
   // plane's (two in the plane, its normal) where one was found — an object resting on the
   // table then slides and turns on it, the moves that align the outline of a thin or flat
   // object, which point-to-plane ICP on its top face cannot — else the camera's.
-  const Eigen::Isometry3d& C = ctx.scene.camera.base_to_camera;
+  const Eigen::Isometry3d& C = ctx.scene().camera.base_to_camera;
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns, camera frame
-  if (ctx.plane.found) {
-    const Eigen::Vector3d n = ctx.plane.normal, e1 = n.unitOrthogonal();
+  if (ctx.plane().found) {
+    const Eigen::Vector3d n = ctx.plane().normal, e1 = n.unitOrthogonal();
     axes << e1, n.cross(e1), n;
   }
   struct Climber {
@@ -179,7 +179,7 @@ Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* s
         }
     }
     if (trials.empty()) break;
-    WeighAll(ctx, trials, stats);
+    WeighAll(ctx, run, scratch, trials, stats);
     std::vector<int> best_trial(climbers.size(), -1);
     for (int i = 0; i < int(trials.size()); ++i) {
       const int c = owner[i];

@@ -20,8 +20,8 @@ namespace posefilter::filter {
 // (the kIcpStep move solved from its own last weighing) at the final inlier threshold. A
 // turned copy whose translation is a little off can thus settle before it is compared, which
 // the filter's own quarter-turn move cannot do (its copies are outweighed at once). Returns
-// the best weighed particle seen, or the best seed if nothing beats it. Sets the context's
-// inlier thresholds to the final ones and its pixel level to the fine one.
-Particle Polish(Context& ctx, const std::vector<Particle>& seeds, FilterStats* stats);
+// the best weighed particle seen, or the best seed if nothing beats it. It
+// weighs at the final inlier thresholds on the fine pixel level (FinalRunState), in `scratch`.
+Particle Polish(const Context& ctx, Scratch& scratch, const std::vector<Particle>& seeds, FilterStats* stats);
 
 }  // namespace posefilter::filter

@@ -56,14 +56,18 @@ std::vector<ScenePassResult> RunScenePass(const SceneInput& scene, const Prior& 
     const std::vector<std::pair<Pose6, int>> hyp = {{obj.estimate.pose_base, obj.estimate.cell}};
     r.weight_alone = obj.estimate.weight;
     const bool any_free = std::find(masked.mask.begin(), masked.mask.end(), 1) != masked.mask.end();
-    r.weight_masked = any_free ? WeighPoses(masked, *obj.mesh, prior, obj.cls, options, hyp)[0] : 0.0;
+    // The caller's prepared model, or the mesh prepared for each call (only what it reads).
+    r.weight_masked = !any_free ? 0.0
+                      : obj.model ? WeighPoses(masked, *obj.model, prior, obj.cls, options, hyp)[0]
+                                  : WeighPoses(masked, *obj.mesh, prior, obj.cls, options, hyp)[0];
     if (any_free && r.weight_alone - r.weight_masked > pass.conflict_drop) {
       // Better estimates explain this one's pixels: look again where they leave room.
       FilterOptions o = options;
       o.seed = options.seed ^ (0x9E3779B97F4A7C15ull * (idx + 1));
       r.reestimated = true;
       try {
-        const EstimateResult e = EstimatePose(masked, *obj.mesh, prior, obj.cls, o);
+        const EstimateResult e = obj.model ? EstimatePose(masked, *obj.model, prior, obj.cls, o)
+                                           : EstimatePose(masked, *obj.mesh, prior, obj.cls, o);
         if (e.weight > r.weight_masked) {
           r.estimate = e;
           r.weight_masked = e.weight;

@@ -175,7 +175,9 @@ bool TrackOptions::IsValid(std::string* why) const {
   std::string w;
   if (!ValidateFilterOptions(filter, OptionNaming::kField, &w)) return fail("filter." + w);
   if (!ValidateFilterOptions(init, OptionNaming::kField, &w)) return fail("init." + w);
-  if (filter.engine == "hw") return fail("filter.engine must be a float engine (cpu or reference): the hw engine does not read pose seeds");
+  if (filter.engine == "hw" || filter.engine == "rtl")
+    return fail("filter.engine must be a float engine (cpu or reference): the " + filter.engine +
+                " engine does not read pose seeds");
   return true;
 }
 
@@ -197,12 +199,21 @@ Tracker::Tracker(std::vector<Mesh> meshes, TrackOptions options) : meshes_(std::
   for (const Mesh& m : meshes_) {
     if (std::string w; !m.IsValid(&w)) throw Error("tracker: mesh '" + m.name + "': " + w);
     if (!names.insert(m.name).second) throw Error("tracker: mesh name '" + m.name + "' given twice");
-    Mesh storage;
-    const Mesh& lod = MeshAtLod(m, options_.filter.render.lod_max_faces, &storage);
-    lod_.push_back(&lod == &m ? m : std::move(storage));
-    lod_.back().name = m.name;
+    // Once per sequence: the searches' level of detail (their judgements too); the
+    // (re-)initialisations' is prepared by the first one (InitModel).
+    models_.push_back(PrepareModel(m, StepOptions(options_.filter.seed)));
   }
+  init_models_.resize(meshes_.size());
   states_.resize(meshes_.size());
+}
+
+const std::shared_ptr<const PreparedModel>& Tracker::InitModel(std::size_t k) {
+  if (!init_models_[k]) init_models_[k] = PrepareModel(meshes_[k], options_.init);
+  return init_models_[k];
+}
+
+const Mesh& Tracker::SearchMesh(std::size_t k) const {
+  return *models_[k]->Lod(options_.filter.render.lod_max_faces);
 }
 
 void Tracker::Reset(const std::string& obj, const Eigen::Isometry3d& T_cam_obj) {
@@ -251,7 +262,7 @@ FilterOptions Tracker::StepOptions(std::uint64_t seed) const {
 TrackResult Tracker::Search(const Camera& cam, std::size_t k) {
   const auto t0 = Clock::now();
   const State& s = states_[k];
-  const Mesh& mesh = lod_[k];
+  const Mesh& mesh = SearchMesh(k);
   const FilterOptions& fo = options_.filter;
   TrackResult r;
   r.obj = mesh.name;
@@ -272,7 +283,8 @@ TrackResult Tracker::Search(const Camera& cam, std::size_t k) {
     win.scene.seeds.push_back({i < 2 ? base : Jitter(base, options_.search_t_m, options_.search_r_rad, rng), 1.0});
   }
   try {
-    const EstimateResult e = EstimatePose(win.scene, mesh, win.prior, 0, StepOptions(StepSeed(fo.seed, frame_, k, 1)));
+    const EstimateResult e =
+        EstimatePose(win.scene, *models_[k], win.prior, 0, StepOptions(StepSeed(fo.seed, frame_, k, 1)));
     r.T_cam_obj = e.T_cam_obj;
     r.weight = e.weight;
     r.iterations = e.iterations;
@@ -301,7 +313,7 @@ TrackResult Tracker::Initialise(const SceneInput& frame, std::size_t k, const Tr
   FilterOptions o = options_.init;
   o.seed = StepSeed(options_.filter.seed, frame_, k, 2);
   try {
-    *est = EstimatePose(scene, mesh, stage1.prior, *cls, o);
+    *est = EstimatePose(scene, *InitModel(k), stage1.prior, *cls, o);
     r = Judge(frame.camera, k, *est);
   } catch (const Error&) {
     // The stage 1 holds no usable cell for the object in this frame.
@@ -318,11 +330,12 @@ TrackResult Tracker::Judge(const Camera& cam, std::size_t k, const EstimateResul
   r.iterations = e.iterations;
   // Weighed as a search would weigh it (the tracker's α, β, γ, in the window about the pose),
   // so that one threshold serves both.
-  const Box b = CornerBox(lod_[k], e.T_cam_obj, cam, options_.filter.render.near_m);
+  const Box b = CornerBox(SearchMesh(k), e.T_cam_obj, cam, options_.filter.render.near_m);
   Window win;
   if (MakeWindow(cam, b, b, k, &win)) {
     const Pose6 pose = TransformToPose(win.scene.camera.base_to_camera.inverse() * e.T_cam_obj);
-    r.weight = WeighPoses(win.scene, lod_[k], win.prior, 0, StepOptions(options_.filter.seed), {{pose, win.centre_cell}})[0];
+    r.weight =
+        WeighPoses(win.scene, *models_[k], win.prior, 0, StepOptions(options_.filter.seed), {{pose, win.centre_cell}})[0];
     r.status = r.weight >= options_.lost_weight ? TrackStatus::kInitialised : TrackStatus::kLost;
   }
   return r;
@@ -372,16 +385,15 @@ std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn&
   const int n = int(meshes_.size());
   const int workers = std::min(WorkerThreads(options_.filter.threads), n);
   std::vector<std::string> errors(meshes_.size());
-#pragma omp parallel for num_threads(workers) schedule(dynamic)
-  for (int k = 0; k < n; ++k) {
+  ParallelFor(workers, n, 1, [&](int, int k) {
     out[std::size_t(k)].obj = meshes_[std::size_t(k)].name;
-    if (!states_[std::size_t(k)].has_pose) continue;
+    if (!states_[std::size_t(k)].has_pose) return;
     try {
       out[std::size_t(k)] = Search(frame.camera, std::size_t(k));
     } catch (const std::exception& e) {
       errors[std::size_t(k)] = e.what();
     }
-  }
+  });
   for (const std::string& e : errors)
     if (!e.empty()) throw Error(what + ": " + e);
   std::vector<std::size_t> need;
@@ -397,7 +409,7 @@ std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn&
       EstimateResult est;
       int cls = -1;
       inits[k] = Initialise(frame, k, s1, &est, &cls);
-      if (est.iterations > 0) joint.push_back({&meshes_[k], cls, est}), joint_k.push_back(k);
+      if (est.iterations > 0) joint.push_back({&meshes_[k], cls, est, init_models_[k]}), joint_k.push_back(k);
     }
     // Several objects from one stage 1: the joint scene pass (§17), so that two of them do not
     // settle on one object's pixels.

@@ -216,29 +216,38 @@ VolumeCache::VolumeCache(const DepthImage& depth, const Camera& camera, const st
   CheckInputs(depth, camera, boxes, opt, &R_, &t_);
   const long n = long(boxes.size());
   valid_.assign(std::size_t(n), 0);
-  volumes_.assign(std::size_t(n), Volume{});
-  done_.assign(std::size_t(n), 0);
+  computed_->volumes.assign(std::size_t(n), Volume{});
+  computed_->done.assign(std::size_t(n), 0);
   const int nt = WorkerThreads(threads);
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (n > 256)
   for (long i = 0; i < n; ++i) valid_[std::size_t(i)] = HasVolume(depth, boxes[std::size_t(i)], opt) ? 1 : 0;
 }
 
-VolumeCache::VolumeCache(std::vector<Volume> volumes)
-    : valid_(volumes.size()), volumes_(std::move(volumes)), done_(volumes_.size(), 1), computed_count_(int(volumes_.size())) {
-  for (std::size_t i = 0; i < volumes_.size(); ++i) valid_[i] = volumes_[i].valid ? 1 : 0;
+VolumeCache::VolumeCache(std::vector<Volume> volumes) : valid_(volumes.size()) {
+  for (std::size_t i = 0; i < volumes.size(); ++i) valid_[i] = volumes[i].valid ? 1 : 0;
+  computed_->done.assign(volumes.size(), 1);
+  computed_->count = int(volumes.size());
+  computed_->volumes = std::move(volumes);
 }
 
 const Volume& VolumeCache::Get(int i) const {
   const std::size_t k = std::size_t(i);
-  if (!done_[k]) {
+  Computed& c = *computed_;
+  const std::lock_guard<std::mutex> hold(c.lock);
+  if (!c.done[k]) {
     if (valid_[k]) {
       Scratch s;
-      volumes_[k] = OneVolume(*depth_, *camera_, R_, t_, (*boxes_)[k], opt_, s);
+      c.volumes[k] = OneVolume(*depth_, *camera_, R_, t_, (*boxes_)[k], opt_, s);
     }
-    done_[k] = 1;
-    ++computed_count_;
+    c.done[k] = 1;
+    ++c.count;
   }
-  return volumes_[k];
+  return c.volumes[k];
+}
+
+int VolumeCache::computed() const {
+  const std::lock_guard<std::mutex> hold(computed_->lock);
+  return computed_->count;
 }
 
 }  // namespace prior

@@ -9,6 +9,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "posefilter/heuristics.h"
@@ -30,11 +32,12 @@ class VolumeCache {
   int size() const { return int(valid_.size()); }
   // Whether box i has a volume (ComputeHeuristics(...)[i].valid); 0 ≤ i < size().
   bool Valid(int i) const { return valid_[std::size_t(i)] != 0; }
-  // Box i's volume, computed on the first call for i. Not thread-safe: call it from one
-  // thread (the filter does, from its serial steps).
+  // Box i's volume, computed on the first call for i. Thread-safe: the volumes computed so
+  // far sit behind one lock, taken for every call (the filter calls it from its serial steps,
+  // so the lock is never contended there); the reference stays valid for the cache's life.
   const Volume& Get(int i) const;
   // Boxes whose volume has been computed so far.
-  int computed() const { return computed_count_; }
+  int computed() const;
 
  private:
   const DepthImage* depth_ = nullptr;
@@ -44,9 +47,15 @@ class VolumeCache {
   Eigen::Matrix3d R_ = Eigen::Matrix3d::Identity();  // camera → base
   Eigen::Vector3d t_ = Eigen::Vector3d::Zero();
   std::vector<std::uint8_t> valid_;
-  mutable std::vector<Volume> volumes_;
-  mutable std::vector<std::uint8_t> done_;
-  mutable int computed_count_ = 0;
+  // What Get fills in, behind its lock: one volume per box, whether it is computed yet, and how
+  // many are. Held by pointer so that a const cache can fill it in and the cache can move.
+  struct Computed {
+    std::mutex lock;
+    std::vector<Volume> volumes;
+    std::vector<std::uint8_t> done;
+    int count = 0;
+  };
+  std::unique_ptr<Computed> computed_ = std::make_unique<Computed>();
 };
 
 }  // namespace posefilter::prior

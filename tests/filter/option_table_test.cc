@@ -88,7 +88,7 @@ TEST(OptionTable, EveryBoundIsCheckedAndNamed) {
   o = {};
   o.engine = "vulkan";
   EXPECT_FALSE(ValidateFilterOptions(o, OptionNaming::kPython, &why));
-  EXPECT_EQ(why, "engine must be one of cpu|reference|hw|gpu (got 'vulkan')");
+  EXPECT_EQ(why, "engine must be one of cpu|reference|hw|gpu|rtl (got 'vulkan')");
 }
 
 TEST(OptionTable, ConstraintsBetweenOptionsAreNamed) {

@@ -405,6 +405,7 @@ TEST(TrackOptionsTest, DefaultsAreValidAndIsValidNamesEachBadField) {
   bad([](TrackOptions& o) { o.filter.num_particles = 0; }, "filter.num_particles");
   bad([](TrackOptions& o) { o.init.num_particles = 0; }, "init.num_particles");
   bad([](TrackOptions& o) { o.filter.engine = "hw"; }, "filter.engine");
+  bad([](TrackOptions& o) { o.filter.engine = "rtl"; }, "filter.engine");
   // The edges of each range are valid.
   TrackOptions o;
   o.lost_weight = 0;
