@@ -6,9 +6,10 @@
 // never a half-written one; on any failure (a full disk, a missing directory) the temporary
 // file is removed, the target is untouched, and Error names the target.
 //
-// The CLI checks every output path before it starts work (CheckOutputPaths): the directory
-// exists and is writable, the path is not a directory, and it is no input of the command nor
-// another output (compared by resolved path, so "./a.json" and "dir/../a.json" are the same).
+// Each write starts with CheckOutputFile (the path can be written and replaced); the CLI checks
+// every output path before it starts work (CheckOutputPaths): CheckOutputFile, and the path is
+// no input of the command nor another output (compared by resolved path, so "./a.json" and
+// "dir/../a.json" are the same).
 #pragma once
 
 #include <cstdint>
@@ -72,12 +73,19 @@ struct NamedPath {
   std::string option;
 };
 
+// Throws Error naming the option ("--out"; "" names the output by its path alone) and the path
+// unless one output file can be written: the path is not empty, not a directory, nor a symlink,
+// FIFO, device or socket (which the atomic replacement would destroy); its folder exists and is
+// writable; its name and the temporary name beside it ("<name>.tmp.<pid>.<n>") fit the file
+// system's name limit; an existing file is not read-only. WriteFileAtomically and
+// WriteFileAtomicallyC start with it, so every writer (the CLI's and Python's) refuses the same
+// paths with the same message.
+void CheckOutputFile(const std::string& path, const std::string& option);
+
 // Throws Error naming the option and path unless every non-empty output can be written
-// (its directory exists and is writable; the path is not a directory, nor a symlink, FIFO,
-// device or socket, which the atomic replacement would destroy), no output is one of the
-// inputs or an existing file inside an input that is a folder (a dataset), and no two outputs
-// are the same file. Inputs with an empty path are ignored.
-// WriteFileAtomically and AppendFileDurably refuse such special files too.
+// (CheckOutputFile), no output is one of the inputs or an existing file inside an input that is
+// a folder (a dataset), and no two outputs are the same file. Inputs with an empty path are
+// ignored. AppendFileDurably refuses special files too.
 void CheckOutputPaths(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
 
 // Checks, before any work, that the output folder `path` given by `option` ("--out") can be

@@ -1,6 +1,9 @@
 """Bad input raises clear exceptions: ValueError (posefilter.Error) for bad values, arrays
 and files; TypeError for unknown keywords and values of the wrong type."""
 
+import os
+import stat
+
 import numpy as np
 import pytest
 
@@ -191,6 +194,22 @@ def test_missing_and_corrupt_files(tmp_path):
         pf.load_mesh(tmp_path / "nothing.ply")
     with pytest.raises(pf.Error, match="camera.json"):
         pf.read_camera_json(str(tmp_path / "camera.json"))
+
+
+def test_writers_refuse_what_the_cli_refuses(tmp_path):
+    """Python's writers make the CLI's pre-work check of an output path (one library call)."""
+    cam = pf.Camera(width=640, height=480, fx=500, fy=500, cx=320, cy=240)
+    with pytest.raises(pf.Error, match="empty value"):
+        pf.write_camera_json(cam, "", 0.001)
+    long_name = str(tmp_path / ("c" * 240 + ".json"))
+    with pytest.raises(pf.Error, match="the file name is 245 bytes"):
+        pf.write_gt_json([("mug", np.eye(4))], long_name)
+    fifo = tmp_path / "fifo.json"
+    os.mkfifo(fifo)
+    with pytest.raises(pf.Error, match="a FIFO"):
+        pf.write_detections_json([], str(fifo))
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fifo.json"]
 
 
 def test_bad_synth_options():

@@ -79,6 +79,17 @@ struct TempFile {
   }
 };
 
+// The longest file name the file system of `dir` (or of its nearest existing parent) takes,
+// in bytes (pathconf NAME_MAX; 255 where it cannot say).
+std::size_t NameLimitIn(fs::path dir) {
+  std::error_code ec;
+  if (dir.empty()) dir = ".";
+  dir = fs::absolute(dir, ec);
+  while (!dir.empty() && !fs::exists(dir, ec) && dir != dir.root_path()) dir = dir.parent_path();
+  const long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+  return name_max > 0 ? std::size_t(name_max) : 255;
+}
+
 }  // namespace
 
 bool InsideFolder(const std::string& path, const std::string& folder) {
@@ -140,6 +151,7 @@ std::string SpecialFileKind(const std::string& path) {
 }
 
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  CheckOutputFile(path, "");
   std::ostringstream buffer(std::ios::binary);
   write(buffer);
   if (!buffer) throw Error(path + ": cannot format the contents");
@@ -156,6 +168,7 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
 }
 
 void WriteFileAtomicallyC(const std::string& path, const std::function<bool(std::FILE*, std::string*)>& write) {
+  CheckOutputFile(path, "");
   TempFile tmp{TempPathBeside(path)};
   std::FILE* fp = std::fopen(tmp.path.c_str(), "wbx");
   if (fp == nullptr) throw Error(path + ": cannot open for writing (" + Errno() + ")");
@@ -227,11 +240,12 @@ void CheckOutputFolder(const std::string& path, const std::string& option) {
     if (::access(path.c_str(), W_OK | X_OK) != 0) throw Error(name + ": the folder is not writable");
     return;
   }
+  const std::size_t limit = NameLimitIn(fs::path(path).parent_path());
   for (const fs::path& part : fs::path(path)) {
     const std::size_t n = part.string().size();
-    if (n > 255)
+    if (n > limit)
       throw Error(name + ": the name " + part.string().substr(0, 16) + "... is " + std::to_string(n) +
-                  " bytes, longer than a file name may be (255)");
+                  " bytes, longer than a file name may be (" + std::to_string(limit) + ")");
   }
   // The folder is made with its parents: the nearest existing one must be a writable folder.
   fs::path up = fs::absolute(fs::path(path), ec).parent_path();
@@ -258,34 +272,38 @@ bool SamePath(const std::string& a, const std::string& b) {
   return ca == cb;
 }
 
+void CheckOutputFile(const std::string& path, const std::string& option) {
+  const std::string label = option.empty() ? std::string("the output path") : option;
+  if (path.empty()) throw Error(label + ": empty value; give a file name");
+  const std::string name = option.empty() ? path : option + " " + path;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error(name + ": is a directory, not a file");
+  // An output is written as a new file that replaces the old one: that would destroy a
+  // symlink, FIFO or device node (and write nothing through it), so such a path is refused.
+  if (const std::string kind = SpecialFileKind(path); !kind.empty())
+    throw Error(name + ": is " + kind + ", not a regular file; outputs replace a file whole, so give a regular file's path");
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  if (!fs::is_directory(dir, ec)) throw Error(name + ": the directory " + dir.string() + " does not exist");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) throw Error(name + ": the directory " + dir.string() + " is not writable");
+  // The temporary file beside it (TempPathBeside: "<name>.tmp.<pid>.<n>") must fit the file
+  // system's name limit too, or the write would fail after the work.
+  const std::size_t limit = NameLimitIn(dir);
+  const std::size_t file_name = fs::path(path).filename().string().size();
+  if (file_name + kTempSuffixMax > limit)
+    throw Error(name + ": the file name is " + std::to_string(file_name) + " bytes; at most " +
+                std::to_string(limit > kTempSuffixMax ? limit - kTempSuffixMax : 0) +
+                " fit, with the temporary name <name>.tmp.<pid>.<n> written first");
+  if (fs::exists(path, ec) && ::access(path.c_str(), W_OK) != 0) throw Error(name + ": the file exists and is read-only");
+}
+
 void CheckOutputPaths(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const NamedPath& out = outputs[i];
     if (out.path.empty()) continue;
+    CheckOutputFile(out.path, out.option);
     const std::string name = out.option + " " + out.path;
     std::error_code ec;
-    if (fs::is_directory(out.path, ec)) throw Error(name + ": is a directory, not a file");
-    // An output is written as a new file that replaces the old one: that would destroy a
-    // symlink, FIFO or device node (and write nothing through it), so such a path is refused.
-    if (const std::string kind = SpecialFileKind(out.path); !kind.empty())
-      throw Error(name + ": is " + kind + ", not a regular file; outputs replace a file whole, so give a regular file's path");
-    fs::path dir = fs::path(out.path).parent_path();
-    if (dir.empty()) dir = ".";
-    if (!fs::is_directory(dir, ec))
-      throw Error(name + ": the directory " + dir.string() + " does not exist");
-    if (::access(dir.c_str(), W_OK | X_OK) != 0)
-      throw Error(name + ": the directory " + dir.string() + " is not writable");
-    // The temporary file beside it (TempPathBeside: "<name>.tmp.<pid>.<n>") must fit the file
-    // system's name limit too, or the write would fail after the work.
-    const long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
-    const std::size_t limit = name_max > 0 ? std::size_t(name_max) : 255;
-    const std::size_t file_name = fs::path(out.path).filename().string().size();
-    if (file_name + kTempSuffixMax > limit)
-      throw Error(name + ": the file name is " + std::to_string(file_name) + " bytes; at most " +
-                  std::to_string(limit > kTempSuffixMax ? limit - kTempSuffixMax : 0) +
-                  " fit, with the temporary name <name>.tmp.<pid>.<n> written first");
-    if (fs::exists(out.path, ec) && ::access(out.path.c_str(), W_OK) != 0)
-      throw Error(name + ": the file exists and is read-only");
     for (const NamedPath& in : inputs) {
       if (in.path.empty()) continue;
       if (SamePath(out.path, in.path))

@@ -71,7 +71,7 @@ TEST_F(FileIoTest, FailedFormatterLeavesTargetUntouched) {
 
 TEST_F(FileIoTest, MissingDirectoryNamesTheTarget) {
   const std::string path = (dir() / "no_such_dir" / "a.json").string();
-  ExpectError([&] { WriteFileAtomically(path, [](std::ostream& os) { os << "x"; }); }, {path, "cannot open"});
+  ExpectError([&] { WriteFileAtomically(path, [](std::ostream& os) { os << "x"; }); }, {path, "does not exist"});
   ExpectError([&] { WriteFileAtomicallyC(path, [](std::FILE*, std::string*) { return true; }); }, {path});
 }
 
@@ -279,7 +279,7 @@ TEST_F(FileIoTest, SpecialFilesAreRefusedAsOutputsAndLeftInPlace) {
   ExpectError([&] { CheckOutputPaths({{"/dev/null", "--csv"}}, {}); }, {"--csv", "/dev/null", "a character device"});
   const int before = Entries();
   ExpectError([&] { WriteFileAtomically(link.string(), [](std::ostream& o) { o << "new"; }); },
-              {link.string(), "a symbolic link", "not replaced"});
+              {link.string(), "a symbolic link", "regular file"});
   ExpectError([&] { WriteFileAtomically(fifo.string(), [](std::ostream& o) { o << "new"; }); }, {"a FIFO"});
   ExpectError([&] { AppendFileDurably(link.string(), "row\n"); }, {"a symbolic link", "not appended"});
   ExpectError([&] { AppendFileDurably(fifo.string(), "row\n"); }, {"a FIFO", "not appended"});  // does not block
@@ -296,6 +296,23 @@ TEST_F(FileIoTest, CheckOutputPathsRefusesANameTooLongForItsTemporaryFile) {
   WriteFileAtomically(fits, [](std::ostream& o) { o << "x"; });
   const std::string too_long = (dir() / (std::string(240, 'b') + ".json")).string();  // 245 of 255 bytes
   ExpectError([&] { CheckOutputPaths({{too_long, "--out"}}, {}); }, {"--out", "the file name is 245 bytes", "at most"});
+  // Every writer makes the same check first (Python's writers included): nothing is written.
+  const int before = Entries();
+  ExpectError([&] { WriteFileAtomically(too_long, [](std::ostream& o) { o << "x"; }); },
+              {too_long, "the file name is 245 bytes", "at most"});
+  ExpectError([&] { WriteFileAtomicallyC(too_long, [](std::FILE*, std::string*) { return true; }); },
+              {"the file name is 245 bytes"});
+  EXPECT_EQ(Entries(), before);
+}
+
+// An empty path is refused by name, by the pre-work check and by every writer, and nothing is
+// written into the current folder.
+TEST_F(FileIoTest, AnEmptyOutputPathIsRefusedByEveryWriter) {
+  ExpectError([] { CheckOutputFile("", "--json"); }, {"--json: empty value"});
+  ExpectError([] { WriteFileAtomically("", [](std::ostream& o) { o << "x"; }); }, {"the output path: empty value"});
+  ExpectError([] { WriteFileAtomicallyC("", [](std::FILE*, std::string*) { return true; }); },
+              {"the output path: empty value"});
+  CheckOutputPaths({{"", "--optional"}}, {});  // an output not asked for is not checked
 }
 
 // Small inputs are read only from regular files and up to a limit: a FIFO does not block, a
