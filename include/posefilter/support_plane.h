@@ -74,9 +74,11 @@ std::vector<std::uint8_t> SupportPlanePixels(const DepthImage& depth, const Came
 //      the image is hypothesised as often as a large one; the inliers of the best (band
 //      ransac_band_m·z²) are refitted twice and leave the pool. A plane holding fewer than
 //      min_fraction of the samples ends the peeling.
-//   2. Each plane's inliers are split into patches: 8-connected on the sample grid (a gap of
-//      one sample bridged). A patch's area (m²) sums its samples' footprints on the plane; a
-//      patch under min_area_m2 is dropped.
+//   2. Each plane's inliers are split into pieces: 8-connected on the sample grid (a gap of
+//      one sample bridged). Pieces whose outlines (convex hulls on the plane) lie within
+//      merge_gap_m of each other are one patch (a tablet cut apart in the image by the
+//      objects standing on it); its outline is their hull. A patch's area (m²) sums its
+//      samples' footprints on the plane; a patch under min_area_m2 is dropped.
 //   3. Up: among the patches whose normal does not point down the image (normal·y < 0.1 in
 //      the camera frame: a camera looking down sees floors and tables face up, walls face
 //      it), the direction whose parallel patches (within max_tilt_deg) have the largest
@@ -84,6 +86,13 @@ std::vector<std::uint8_t> SupportPlanePixels(const DepthImage& depth, const Came
 //      large_area_m2 is structure (a wall, a cupboard's side): neither is an object. A
 //      horizontal patch less than min_rise_m above another one it lies over is the top of an
 //      object standing there (a box lying flat), not a support: it is dropped.
+//   4. Up is made square to the largest structure-sized patch within max_tilt_deg of vertical
+//      when that patch is at least as large as the area that gave up (walls stand upright).
+//      Supports are level: each takes up as its normal and the height most of its samples
+//      share as its offset (a small patch's fit tilts by degrees under correlated noise).
+//   Before a plane's samples leave the pool it is refitted twice on those within its pixel
+//   band (Band below), so that the tops of thin objects on a small surface neither tilt it
+//   nor widen its band, and a surface a few centimetres from another is peeled on its own.
 // Frames and units: camera frame, metres; each patch's plane as SupportPlane (normal towards
 // the camera). Deterministic (fixed RANSAC seed).
 struct SupportSurfaceOptions {
@@ -91,11 +100,12 @@ struct SupportSurfaceOptions {
   int max_planes = 8;              // planes peeled off, ≥ 1
   double min_fraction = 0.01;      // a plane holds at least this fraction of the samples, (0, 1]
   int neighbourhood = 10;          // a hypothesis' points within this many grid steps, ≥ 1
-  double min_area_m2 = 0.02;       // a patch's area to hold an object, m², > 0
+  double min_area_m2 = 0.015;      // a patch's area to hold an object, m², > 0
   double max_tilt_deg = 12;        // a support's normal within this of up, degrees, (0, 90)
   double large_area_m2 = 0.12;     // a non-support patch this large is structure, m², > 0
   double margin_m = 0.05;          // a point is over a patch when its foot lies within this of its outline, m, ≥ 0
   double min_rise_m = 0.15;        // a support stands at least this high above one below it, m, ≥ 0
+  double merge_gap_m = 0.15;       // a plane's patches whose outlines lie this close are one, m, ≥ 0
   bool IsValid(std::string* why) const;
 };
 
@@ -125,6 +135,11 @@ struct SupportSurfaces {
 
 // Throws Error on invalid options or a depth image whose size differs from the camera's.
 SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camera, const SupportSurfaceOptions& opt = {});
+
+// Distance (metres, or the plane's units) between two convex polygons given counter-clockwise:
+// the least distance from a vertex of one to an edge of the other, 0 when one holds a vertex
+// of the other; 1e30 when either is empty.
+double HullDistance(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b);
 
 // Per pixel (row-major): index + 1 of the patch the pixel's point lies on (within its band and
 // over it by margin_m; the first such patch), 0 for none or missing depth.

@@ -13,6 +13,34 @@
 namespace posefilter {
 namespace {
 
+// One edge of a patch's outline in the plane's (a, b) frame, m: its start a, its direction
+// e = b − a and its length |e| > 0.
+struct OutlineEdge {
+  double ax, ay, ex, ey, len;
+};
+
+// True when the foot of p on s (its coordinates in the plane's (a, b) frame) lies within
+// margin_m outside of every edge of `edges` (s's outline; counter-clockwise, so outward is to
+// the right of each edge).
+bool FootWithin(const SupportSurface& s, const std::vector<OutlineEdge>& edges, const Eigen::Vector3d& p, double margin_m) {
+  const Eigen::Vector3d q = p - s.origin;
+  const double fx = q.dot(s.e1), fy = q.dot(s.e2);
+  for (const OutlineEdge& g : edges)
+    if ((g.ex * (fy - g.ay) - g.ey * (fx - g.ax)) / -g.len > margin_m) return false;
+  return true;
+}
+
+// The non-degenerate edges of a counter-clockwise outline, in order.
+std::vector<OutlineEdge> EdgesOf(const std::vector<Eigen::Vector2d>& outline) {
+  std::vector<OutlineEdge> edges;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const Eigen::Vector2d a = outline[i], e = outline[(i + 1) % outline.size()] - a;
+    const double len = e.norm();
+    if (len > 0) edges.push_back({a.x(), a.y(), e.x(), e.y(), len});
+  }
+  return edges;
+}
+
 constexpr std::uint64_t kRansacSeed = 0x5eed'7ab1e;  // fixed: the same image gives the same plane
 constexpr int kMinPoints = 50;
 constexpr std::size_t kMaxOutline = 24;  // a patch's outline keeps at most this many vertices
@@ -58,7 +86,38 @@ std::vector<Eigen::Vector2d> Hull2d(std::vector<Eigen::Vector2d> pts) {
   return hull;
 }
 
+// Distance between two convex polygons (counter-clockwise; 0 when they overlap): the least
+// distance of a vertex of one to an edge of the other.
+double PointSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d e = b - a;
+  const double len2 = e.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(e) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * e - p).norm();
+}
+
+bool InsideConvex(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
+  if (poly.size() < 3) return false;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Eigen::Vector2d a = poly[i], b = poly[(i + 1) % poly.size()];
+    if ((b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x()) < 0) return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+double HullDistance(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
+  if (a.empty() || b.empty()) return 1e30;
+  if (InsideConvex(a.front(), b) || InsideConvex(b.front(), a)) return 0;
+  double best = 1e30;
+  for (int pass = 0; pass < 2; ++pass) {
+    const auto& p = pass == 0 ? a : b;
+    const auto& q = pass == 0 ? b : a;
+    for (const Eigen::Vector2d& v : p)
+      for (std::size_t i = 0; i < q.size(); ++i) best = std::min(best, PointSegment(v, q[i], q[(i + 1) % q.size()]));
+  }
+  return best;
+}
 
 bool SupportPlaneOptions::IsValid(std::string* why) const {
   auto fail = [&](const char* m) {
@@ -167,23 +226,13 @@ bool SupportSurfaceOptions::IsValid(std::string* why) const {
   if (!(large_area_m2 > 0 && std::isfinite(large_area_m2))) return fail("large_area_m2 must be > 0");
   if (!(margin_m >= 0 && std::isfinite(margin_m))) return fail("margin_m must be >= 0");
   if (!(min_rise_m >= 0 && std::isfinite(min_rise_m))) return fail("min_rise_m must be >= 0");
+  if (!(merge_gap_m >= 0 && std::isfinite(merge_gap_m))) return fail("merge_gap_m must be >= 0");
   return true;
 }
 
 bool SupportSurface::Over(const Eigen::Vector3d& p, double margin_m) const {
   if (outline.size() < 3) return false;
-  const Eigen::Vector3d q = p - origin;
-  const Eigen::Vector2d f(q.dot(e1), q.dot(e2));
-  for (std::size_t i = 0; i < outline.size(); ++i) {
-    const Eigen::Vector2d a = outline[i], b = outline[(i + 1) % outline.size()];
-    const Eigen::Vector2d e = b - a;
-    const double len = e.norm();
-    if (!(len > 0)) continue;
-    // Outward distance of f from the edge (counter-clockwise outline: outward is to the right).
-    const double out = (e.x() * (f.y() - a.y()) - e.y() * (f.x() - a.x())) / -len;
-    if (out > margin_m) return false;
-  }
-  return true;
+  return FootWithin(*this, EdgesOf(outline), p, margin_m);
 }
 
 double SupportSurface::Band(double z, const SupportSurfaceOptions& opt) const {
@@ -261,6 +310,7 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
   Rng rng(kRansacSeed);
   const int R = opt.neighbourhood;
   std::vector<SupportSurface> patches;
+  std::vector<std::vector<int>> patch_samples;  // per patch: its samples
   for (int plane_index = 0; plane_index < opt.max_planes; ++plane_index) {
     pool.erase(std::remove_if(pool.begin(), pool.end(), [&](int i) { return used[std::size_t(i)] != 0; }), pool.end());
     if (double(pool.size()) < opt.min_fraction * double(n) || pool.size() < 3) break;
@@ -304,21 +354,46 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
       for (int i : pool) used[std::size_t(i)] |= inlier_at(best_n, best_d, std::size_t(i));
       continue;
     }
-    for (int i : members) used[std::size_t(i)] = 1;
-    // The plane's residual scale (as FindSupportPlane).
+    // The plane's residual scale (as FindSupportPlane), then twice: the members within the
+    // band that scale gives (k·σ₁·z², clamped as SupportSurface::Band), a refit and the scale
+    // again on them. On a small surface the tops of thin objects lying on it are a good part
+    // of the RANSAC band's inliers; they would tilt the plane and widen its band until the
+    // band swallows them. Two surfaces a few centimetres apart (a tablet before a desk) are
+    // one RANSAC plane at 2 m; the band splits them, and the lesser goes on to be peeled.
     SupportPlane plane;
-    plane.normal = best_n;
-    plane.offset = best_d;
-    {
+    auto residual_scale = [&](const std::vector<int>& set, const Eigen::Vector3d& nn, double d) {
       std::vector<double> scaled;
-      for (int i : members) {
+      for (int i : set) {
         const Eigen::Vector3d& p = pts[std::size_t(i)];
-        scaled.push_back((best_n.dot(p) + best_d) / (p.z() * p.z()));
+        scaled.push_back((nn.dot(p) + d) / (p.z() * p.z()));
       }
       const double med = Median(scaled);
       for (double& v : scaled) v = std::fabs(v - med);
-      plane.sigma_1m = 1.4826 * Median(scaled);
+      return 1.4826 * Median(scaled);
+    };
+    plane.sigma_1m = residual_scale(members, best_n, best_d);
+    for (int round = 0; round < 2; ++round) {
+      std::vector<int> tight;
+      for (int i : members) {
+        const Eigen::Vector3d& p = pts[std::size_t(i)];
+        const double z = p.z();
+        const double b = std::clamp(opt.plane.band_sigmas * plane.sigma_1m * z * z, opt.plane.min_band_m,
+                                    opt.plane.max_band_m * std::max(1.0, z * z));
+        if (std::fabs(best_n.dot(p) + best_d) <= b) tight.push_back(i);
+      }
+      if (tight.size() < 3 || tight.size() == members.size()) break;
+      std::vector<Eigen::Vector3d> in;
+      for (int i : tight) in.push_back(pts[std::size_t(i)]);
+      Eigen::Vector3d nn = best_n;
+      double dd = best_d;
+      if (!FitPlane(in, &nn, &dd)) break;
+      best_n = nn, best_d = dd;
+      members = std::move(tight);
+      plane.sigma_1m = residual_scale(members, best_n, best_d);
     }
+    plane.normal = best_n;
+    plane.offset = best_d;
+    for (int i : members) used[std::size_t(i)] = 1;  // the rest stays in the pool: another surface
     plane.fraction = double(members.size()) / double(n);
     plane.found = true;
     // Patches: 8-connected members on the grid, bridging one missing sample.
@@ -327,6 +402,13 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
     for (int i : members) member_cell[std::size_t(cell_of[std::size_t(i)])] = 1;
     const Eigen::Vector3d e1 = best_n.unitOrthogonal(), e2 = best_n.cross(e1);
     const Eigen::Vector3d origin = -best_d * best_n;
+    struct Piece {
+      double area = 0;
+      std::vector<Eigen::Vector2d> ab, hull;
+      std::vector<int> samples;
+      std::size_t cells = 0;
+    };
+    std::vector<Piece> pieces;
     int next = 0;
     std::vector<int> stack, cells;
     for (int i : members) {
@@ -352,19 +434,50 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
       }
       ++next;
       // Area: each sample stands for stride² pixels, a pixel for (z/fx)·(z/fy) / |cos| of the plane.
-      double area = 0;
-      std::vector<Eigen::Vector2d> ab;
+      Piece piece;
       for (int cidx : cells) {
         const Eigen::Vector3d& p = pts[std::size_t(at[std::size_t(cidx)])];
         const double cosine = std::max(0.05, std::fabs(best_n.dot(p.normalized())));
-        area += double(stride) * stride * (p.z() / camera.fx) * (p.z() / camera.fy) / cosine;
+        piece.area += double(stride) * stride * (p.z() / camera.fx) * (p.z() / camera.fy) / cosine;
         const Eigen::Vector3d q = p - origin;
-        ab.push_back(Eigen::Vector2d(q.dot(e1), q.dot(e2)));
+        piece.ab.push_back(Eigen::Vector2d(q.dot(e1), q.dot(e2)));
+        piece.samples.push_back(at[std::size_t(cidx)]);
       }
-      if (area < opt.min_area_m2 || cells.size() < 3) continue;
+      piece.cells = cells.size();
+      if (piece.cells < 3) continue;  // noise: never joins nor makes a patch
+      piece.hull = Hull2d(piece.ab);
+      pieces.push_back(std::move(piece));
+    }
+    // Pieces of one plane whose outlines lie within merge_gap_m of each other are one surface
+    // that the objects standing on it cut apart in the image (a tablet seen around its
+    // objects): one patch, its area the pieces' sum, its outline their hull.
+    std::vector<int> group(pieces.size());
+    std::iota(group.begin(), group.end(), 0);
+    auto root = [&](int g) {
+      while (group[std::size_t(g)] != g) g = group[std::size_t(g)] = group[std::size_t(group[std::size_t(g)])];
+      return g;
+    };
+    for (std::size_t a = 0; a < pieces.size(); ++a)
+      for (std::size_t b = a + 1; b < pieces.size(); ++b)
+        if (root(int(a)) != root(int(b)) && HullDistance(pieces[a].hull, pieces[b].hull) <= opt.merge_gap_m)
+          group[std::size_t(root(int(a)))] = root(int(b));
+    for (std::size_t g = 0; g < pieces.size(); ++g) {
+      if (root(int(g)) != int(g)) continue;
+      double area = 0;
+      std::size_t ncells = 0;
+      std::vector<Eigen::Vector2d> ab;
+      std::vector<int> samples;
+      for (std::size_t k = 0; k < pieces.size(); ++k)
+        if (root(int(k)) == int(g)) {
+          area += pieces[k].area;
+          ncells += pieces[k].cells;
+          ab.insert(ab.end(), pieces[k].hull.begin(), pieces[k].hull.end());
+          samples.insert(samples.end(), pieces[k].samples.begin(), pieces[k].samples.end());
+        }
+      if (area < opt.min_area_m2) continue;
       SupportSurface patch;
       patch.plane = plane;
-      patch.plane.fraction = double(cells.size()) / double(n);
+      patch.plane.fraction = double(ncells) / double(n);
       patch.origin = origin;
       patch.e1 = e1;
       patch.e2 = e2;
@@ -375,7 +488,10 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
         patch.outline = std::move(fewer);
       }
       patch.area_m2 = area;
-      if (patch.outline.size() >= 3) patches.push_back(std::move(patch));
+      if (patch.outline.size() >= 3) {
+        patches.push_back(std::move(patch));
+        patch_samples.push_back(std::move(samples));
+      }
     }
   }
   if (patches.empty()) return out;
@@ -391,7 +507,69 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
       if (o.plane.normal.dot(c.plane.normal) >= cos_tilt) area += o.area_m2, sum += o.area_m2 * o.plane.normal;
     if (area > best_area) best_area = area, up = sum.normalized();
   }
+  // Walls stand upright: when the largest patch nearly square to up (within max_tilt_deg) is
+  // structure-sized and at least as large as the area that gave up, up is made square to it.
+  // Without a floor in view, up is a small surface's normal, tilted by degrees (below); a
+  // large wall's normal is not.
+  if (!up.isZero()) {
+    const double sin_tilt = std::sin(opt.max_tilt_deg * M_PI / 180.0);
+    const SupportSurface* wall = nullptr;
+    for (const SupportSurface& p : patches)
+      if (std::fabs(p.plane.normal.dot(up)) <= sin_tilt && p.area_m2 >= opt.large_area_m2 && (!wall || p.area_m2 > wall->area_m2))
+        wall = &p;
+    if (wall && wall->area_m2 >= best_area)
+      up = (up - up.dot(wall->plane.normal) * wall->plane.normal).normalized();
+  }
   for (SupportSurface& p : patches) p.support = !up.isZero() && p.plane.normal.dot(up) >= cos_tilt;
+  // Supports are level: each takes up as its normal and, as its offset, the height of up that
+  // most of its samples share (a small patch's least-squares fit tilts by degrees under the
+  // sensor's correlated noise and the tops of thin objects lying on it), its σ₁ from the
+  // samples around that height. A patch that the camera sees from below, or whose samples
+  // do not agree on one height, keeps its fit.
+  for (std::size_t k = 0; k < patches.size(); ++k) {
+    SupportSurface& p = patches[k];
+    if (!p.support) continue;
+    const std::vector<int>& idx = patch_samples[k];
+    std::vector<double> h(idx.size()), tol(idx.size());
+    for (std::size_t i = 0; i < idx.size(); ++i) {
+      const Eigen::Vector3d& q = pts[std::size_t(idx[i])];
+      h[i] = up.dot(q);
+      tol[i] = std::clamp(0.5 * band * q.z() * q.z(), opt.plane.min_band_m, kMaxBandM);
+    }
+    const std::size_t step = std::max<std::size_t>(1, idx.size() / 64);
+    std::size_t best_count = 0;
+    double best_h = 0;
+    for (std::size_t c = 0; c < idx.size(); c += step) {
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < idx.size(); ++i) count += std::fabs(h[i] - h[c]) <= tol[i];
+      if (count > best_count) best_count = count, best_h = h[c];
+    }
+    if (best_count < 3 || double(best_count) < 0.5 * double(idx.size())) continue;
+    std::vector<double> near, scaled;
+    for (std::size_t i = 0; i < idx.size(); ++i)
+      if (std::fabs(h[i] - best_h) <= tol[i]) near.push_back(h[i]);
+    const double level = Median(near);
+    if (!(-level > 0)) continue;  // seen from below: the camera must lie above (n·0 + d > 0)
+    for (std::size_t i = 0; i < idx.size(); ++i)
+      if (std::fabs(h[i] - level) <= tol[i]) {
+        const double z = pts[std::size_t(idx[i])].z();
+        scaled.push_back((h[i] - level) / (z * z));
+      }
+    const double med = Median(scaled);
+    for (double& v : scaled) v = std::fabs(v - med);
+    // The outline's vertices, dropped onto the level plane, in its own coordinates.
+    std::vector<Eigen::Vector3d> corners;
+    for (const Eigen::Vector2d& a : p.outline) corners.push_back(p.origin + a.x() * p.e1 + a.y() * p.e2);
+    p.plane.normal = up;
+    p.plane.offset = -level;
+    p.plane.sigma_1m = 1.4826 * Median(scaled);
+    p.origin = level * up;
+    p.e1 = up.unitOrthogonal();
+    p.e2 = up.cross(p.e1);
+    std::vector<Eigen::Vector2d> ab;
+    for (const Eigen::Vector3d& c : corners) ab.push_back(Eigen::Vector2d((c - p.origin).dot(p.e1), (c - p.origin).dot(p.e2)));
+    p.outline = Hull2d(std::move(ab));
+  }
   // An object's top: a horizontal patch less than min_rise_m above another it lies over.
   auto centroid = [](const SupportSurface& p) {
     Eigen::Vector2d m = Eigen::Vector2d::Zero();
@@ -430,6 +608,9 @@ std::vector<int> SupportSurfacePixels(const DepthImage& depth, const Camera& cam
                                       const SupportSurfaceOptions& opt) {
   std::vector<int> on(std::size_t(depth.width) * depth.height, 0);
   if (surfaces.patches.empty()) return on;
+  // SupportSurface::Over per pixel with each outline's edges made once (the same arithmetic).
+  std::vector<std::vector<OutlineEdge>> edges;
+  for (const SupportSurface& s : surfaces.patches) edges.push_back(EdgesOf(s.outline));
   for (int v = 0; v < depth.height; ++v)
     for (int u = 0; u < depth.width; ++u) {
       const float z = depth.at(u, v);
@@ -438,7 +619,7 @@ std::vector<int> SupportSurfacePixels(const DepthImage& depth, const Camera& cam
       for (std::size_t k = 0; k < surfaces.patches.size(); ++k) {
         const SupportSurface& s = surfaces.patches[k];
         if (std::fabs(s.plane.Height(p)) > s.Band(z, opt)) continue;
-        if (!s.Over(p, opt.margin_m)) continue;
+        if (s.outline.size() < 3 || !FootWithin(s, edges[k], p, opt.margin_m)) continue;
         on[std::size_t(v) * depth.width + u] = int(k) + 1;
         break;
       }

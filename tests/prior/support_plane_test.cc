@@ -136,6 +136,71 @@ TEST(SupportSurfacesTest, FindsEveryRaisedSurfaceOfARoom) {
   EXPECT_GE(held, targets - 1);
 }
 
+// A camera 1.3 m above a floor, looking down 50°, over a 20 × 14 cm tablet 0.7 m up whose
+// middle 6 cm are hidden by a dark object (no depth): two pieces of the tablet, each under
+// min_area_m2, both together over it. The tablet is tilted by `tilt_deg` about the image's x
+// axis. Camera frame; `up` is the floor's normal.
+DepthImage TabletSceneDepth(const Camera& cam, double tilt_deg, Eigen::Vector3d* up) {
+  const double a = 50 * M_PI / 180;
+  *up = Eigen::Vector3d(0, -std::cos(a), -std::sin(a));
+  const Eigen::Vector3d e1(1, 0, 0), e2 = up->cross(e1);
+  const Eigen::Vector3d centre(0, 0, 0.6 / std::sin(a));  // on the optical axis, 0.7 m up
+  const Eigen::Vector3d nt = Eigen::AngleAxisd(tilt_deg * M_PI / 180, e1) * *up;
+  DepthImage depth(cam.width, cam.height, 0.f);
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) {
+      const Eigen::Vector3d r = cam.Backproject(u, v, 1.0);
+      double z = 0;
+      if (nt.dot(r) < 0) {  // the tablet's plane: nt·(x − centre) = 0
+        const Eigen::Vector3d x = r * (nt.dot(centre) / nt.dot(r));
+        const double s = (x - centre).dot(e1), t = (x - centre).dot(e2);
+        if (std::fabs(s) <= 0.1 && std::fabs(t) <= 0.07) z = std::fabs(s) <= 0.03 ? -1 : x.z();
+      }
+      if (z == 0 && up->dot(r) < 0) z = (-1.3 / up->dot(r)) * r.z();  // the floor: up·x = −1.3
+      if (z > 0 && z < 4) depth.at(u, v) = float(z);
+    }
+  return depth;
+}
+
+// The two pieces are one support, level with the floor (the tablet's 1° tilt is the kind of
+// tilt a small patch's fit gets from the sensor's correlated noise), at the tablet's height;
+// with merge_gap_m = 0 each piece is too small and the tablet is not found.
+TEST(SupportSurfacesTest, ATabletCutApartByItsObjectIsOneLevelSupport) {
+  const Camera cam = testing_util::PinholeCamera(525, 525);
+  Eigen::Vector3d up;
+  const DepthImage depth = TabletSceneDepth(cam, 1.0, &up);
+  const Eigen::Vector3d centre(0, 0, 0.6 / std::sin(50 * M_PI / 180));
+  auto tablet_of = [&](const SupportSurfaces& s) {
+    for (int i = 0; i < s.supports; ++i)
+      if (std::fabs(s.patches[std::size_t(i)].plane.Height(centre)) < 0.01) return i;
+    return -1;
+  };
+  const SupportSurfaces s = FindSupportSurfaces(depth, cam);
+  ASSERT_EQ(s.supports, 2);
+  EXPECT_GT(s.up.dot(up), std::cos(0.1 * M_PI / 180));
+  const int tablet = tablet_of(s);
+  ASSERT_GE(tablet, 0);
+  const SupportSurface& t = s.patches[std::size_t(tablet)];
+  EXPECT_GT(t.plane.normal.dot(up), std::cos(0.1 * M_PI / 180));  // level, not tilted by 1°
+  EXPECT_NEAR(t.plane.Height(centre), 0.0, 0.002);
+  EXPECT_TRUE(t.Over(centre, 0.0));  // the hidden middle lies inside the outline
+  EXPECT_EQ(s.Below(centre + 0.05 * up, SupportSurfaceOptions{}), tablet);
+  SupportSurfaceOptions apart;
+  apart.merge_gap_m = 0;
+  EXPECT_LT(tablet_of(FindSupportSurfaces(depth, cam, apart)), 0);
+}
+
+TEST(SupportSurfacesTest, HullDistanceOfConvexPolygons) {
+  const std::vector<Eigen::Vector2d> a = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  std::vector<Eigen::Vector2d> b = a;
+  for (Eigen::Vector2d& q : b) q += Eigen::Vector2d(1.5, 0.5);
+  EXPECT_NEAR(HullDistance(a, b), 0.5, 1e-12);
+  EXPECT_NEAR(HullDistance(b, a), 0.5, 1e-12);
+  for (Eigen::Vector2d& q : b) q -= Eigen::Vector2d(1.0, 0.0);  // overlapping
+  EXPECT_EQ(HullDistance(a, b), 0.0);
+  EXPECT_GT(HullDistance(a, {}), 1e29);
+}
+
 TEST(SupportSurfacesTest, BadOptionsAreErrors) {
   SupportSurfaceOptions o;
   o.max_tilt_deg = 90;
@@ -143,6 +208,9 @@ TEST(SupportSurfacesTest, BadOptionsAreErrors) {
   o = {};
   o.min_area_m2 = 0;
   testing_util::ExpectInvalid(o, "min_area_m2");
+  o = {};
+  o.merge_gap_m = -1;
+  testing_util::ExpectInvalid(o, "merge_gap_m");
   o = {};
   o.plane.iterations = 0;
   testing_util::ExpectInvalid(o, "plane: iterations");
