@@ -4,8 +4,12 @@
 # longest register-to-register path in logic levels, scripts/rtl/netlist_levels.py), and
 # composes the 5- and 10-core design estimates.
 #
-# Usage: scripts/rtl/synth.sh [--json FILE]
+# Usage: scripts/rtl/synth.sh [--json FILE] [--only NAME,NAME,... --reuse JSON]
 #   --json FILE  write {"modules": {NAME: {...}}, "designs": [{"cores": 5|10, ...}], ...}
+#   --only LIST  synthesise only these parts (names below, e.g. vertex_multiplier_m5,
+#                vertex_multiplier_m10 after a change to that module alone) and take every other
+#                part's figures from --reuse JSON (an earlier output of this script for the same
+#                sources of those parts); the output lists the reused parts ("reused")
 # Env: YOSYS (default yosys), SYNTH_JOBS (parallel Yosys runs, default 2).
 #
 # Parts, each its own flattened Yosys run (one flattened run of the whole core does not finish
@@ -29,19 +33,34 @@ rtl=$root/src/hw/rtl
 yosys=${YOSYS:-yosys}
 jobs=${SYNTH_JOBS:-2}
 out_json=
+only=
+reuse=
+usage="usage: scripts/rtl/synth.sh [--json FILE] [--only NAME,NAME,... --reuse JSON]"
 while [ $# -gt 0 ]; do
   case "$1" in
     --json) out_json=${2:?--json needs a file}; shift 2 ;;
     --json=*) out_json=${1#--json=}; shift ;;
-    *) echo "usage: scripts/rtl/synth.sh [--json FILE]" >&2; exit 2 ;;
+    --only) only=${2:?--only needs a list of parts}; shift 2 ;;
+    --reuse) reuse=${2:?--reuse needs a JSON file}; shift 2 ;;
+    *) echo "$usage" >&2; exit 2 ;;
   esac
 done
+if [ -n "$only" ] && [ -z "$reuse" ]; then
+  echo "synth.sh: --only needs --reuse JSON (the figures of the other parts)" >&2
+  exit 2
+fi
+if [ -n "$reuse" ]; then
+  # Read it now: --reuse and --json may name the same file.
+  reuse_copy=$(mktemp)
+  cp "$reuse" "$reuse_copy"
+  reuse=$reuse_copy
+fi
 if ! command -v "$yosys" >/dev/null; then
   echo "synth.sh: needs Yosys ('$yosys' not found; scripts/setup.sh hw installs it)" >&2
   exit 2
 fi
 work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+trap 'rm -rf "$work" ${reuse:+"$reuse"}' EXIT
 
 syn="synth_xilinx -family xcup -flatten -noiopad"
 # name|count in one core|top|yosys script (read + synth)
@@ -74,6 +93,13 @@ run_part() {
 }
 pids=()
 for part in "${parts[@]}"; do
+  name=${part%%|*}
+  if [ -n "$only" ] && [[ ",$only," != *",$name,"* ]]; then
+    # Not re-synthesised: its figures from the --reuse JSON (synth_report.py reads NAME.reused).
+    /usr/bin/python3 -c 'import json, sys; json.dump(json.load(open(sys.argv[1]))["modules"][sys.argv[2]], sys.stdout)' \
+      "$reuse" "$name" > "$work/$name.reused" || { echo "synth.sh: $name is not in $reuse" >&2; exit 1; }
+    continue
+  fi
   run_part "$part" &
   pids+=($!)
   while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 1; done

@@ -5,9 +5,10 @@ raster core as the sum of its parts, and the 5- and 10-core design estimates.
 Usage: synth_report.py WORK_DIR SECONDS [OUT_JSON]
 WORK_DIR holds parts.txt (name|count in one core, or pM for a module of the M-core pipeline
 around the cores) and, per part, NAME.stat (Yosys `stat`) and NAME.levels (netlist_levels.py's
-JSON).
+JSON), or NAME.reused (the part's entry of an earlier output JSON, synth.sh --only/--reuse).
 """
 import json
+import os
 import re
 import sys
 
@@ -60,10 +61,18 @@ def main():
     modules, core = {}, {"lut": 0, "lutram": 0, "ff": 0, "carry": 0, "dsp": 0, "bram36": 0}
     pipe = {}  # M → the sum of the M-core pipeline's modules around the cores
     core_levels, core_dsp_series = 0, 0
+    reused = []
     for line in open(f"{work}/parts.txt"):
         name, count = line.strip().split("|")
-        c = counts(f"{work}/{name}.stat")
-        lv = json.load(open(f"{work}/{name}.levels"))
+        if os.path.exists(f"{work}/{name}.reused"):
+            r = json.load(open(f"{work}/{name}.reused"))
+            c = {k: r[k] for k in ("lut", "lutram", "ff", "carry", "dsp", "bram36")}
+            lv = {"logic_levels": r["logic_levels"], "dsp_in_series": r["dsp_in_series"],
+                  "path": r["longest_path"]}
+            reused.append(name)
+        else:
+            c = counts(f"{work}/{name}.stat")
+            lv = json.load(open(f"{work}/{name}.levels"))
         if count.startswith("p"):  # a module of the M-core pipeline
             m = int(count[1:])
             modules[name] = dict(c, logic_levels=lv["logic_levels"], level_budget=LEVEL_BUDGET,
@@ -116,9 +125,12 @@ def main():
         print(f"{d['cores']:>2} cores: LUT {d['lut']} ({100 * d['lut_fraction']:.1f} % of "
               f"{DEVICE['lut']}), FF {d['ff']}, DSP {d['dsp']}, BRAM36 {d['bram36']:g}")
     print(f"synthesis: {secs} s, Yosys synth_xilinx -family xcup")
+    if reused:
+        print(f"reused from an earlier run (not synthesised): {', '.join(reused)}")
     if out:
+        extra = {"reused": reused} if reused else {}
         with open(out, "w") as f:
-            json.dump({"modules": modules, "designs": designs, "device": DEVICE,
+            json.dump({"modules": modules, "designs": designs, "device": DEVICE, **extra,
                        "rest_of_design_estimate": REST,
                        "rest_of_design_estimate_before_rtl": REST_BEFORE_RTL,
                        "lut_definition": "module lut: logic LUTs (LUT1-LUT6); lutram: LUTs used as "

@@ -30,7 +30,7 @@ ROWS = [
     ("rc_fifo", "triangle FIFO 16 × 446 (inside the shell)"),
     ("rc_compare", "CompareFragment (inside the shell)"),
     ("ft_distributor_m10", "FT distributor, M = 10"),
-    ("vertex_multiplier_m10", "vertex multiplier (vertex and face memories), M = 10"),
+    ("vertex_multiplier_m10", "vertex multiplier (vertex and face memories, a 2048-vertex FIFO per core), M = 10"),
     ("depth_distributor_m10", "depth distributor (depth BRAM 640 × 480), M = 10"),
     ("weight_merger_m10", "weight merger (19-stage divider, ρ memory), M = 10"),
     ("weigh_pipeline_glue_m5", "the four modules around the cores, M = 5"),

@@ -282,7 +282,10 @@ void HwWeighTop(int n, const WeighConfig& cfg, const Sample samples[kMaxParticle
   hls::stream<weight_t> to_sorter;
   HW_STREAM(ft_chain, 2);
   HW_STREAM(ft_core, 24);
-  HW_STREAM(vert_core, 8);
+  // 2048 vertices per core (block RAM; vertex_multiplier.sv's FD): the multiplier writes each
+  // vertex to all cores of a round at once, and this depth lets each core read them at its own
+  // rate, as the cycle model's rounds assume (docs/HARDWARE.md §12).
+  HW_STREAM(vert_core, 2048);
   HW_STREAM(info_core, 2);
   HW_STREAM(depth_core, 8);
   HW_STREAM(out_core, 2);

@@ -10,11 +10,17 @@
 // VERT (next call); the copies wait until no read is in flight.
 // Read pipeline: face address → face word (two read registers) → vertex address (its corner's
 // index) → vertex word (two read registers) → push, 4 clocks after the issue.
-// Flow control: per core a FIFO of FD entries (the C model's HW_STREAM(vert_core, 8)) and a
-// credit counter; a vertex is issued only when every active core has a credit left.
+// Flow control: per core a FIFO of FD entries in block RAM (rc_fifo_bram; the C model's
+// HW_STREAM(vert_core, FD) in src/hw/top.h) and a credit counter; a vertex is issued only when
+// every active core has a credit left. The vertices go to all cores of a round in the same
+// clock, so the FIFOs are what lets each core read them at its own rate, as the cycle model's
+// rounds assume: a core whose pixel stage lags (large front faces) falls up to FD vertices behind
+// the others, which meanwhile cull their back faces at 3 clocks per face. With FD = 2048
+// (2.5 RAMB36 per core) the 2048-face torus is within 4 % of the cycle model; with 512, 18 %
+// (docs/HARDWARE.md §12).
 module vertex_multiplier #(
-    parameter int M  = 5,  // raster cores, 1 … 10
-    parameter int FD = 8   // per-core vertex FIFO entries (power of two)
+    parameter int M  = 5,    // raster cores, 1 … 10
+    parameter int FD = 2048  // per-core vertex FIFO entries (power of two; block RAM)
 ) (
     input  logic            clk,
     input  logic            rst,
@@ -132,7 +138,7 @@ module vertex_multiplier #(
     logic [$clog2(FD):0] fcnt;
     logic empty;
     logic [38:0] head;
-    rc_fifo #(.W(39), .DEPTH(FD)) u_fifo (
+    rc_fifo_bram #(.W(39), .DEPTH(FD)) u_fifo (
         .clk, .rst, .push(push[c]), .din(vm_q), .pop(pop[c]), .head(head), .empty(empty), .count(fcnt));
     assign vert_valid[c] = !empty;
     assign vert_data[39*c+:39] = head;

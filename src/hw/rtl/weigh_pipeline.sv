@@ -24,7 +24,8 @@
 // the C model's HLS kernels (src/hw/top.h). Parameters (prm_*, num_*, img_*) are the raw words
 // of WeighConfig's fields and must be stable during a call.
 module weigh_pipeline #(
-    parameter int M = 5
+    parameter int M   = 5,
+    parameter int VFD = 2048  // the vertex multiplier's per-core vertex FIFO (block RAM) entries
 ) (
     input  logic         clk,
     input  logic         rst,
@@ -91,7 +92,7 @@ module weigh_pipeline #(
       .clk, .rst, .num_particles, .ft_valid, .ft_ready, .ft_data,
       .core_valid(ftc_valid), .core_ready(ftc_ready), .core_data(ftc_data));
 
-  vertex_multiplier #(.M(M)) u_vm (
+  vertex_multiplier #(.M(M), .FD(VFD)) u_vm (
       .clk, .rst, .num_particles, .num_faces, .model_valid, .model_ready, .model_data,
       .vert_valid, .vert_ready, .vert_data);
 

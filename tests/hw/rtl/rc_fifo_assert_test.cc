@@ -49,7 +49,8 @@ struct Fifo {
 
 }  // namespace
 
-int main() {
+// `rc_fifo_test assert` (rc_fifo_tests_main.cc).
+int RunRcFifoAssertTest() {
   int failures = 0;
   Fifo f;
   // Legal traffic: 4 pushes (full), push + pop while full, 4 pops.

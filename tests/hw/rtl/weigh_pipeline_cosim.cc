@@ -30,9 +30,7 @@
 //                      file × SCALE, simplified to ≤ 2048 faces and ≤ 1024 vertices
 //   --image WxH        depth image size (default 160x120; ≤ 640x480)
 //   --max-window S     largest window side (default 48; ≤ 200)
-//   --max-ratio R      upper bound of Σ RTL / Σ model cycles (default 1.1); whole 2048-face
-//                      meshes in large windows need more, as the cores' shared vertex stream
-//                      couples their rates (docs/HARDWARE.md §12)
+//   --max-ratio R      upper bound of Σ RTL / Σ model cycles (default 1.1)
 //   --violate-handshake  in the bubble passes, the inputs drop valid before ready (an illegal
 //                      source): the input handshake assertions must fire (counted instead of
 //                      stopping the run); exit 0 only if they did
