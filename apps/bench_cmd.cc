@@ -51,17 +51,22 @@
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/synth.h"
 #include "render/cpu_kernel.h"
-#include "hw/host/verilator_transport.h"
+#include "filter/engine_registry.h"
 #include "render/gpu_kernel.h"
 
 namespace posefilter::cli {
 
 namespace {
 
-// Engine names the bench knows of; the available ones are those FilterOptions::IsValid accepts
-// (and, for gpu, that find a Vulkan device).
-// rtl (the Verilated weighing pipeline) is known but never a default: it simulates every clock.
-const std::vector<std::string> kKnownEngines = {"reference", "cpu", "hw", "gpu", "rtl"};
+// The engines the bench knows of: every row of the engine registry (filter/engine_registry.h),
+// in its order; the available ones are those FilterOptions::IsValid accepts and the row says
+// this build and machine can run. A row not listed by default (rtl: it simulates every clock)
+// runs only when asked for.
+std::vector<std::string> KnownEngines() {
+  std::vector<std::string> names;
+  for (const filter::EngineRow& row : filter::EngineRegistry()) names.push_back(row.name);
+  return names;
+}
 
 // An engine name of the bench: a FilterOptions engine, or "cpu/<isa>" — the cpu engine with
 // its instruction set forced (FilterOptions::cpu_isa: avx512, avx2, portable).
@@ -73,12 +78,20 @@ void ApplyEngine(const std::string& name, FilterOptions* o) {
   o->cpu_isa = forced ? name.substr(cpu.size()) : "auto";
 }
 
+// The registry's row of a bench engine name (cpu/<isa>: the cpu engine's); null for none.
+const filter::EngineRow* EngineRowOf(const std::string& engine) {
+  FilterOptions o;
+  ApplyEngine(engine, &o);
+  return filter::FindEngine(o.engine);
+}
+
+// `why` (may be null): the option's error, or the row's reason (no Vulkan device, built without
+// Verilator, ...).
 bool EngineAvailable(const std::string& engine, std::string* why = nullptr) {
   FilterOptions o;
   ApplyEngine(engine, &o);
   if (!o.IsValid(why)) return false;
-  if (engine == "rtl") return hw::host::VerilatorTransportBuilt(why);
-  return engine != "gpu" || render::GpuAvailable(why);
+  return EngineRowOf(engine)->available(why);
 }
 
 // The gpu engine's device ("" when there is none).
@@ -136,13 +149,14 @@ int RunBench(int argc, char** argv) {
   std::string json_path;
   bool quiet = false;
   std::vector<std::string> available, cpu_isas;
-  // The default list takes the gpu engine only on a GPU: on a CPU Vulkan driver (lavapipe) it
-  // is correct but hundreds of times slower than the cpu engine.
+  // The default list: the available rows listed by default (EngineRow::listed_by_default; the
+  // gpu engine only on a GPU: on a CPU Vulkan driver, lavapipe, it is correct but hundreds of
+  // times slower than the cpu engine).
   std::vector<std::string> defaults;
-  for (const auto& e : kKnownEngines)
+  for (const auto& e : KnownEngines())
     if (EngineAvailable(e)) {
       available.push_back(e);
-      if (e != "rtl" && (e != "gpu" || GpuDevice().find("(cpu)") == std::string::npos)) defaults.push_back(e);
+      if (EngineRowOf(e)->listed_by_default()) defaults.push_back(e);
     }
   for (const char* isa : {"portable", "avx2", "avx512"})
     if (EngineAvailable(std::string("cpu/") + isa)) cpu_isas.push_back(isa);
@@ -169,7 +183,8 @@ int RunBench(int argc, char** argv) {
       std::string why;
       if (!EngineAvailable(engines[i], &why))
         throw Error("--engines: engine '" + engines[i] + "' is not available (available: " + Join(available) +
-                    "; cpu/ with one of: " + Join(cpu_isas) + ")" + (engines[i] == "gpu" ? ": " + why : ""));
+                    "; cpu/ with one of: " + Join(cpu_isas) + ")" +
+                    (EngineRowOf(engines[i]) != nullptr && !EngineRowOf(engines[i])->available(nullptr) ? ": " + why : ""));
       if (std::find(engines.begin(), engines.begin() + i, engines[i]) != engines.begin() + i)
         throw Error("--engines: engine '" + engines[i] + "' is listed twice");
     }
@@ -268,7 +283,7 @@ int RunBench(int argc, char** argv) {
     // weighing of the same pose is tested in tests/hw).
     const EngineRun* first_float = nullptr;
     for (const auto& r : runs) {
-      if (r.engine == "hw" || r.engine == "rtl") continue;
+      if (!EngineRowOf(r.engine)->float_filter) continue;
       if (first_float == nullptr) first_float = &r;
       agree = agree && r.check_fragments == first_float->check_fragments;
     }

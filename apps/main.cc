@@ -6,8 +6,7 @@
 
 #include "commands.h"
 #include "posefilter/version.h"
-#include "render/cpu_kernel.h"
-#include "render/gpu_kernel.h"
+#include "filter/engine_registry.h"
 
 namespace {
 
@@ -53,17 +52,17 @@ void PrintUsage(std::ostream& os) {
 }
 
 // `posefilter --version`: the version, the commit of the build and the scoring engines it has
-// (--engine values). The gpu line says whether the build has Vulkan, not whether this machine
-// has a device (the gpu engine's own error says that, when asked for).
+// (--engine values, one line per row of the engine registry, filter/engine_registry.h). The gpu
+// line says whether the build has Vulkan, not whether this machine has a device (the gpu
+// engine's own error says that, when asked for).
 void PrintVersion(std::ostream& os) {
-  using namespace posefilter::render;
   os << "posefilter " << posefilter::Version() << " (git " << posefilter::GitRevision() << ")\n";
-  os << "engines:\n  reference  scalar float renderer\n  cpu        instruction sets built: portable";
-  if (cpu_detail::BuiltAvx2()) os << ", avx2";
-  if (cpu_detail::BuiltAvx512()) os << ", avx512";
-  os << "; this CPU runs " << CpuTargetName(BestCpuTarget()) << "\n";
-  os << "  gpu        " << (GpuBuilt() ? "Vulkan compute" : "not built (no Vulkan headers or glslang at build time)")
-     << "\n  hw         C simulation of the FPGA design (fixed point)\n";
+  os << "engines:\n";
+  for (const posefilter::filter::EngineRow& row : posefilter::filter::EngineRegistry()) {
+    const std::string name = row.name;
+    os << "  " << name << std::string(name.size() < 11 ? 11 - name.size() : 1, ' ')
+       << (row.describe ? row.describe() : std::string(row.summary)) << "\n";
+  }
 }
 
 }  // namespace

@@ -20,7 +20,9 @@ namespace posefilter {
 
 enum class OptionType { kBool, kInt, kFloat, kDouble, kString, kUint64, kMoveProbabilities };
 
-// The engines an option is read by (bit set).
+// The engines an option is read by (bit set): a bit per engine with options of its own. The
+// engine registry (src/filter/engine_registry.h) gives each engine name its bit; an engine may
+// read another's options and share its bit (rtl: the hw engine's).
 enum EngineBits : unsigned {
   kEngineReference = 1u << 0,
   kEngineCpu = 1u << 1,
@@ -29,7 +31,8 @@ enum EngineBits : unsigned {
   kAllEngines = kEngineReference | kEngineCpu | kEngineHw | kEngineGpu,
 };
 
-// The bit of an engine name ("reference", "cpu", "hw", "gpu"); 0 for any other name.
+// The bit of an engine name (a row of the engine registry: "reference", "cpu", "hw", "gpu", and
+// "rtl" with the hw engine's bit); 0 for any other name.
 unsigned EngineBit(const std::string& engine);
 
 // How a validation message names an option.

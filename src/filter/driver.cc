@@ -1,7 +1,7 @@
-// src/filter/driver.cc — EstimatePose, the one driver of every engine (engine.h), and the
-// host-side steps the engines share (driver.h): the annealing schedule, pixel levels and set
-// sizes, the run-ending test, restarts, adopting a polished pose, the polish of given seeds,
-// and the no-initial-mass error.
+// src/filter/driver.cc — EstimatePose, the one driver of every engine (engine.h; the engine's
+// row of engine_registry.h makes its runs), and the host-side steps the engines share
+// (driver.h): the annealing schedule, pixel levels and set sizes, the run-ending test,
+// restarts, adopting a polished pose, the polish of given seeds, and the no-initial-mass error.
 #include "filter/driver.h"
 
 #include <algorithm>
@@ -12,9 +12,9 @@
 #include <utility>
 
 #include "filter/engine.h"
+#include "filter/engine_registry.h"
 #include "filter/filter_context.h"
 #include "filter/host_setup.h"
-#include "filter/rtl_engine.h"
 #include "filter/model_lod.h"
 #include "filter/polish.h"
 #include "filter/scene_prep.h"
@@ -23,16 +23,6 @@
 #include "posefilter/prepared_model.h"
 
 namespace posefilter::filter {
-
-bool ParseEngine(const std::string& name, Engine* out) {
-  if (name == "reference") *out = Engine::kReference;
-  else if (name == "cpu") *out = Engine::kCpu;
-  else if (name == "hw") *out = Engine::kHw;
-  else if (name == "gpu") *out = Engine::kGpu;
-  else if (name == "rtl") *out = Engine::kRtl;
-  else return false;
-  return true;
-}
 
 int AnnealIterations(const FilterOptions& options) {
   return options.anneal.start_m > options.score.inlier.thr1_m ? int(std::lround(options.anneal.fraction * options.stop.max_iterations))
@@ -180,13 +170,10 @@ EstimateResult Estimate(const SceneInput& scene, const PreparedModel* model, con
   const auto t_start = filter::Clock::now();
   ThrowIfInvalid(options, OptionNaming::kField);
   const auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
-  filter::Engine engine = filter::Engine::kCpu;
-  filter::ParseEngine(options.engine, &engine);  // a valid name (checked above)
+  // A known name (checked above); the row makes the engine's runs.
+  const filter::EngineRow* engine = filter::FindEngine(options.engine);
   const std::unique_ptr<filter::EngineRuns> runs =
-      engine == filter::Engine::kHw    ? filter::MakeHwEngine(*prep, mesh, prior, cls, options)
-      : engine == filter::Engine::kRtl ? filter::MakeRtlEngine(*prep, mesh, prior, cls, options)
-          : filter::MakeFloatEngine(prep, filter::LodFor(model, mesh, options, true, prep->plane.found), prior, cls,
-                                    options);
+      engine->make_runs(filter::EngineInputs{prep, model, mesh, prior, cls, options});
   // Independent runs (restarts), each with its own random stream; the best weight wins.
   EstimateResult best = filter::RunRestarts(options, progress, [&](Rng& rng, const ProgressFn& run_progress) {
     return runs->Run(rng, run_progress);

@@ -1,5 +1,6 @@
 // Host-side steps shared by every engine (bodies in src/filter/driver.cc, beside EstimatePose):
-// the engine's name, the annealing schedule, restarts and the final polish. The
+// the annealing schedule, restarts and the final polish (the engines themselves:
+// src/filter/engine_registry.h). The
 // float engines use them in src/filter/particle_filter.cc; the hw engine's host driver
 // (src/filter/hw_driver.cc) uses them around the C-simulated hardware runs.
 #pragma once
@@ -16,14 +17,6 @@
 #include "prior/volume_cache.h"
 
 namespace posefilter::filter {
-
-// The engine of FilterOptions::engine, parsed once per estimate: "reference" (float, readable),
-// "cpu" (the SIMD kernel, same results), "hw" (the C-simulated hardware, hw_driver.cc), "gpu"
-// (Vulkan compute shaders, render/gpu_kernel.h; same counts), "rtl" (the hw engine with its
-// weighing pipeline in Verilated RTL, rtl_engine.cc; the hw engine's results).
-enum class Engine { kReference, kCpu, kHw, kGpu, kRtl };
-// Sets *out and returns true for a known engine name; false otherwise (*out untouched).
-bool ParseEngine(const std::string& name, Engine* out);
 
 // Coarse-to-fine schedule (FilterOptions::anneal.start_m, anneal_fraction): the number of
 // iterations whose inlier threshold is above its final value (0 = annealing off), and the

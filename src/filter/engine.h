@@ -1,14 +1,17 @@
-// src/filter/engine.h — the one interface every engine implements behind EstimatePose.
+// src/filter/engine.h — the one interface every engine's runs implement behind EstimatePose.
 //
 // EstimatePose (driver.cc) validates the options and prepares the scene once (scene_prep.h),
-// parses FilterOptions::engine once, makes that engine's runs from the shared host set-up
-// (host_setup.h), runs options.restarts of them (RunRestarts) and ends with the engine's final
-// polish (polish.h). An engine supplies only what differs:
+// looks FilterOptions::engine up in the engine registry (engine_registry.h), has the engine's
+// row make its runs from the shared host set-up (host_setup.h), runs options.restarts of them
+// (RunRestarts) and ends with the engine's final polish (polish.h). An engine's runs supply
+// only what differs:
 //   - Run: one run of the filter, initialisation to convergence, on a given random stream;
 //   - PolishRuns: the final polish of what its runs found.
-// The float engines (`reference`, `cpu`) differ only in their weighing kernel and share one
-// implementation (particle_filter.cc); the `hw` engine runs the C-simulated hardware
-// (hw_driver.cc). A new engine is a new EngineRuns and one line in MakeEngine (driver.cc).
+// Two levels: the float engines (`reference`, `cpu`, `gpu`) share one EngineRuns, the float
+// filter (particle_filter.cc), and differ only in the ParticleWeigher it weighs each batch with
+// (engine_weigh.h); the `hw` and `rtl` engines run whole runs of their own (hw_driver.cc, the
+// C-simulated hardware), and differ only in the HwWeighStrategy those runs weigh with
+// (hw_weigh.h: the C model, or the Verilated RTL). docs/ARCHITECTURE.md, "Engines".
 #pragma once
 
 #include <memory>

@@ -7,9 +7,9 @@
 //     read-only after (its volume caches fill in behind their own lock);
 //   - the RunState: what changes from one iteration to the next (the annealed thresholds, the
 //     pixel level of the moment), owned by the run;
-//   - the Scratch: what weighings write as they go (per-worker workspaces, scene normals,
-//     device kernels, cell windows), owned by the engine that runs the estimate and used by
-//     one estimate's serial steps at a time.
+//   - the Scratch: what weighings write as they go (the engine's weigher with its per-worker
+//     workspaces or device kernels, scene normals, cell windows), owned by the engine that runs
+//     the estimate and used by one estimate's serial steps at a time.
 // particle_filter.cc builds them and weighs particles in them; the polish (polish.cc) and the
 // driver (driver.cc) use them too.
 #pragma once
@@ -24,6 +24,7 @@
 
 #include "filter/diffusion.h"
 #include "filter/driver.h"
+#include "filter/engine_weigh.h"
 #include "filter/model_lod.h"
 #include "filter/scene_prep.h"
 #include "posefilter/filter.h"
@@ -34,10 +35,11 @@
 #include "posefilter/support_plane.h"
 #include "prior/volume_cache.h"
 #include "render/cpu_kernel.h"
-#include "render/gpu_kernel.h"
 #include "render/scene_normals.h"
 
 namespace posefilter::filter {
+
+struct EngineRow;  // engine_registry.h
 
 // One pixel level: the scoring scene on every factor-th pixel of every factor-th row (pixel
 // (i, j) is the full image's (factor·i, factor·j); fx, fy, cx, cy divided by factor), its
@@ -66,7 +68,7 @@ struct Context {
   prior::VolumeCache volumes{};  // heuristic volume per cell (base frame), computed on demand
   std::vector<int> hypothesis{};     // niching: cells sharing one decoded box share an id
   int hypothesis_count = 0;
-  Engine engine = Engine::kCpu;                                 // FilterOptions::engine, parsed
+  const EngineRow* engine = nullptr;  // FilterOptions::engine's row (engine_registry.h); never null once built
   render::CpuTarget cpu_target = render::CpuTarget::kPortable;  // FilterOptions::cpu_isa, resolved
   // The pixel levels particles are weighed on (docs/ALGORITHM.md, "Pixel levels"): the fine
   // level (every fine.factor-th pixel of every fine.factor-th row; 1 = every pixel, more for
@@ -108,21 +110,20 @@ struct RunState {
 // The final thresholds on the fine level: weighings of given poses and the polish.
 RunState FinalRunState(const Context& ctx);
 
-// What weighings write as they go, owned by the engine running the estimate: one scratch
-// memory per worker thread (cpu kernel; holds the reference's too), kept from one weighing
-// round to the next so that its buffers are allocated and touched once; per level the scene
-// normals (computed tile by tile where ICP weighings render) and, for the gpu engine, the
-// level's model and scene on the device (made by the first weighing on the level); and the
-// window of each cell, computed on demand by the serial steps (window_ready[c]: windows[c] is
-// set). Not shared between threads: WeighAll hands each worker its own workspace.
+// What weighings write as they go, owned by the engine running the estimate: the engine's
+// weigher (engine_weigh.h: its per-worker workspaces, kept from one weighing round to the next
+// so that their buffers are allocated and touched once, or its device state per level); per
+// level the scene normals (computed tile by tile where ICP weighings render); and the window of
+// each cell, computed on demand by the serial steps (window_ready[c]: windows[c] is set).
+// Used by one estimate's serial steps at a time.
 struct Scratch {
-  std::vector<render::CpuWorkspace> workspaces{};
+  std::unique_ptr<ParticleWeigher> weigher{};
   std::array<render::SceneNormalTiles, 2> normals{};
-  std::array<std::shared_ptr<render::GpuKernel>, 2> gpu{};
   std::vector<PixelRect> windows{};
   std::vector<std::uint8_t> window_ready{};
 };
-// The scratch of an estimate in `ctx`: windows unset, normals sized to each level.
+// The scratch of an estimate in `ctx`: the weigher of ctx.engine's row, windows unset, normals
+// sized to each level.
 Scratch MakeScratch(const Context& ctx);
 
 // The plane of the support surface just below p (camera frame; SupportSurfaces::Below with the
@@ -144,8 +145,8 @@ inline const SupportPlane* PlaneBelow(const Context& ctx, const Eigen::Vector3d&
 Context BuildContext(std::shared_ptr<const PreparedScene> prep, std::shared_ptr<const ModelLod> model,
                      const Prior& prior, int cls, const FilterOptions& options, bool runs);
 
-// Weighs every particle not yet scored (threads over particles; each owns a workspace of
-// `scratch`) in `run`'s state; `icp`: also solve each one's ICP step (the kIcpStep move's input).
+// Weighs every particle not yet scored in `run`'s state, as one batch of the scratch's weigher;
+// `icp`: also solve each one's ICP step (the kIcpStep move's input).
 void WeighAll(const Context& ctx, const RunState& run, Scratch& scratch, std::vector<Particle>& ps, FilterStats* stats,
               bool icp = false);
 

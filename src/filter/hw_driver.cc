@@ -140,6 +140,26 @@ struct IterationProfile {
   std::vector<Window> windows;        // per particle
 };
 
+// The hw engine's weighing (hw_weigh.h): the C model's weigh region, HwWeighTopCores.
+class HwCModelWeigh final : public filter::HwWeighStrategy {
+ public:
+  void Weigh(int cores, int n, const WeighConfig& cfg, const Sample samples[kMaxParticles],
+             const Window cell_windows[kNumCells], const prob_t class_prob[kNumCells],
+             const depth_t depth[kImageHeight * kImageWidth], const xyz_t vmem[3][kMaxVertices],
+             const face_t tri_mem[kMaxFaces], weight_t sorted_w[kMaxParticles], particle_index_t sorted_idx[kMaxParticles],
+             RasterCoreOutput stats[kMaxParticles], depth_off_t offsets[kMaxParticles], DepthDistributionCounts* dd_counts,
+             CycleTrace* trace) override {
+    HwWeighTopCores(cores, n, cfg, samples, cell_windows, class_prob, depth, vmem, tri_mem, sorted_w, sorted_idx, stats,
+                    offsets, dd_counts, trace);
+  }
+};
+
+// The C model's weighing, shared (it holds no state).
+filter::HwWeighStrategy& CModelWeighing() {
+  static HwCModelWeigh weigh;
+  return weigh;
+}
+
 class HwRunner {
  public:
   // `prep`: filter::PrepareScene's (validated): the depth memory holds prep.scoring, the
@@ -154,7 +174,7 @@ class HwRunner {
   HwMemories& mem() { return *mem_; }
   const WeighConfig& config() const { return cfg_; }
   std::string mesh_name;
-  // The weighing each iteration runs (null: the C model's HwWeighTopCores); not owned.
+  // The weighing each iteration runs (by default the C model's, HwCModelWeigh); not owned.
   void SetWeigh(filter::HwWeighStrategy* weigh) { weigh_ = weigh; }
 
   // One run (initialisation to convergence). `on_iteration` (may be empty) is called after
@@ -205,12 +225,8 @@ class HwRunner {
       if (weigh_trace) weigh_trace->Clear();
       if (update_trace) update_trace->Clear();
       DepthDistributionCounts dd;
-      if (weigh_)
-        weigh_->Weigh(cfg_.num_cores, N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem,
-                      m.sorted_w, m.sorted_idx, m.stats, m.offsets, &dd, weigh_trace);
-      else
-        HwWeighTopCores(cfg_.num_cores, N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem,
-                        m.tri_mem, m.sorted_w, m.sorted_idx, m.stats, m.offsets, &dd, weigh_trace);
+      weigh_->Weigh(cfg_.num_cores, N, cfg_, m.samples[cur], m.cell_windows, m.class_prob, m.depth, m.vmem, m.tri_mem,
+                    m.sorted_w, m.sorted_idx, m.stats, m.offsets, &dd, weigh_trace);
       for (int p = 0; p < N; ++p) {
         res.stats.faces_total += m.stats[p].faces_total.to_int();
         res.stats.faces_front += m.stats[p].faces_front.to_int();
@@ -237,7 +253,7 @@ class HwRunner {
       if (progress) progress(it, best_w);
       if (last) break;
     }
-    if (weigh_) weigh_->EndRun(&res.stats);
+    weigh_->EndRun(&res.stats);
     res.pose_base = SampleToPose(best);
     res.T_cam_obj = prep_.scoring.camera.base_to_camera * PoseToTransform(res.pose_base);
     res.weight = best_w;
@@ -435,7 +451,7 @@ class HwRunner {
   ResampleParams rprm_;
   DiffusionParams dprm_{};
   int num_vertices_ = 0;
-  filter::HwWeighStrategy* weigh_ = nullptr;
+  filter::HwWeighStrategy* weigh_ = &CModelWeighing();
 };
 
 // The hw engine's runs (filter/engine.h): the hardware's memories are loaded once, each run
@@ -443,7 +459,7 @@ class HwRunner {
 class HwEngine final : public filter::EngineRuns {
  public:
   HwEngine(const filter::PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& options,
-           std::unique_ptr<filter::HwWeighStrategy> weigh = nullptr)
+           std::unique_ptr<filter::HwWeighStrategy> weigh)
       : prep_(prep), mesh_(mesh), prior_(prior), cls_(cls), options_(options), runner_(prep, mesh, prior, cls, options),
         weigh_(std::move(weigh)) {
     runner_.SetWeigh(weigh_.get());
@@ -468,7 +484,7 @@ class HwEngine final : public filter::EngineRuns {
   int cls_;
   FilterOptions options_;
   HwRunner runner_;
-  std::unique_ptr<filter::HwWeighStrategy> weigh_;  // null: the C model's weighing
+  std::unique_ptr<filter::HwWeighStrategy> weigh_;  // the C model's (hw) or the RTL's (rtl)
   std::vector<filter::PolishSeed> seeds_;  // each run's best particle
 };
 
@@ -478,7 +494,7 @@ namespace filter {
 
 std::unique_ptr<EngineRuns> MakeHwEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                                          const FilterOptions& options) {
-  return std::make_unique<HwEngine>(prep, mesh, prior, cls, options);
+  return std::make_unique<HwEngine>(prep, mesh, prior, cls, options, std::make_unique<HwCModelWeigh>());
 }
 
 std::unique_ptr<EngineRuns> MakeHwEngineWith(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "core/threads.h"
+#include "filter/engine_registry.h"
 #include "posefilter/error.h"
 #include "posefilter/hw_engine.h"
 #include "posefilter/mesh_simplify.h"
@@ -20,7 +21,19 @@ namespace posefilter {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr unsigned kFloatEngines = kEngineReference | kEngineCpu | kEngineGpu;  // not modelled by the hw engine
+// The engines that run the float filter (engine_registry.h), not modelled by the hw engine.
+unsigned FloatEngineBits() {
+  unsigned bits = 0;
+  for (const filter::EngineRow& row : filter::EngineRegistry())
+    if (row.float_filter) bits |= row.bit;
+  return bits;
+}
+
+// The engine option's choices: every engine of the registry, the default first.
+const char* EngineChoiceText() {
+  static const std::string choices = filter::EngineChoices("|");
+  return choices.c_str();
+}
 
 struct Range {
   double lo, hi;
@@ -58,10 +71,11 @@ OptionInfo Row(const char* name, const char* field, void* (*ref)(FilterOptions&)
 }
 
 const std::vector<OptionInfo>& Table() {
+  static const unsigned kFloatEngines = FloatEngineBits();
   static const std::vector<OptionInfo> t = {
       // ---- engine and run
       Row("engine", POSEFILTER_FIELD(engine), "Engine", kAny, kAllEngines, "engine that weighs the particles",
-          "cpu|reference|hw|gpu|rtl"),
+          EngineChoiceText()),
       Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kEngineCpu | kEngineGpu,
           "cpu kernel's instruction set (the cpu engine; the gpu engine's ICP weighings): auto (the best this CPU "
           "runs), avx512, avx2 or portable (same results)",
@@ -225,12 +239,8 @@ bool InRange(double v, const OptionInfo& f) {
 }  // namespace
 
 unsigned EngineBit(const std::string& engine) {
-  if (engine == "reference") return kEngineReference;
-  if (engine == "cpu") return kEngineCpu;
-  if (engine == "hw") return kEngineHw;
-  if (engine == "gpu") return kEngineGpu;
-  if (engine == "rtl") return kEngineHw;  // the hw engine with its weighing in RTL: the hw engine's options
-  return 0;
+  const filter::EngineRow* row = filter::FindEngine(engine);
+  return row != nullptr ? row->bit : 0;
 }
 
 std::span<const OptionInfo> FilterOptionTable() { return Table(); }
@@ -300,9 +310,14 @@ std::string OptionInfo::RangeText() const {
 
 std::string OptionInfo::EnginesText() const {
   if (engines == kAllEngines) return "all";
+  // Each bit under the name of its first row (rtl reads the hw engine's options: "hw").
   std::string s;
-  for (const char* e : {"reference", "cpu", "hw", "gpu"})
-    if (engines & EngineBit(e)) s += (s.empty() ? "" : ", ") + std::string(e);
+  unsigned listed = 0;
+  for (const filter::EngineRow& row : filter::EngineRegistry()) {
+    if ((engines & row.bit) == 0 || (listed & row.bit) != 0) continue;
+    listed |= row.bit;
+    s += (s.empty() ? "" : ", ") + std::string(row.name);
+  }
   return s;
 }
 
@@ -426,7 +441,7 @@ bool ValidateFilterOptions(const FilterOptions& o, OptionNaming naming, std::str
   if (o.threads > MaxWorkerThreads())
     return fail(name("threads") + " must be in [0, " + std::to_string(MaxWorkerThreads()) +
                 "] (0 = all cores; at most 4 per hardware thread; got " + std::to_string(o.threads) + ")");
-  if (o.engine == "hw" || o.engine == "rtl") {  // the hardware's limits (posefilter/hw_engine.h)
+  if (EngineBit(o.engine) == kEngineHw) {  // the hardware's limits (posefilter/hw_engine.h): hw and rtl
     if (o.num_particles > kHwMaxParticles)
       return fail(name("num_particles") + " must be <= " + std::to_string(kHwMaxParticles) + " with the hw engine (got " +
                   std::to_string(o.num_particles) + ")");

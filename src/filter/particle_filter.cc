@@ -1,6 +1,7 @@
-// The particle filter of the float engines, `reference` and `cpu` (thesis §2.2, §7.4–7.6,
+// The particle filter of the float engines, `reference`, `cpu` and `gpu` (thesis §2.2, §7.4–7.6,
 // App. B; docs/ALGORITHM.md §4–9): the context set-up (BuildContext), the weighing of particles
-// (Weigh, WeighAll, WeighPoses), one run of the filter (RunFilter) and the float engines'
+// (WeighAll, WeighPoses: kernel parameters and weights here, the kernel behind the engine's
+// ParticleWeigher, engine_weigh.h), one run of the filter (RunFilter) and the float engines'
 // EngineRuns (engine.h), whose final polish is polish.cc. EstimatePose, the driver every engine
 // shares, is in driver.cc; the options' checks in option_table.cc.
 #include <algorithm>
@@ -20,6 +21,8 @@
 #include "filter/diffusion.h"
 #include "filter/driver.h"
 #include "filter/engine.h"
+#include "filter/engine_registry.h"
+#include "filter/engine_weigh.h"
 #include "filter/filter_context.h"
 #include "filter/host_setup.h"
 #include "filter/model_lod.h"
@@ -48,6 +51,7 @@ using filter::MsSince;
 using filter::Particle;
 using filter::RunState;
 using filter::Scratch;
+using filter::WeighBatch;
 using filter::WeighAll;
 
 // Coarse orientation class of a pose for niching: which signed axis of the base frame the
@@ -245,20 +249,6 @@ double WeightFromScore(const Context& ctx, const RunState& run, const Particle& 
                            ContactPenalty(ctx, T));
 }
 
-// Weight of eq. 7.4 [ALGORITHM.md] for one particle, scored on the cpu kernel (the cpu engine, and the gpu
-// engine's ICP weighings) or the reference kernel (the reference engine, and the hw engine's
-// float polish); `ws` is the calling worker's own scratch memory. With `icp`, the kernel also
-// sums the ICP normal equations (scene normals passed); the weight does not depend on it.
-double Weigh(const Context& ctx, const RunState& run, const Scratch& scratch, const Particle& p, bool icp,
-             render::CpuWorkspace* ws, ScoreKernelResult* out) {
-  const Eigen::Isometry3d T = CameraFromObject(ctx, p);
-  const ScoreKernelParams k = ParticleParams(ctx, run, scratch, p, T, icp);
-  const render::FacePlanes* planes = CurrentLevel(ctx, run).face_planes;
-  const bool cpu_kernel = ctx.engine == filter::Engine::kCpu || ctx.engine == filter::Engine::kGpu;
-  *out = cpu_kernel ? render::ScoreCpuWith(ctx.cpu_target, k, ws, planes) : ScoreReference(k, &ws->reference);
-  return WeightFromScore(ctx, run, p, T, k.window, out);
-}
-
 // Records a weighing's result in its particle (WeighAll adds its counters to the statistics).
 void Record(Particle& p, double weight, const ScoreKernelResult& r, bool icp) {
   p.weight = weight;
@@ -289,6 +279,7 @@ Scratch MakeScratch(const Context& ctx) {
   const std::size_t cells = std::size_t(ctx.prior->layout.CellCount());
   s.windows.resize(cells);  // PrepareCell fills them in as cells are used
   s.window_ready.assign(cells, 0);
+  s.weigher = ctx.engine->make_weigher(ctx);
   return s;
 }
 
@@ -296,7 +287,6 @@ void WeighAll(const Context& ctx, const RunState& run, Scratch& scratch, std::ve
               bool icp) {
   const int n = int(ps.size());
   const int threads = WorkerThreads(ctx.opt.threads);
-  if (int(scratch.workspaces.size()) < threads) scratch.workspaces.resize(std::size_t(threads));
   for (const Particle& p : ps) PrepareCell(ctx, scratch, p.cell);  // the windows the workers read
   if (icp) {  // the scene normals under the windows of the ICP weighings
     std::vector<PixelRect> windows;
@@ -305,48 +295,30 @@ void WeighAll(const Context& ctx, const RunState& run, Scratch& scratch, std::ve
     const SceneInput& scene = CurrentLevel(ctx, run).scene;
     scratch.normals[run.level].Prepare(scene.depth, scene.camera, windows, ctx.opt.threads);
   }
-  // Per particle: its kernel result (the counters are summed in particle order after the loop).
-  std::vector<ScoreKernelResult> results(static_cast<std::size_t>(n));
-  std::vector<std::uint8_t> weighed(std::size_t(n), 0);
-  if (ctx.engine == Engine::kGpu && !icp) {
-    // The gpu engine: every unscored particle of the set in one batch on the device.
-    std::vector<int> idx;
-    std::vector<Eigen::Isometry3d> poses;
-    std::vector<ScoreKernelParams> params;
-    for (int i = 0; i < n; ++i) {
-      if (ps[i].scored) continue;
-      idx.push_back(i);
-      poses.push_back(CameraFromObject(ctx, ps[i]));
-      params.push_back(ParticleParams(ctx, run, scratch, ps[i], poses.back(), false));
-    }
-    if (!params.empty()) {
-      std::shared_ptr<render::GpuKernel>& gpu = scratch.gpu[run.level];
-      if (!gpu) gpu = std::make_shared<render::GpuKernel>(params[0]);
-      std::vector<ScoreKernelResult> batch;
-      gpu->Score(params, &batch);
-      for (std::size_t j = 0; j < idx.size(); ++j) {
-        const std::size_t i = std::size_t(idx[j]);
-        Particle& p = ps[i];
-        const double weight = WeightFromScore(ctx, run, p, poses[j], params[j].window, &batch[j]);
-        Record(p, weight, batch[j], false);
-        results[i] = batch[j];
-        weighed[i] = 1;
-      }
-    }
-  } else {
-    // Each worker weighs with its own workspace; particle i's outputs are its own.
-    ParallelFor(threads, n, 4, [&](int worker, int i) {
-      if (ps[std::size_t(i)].scored) return;
-      render::CpuWorkspace& ws = scratch.workspaces[std::size_t(worker)];
-      ScoreKernelResult& r = results[std::size_t(i)];
-      const double weight = Weigh(ctx, run, scratch, ps[std::size_t(i)], icp, &ws, &r);
-      Record(ps[std::size_t(i)], weight, r, icp);
-      weighed[std::size_t(i)] = 1;
-    });
-  }
-  for (int i = 0; i < n; ++i) {
-    if (!weighed[std::size_t(i)]) continue;
-    const ScoreKernelResult& r = results[std::size_t(i)];
+  // The batch: every unscored particle's transform and kernel parameters, in particle order.
+  std::vector<int> idx;
+  for (int i = 0; i < n; ++i)
+    if (!ps[std::size_t(i)].scored) idx.push_back(i);
+  if (idx.empty()) return;
+  const int m = int(idx.size());
+  std::vector<Eigen::Isometry3d> poses(std::size_t(m), Eigen::Isometry3d::Identity());
+  std::vector<ScoreKernelParams> params(static_cast<std::size_t>(m));
+  ParallelFor(threads, m, 4, [&](int, int j) {
+    const Particle& p = ps[std::size_t(idx[std::size_t(j)])];
+    poses[std::size_t(j)] = CameraFromObject(ctx, p);
+    params[std::size_t(j)] = ParticleParams(ctx, run, scratch, p, poses[std::size_t(j)], icp);
+  });
+  // The engine's weigher scores them (engine_weigh.h); each weight is the particle's own.
+  std::vector<ScoreKernelResult> results;
+  const WeighBatch batch{run.level, CurrentLevel(ctx, run).face_planes, icp, ctx.opt.threads};
+  scratch.weigher->Score(batch, params, &results);
+  ParallelFor(threads, m, 4, [&](int, int j) {
+    const std::size_t k = std::size_t(j);
+    Particle& p = ps[std::size_t(idx[k])];
+    Record(p, WeightFromScore(ctx, run, p, poses[k], params[k].window, &results[k]), results[k], icp);
+  });
+  // The counters, summed in particle order.
+  for (const ScoreKernelResult& r : results) {
     stats->faces_total += r.faces_total;
     stats->faces_front += r.faces_front;
     stats->fragments += r.n_raster;
@@ -442,10 +414,11 @@ Context BuildContext(std::shared_ptr<const PreparedScene> prep_ptr, std::shared_
   ctx.cls = cls;
   ctx.opt = options;
   // cpu_isa names a supported variant or is "auto" (options were validated).
-  if (!filter::ParseEngine(options.engine, &ctx.engine)) throw Error("unknown engine '" + options.engine + "'");
+  ctx.engine = filter::FindEngine(options.engine);
+  if (ctx.engine == nullptr) throw Error("unknown engine '" + options.engine + "'");
   if (!render::ParseCpuTarget(options.cpu_isa, &ctx.cpu_target)) ctx.cpu_target = render::BestCpuTarget();
-  if (std::string gpu_missing; ctx.engine == filter::Engine::kGpu && !render::GpuAvailable(&gpu_missing))
-    throw Error(gpu_missing);  // before any set-up
+  // An engine that weighs this context and cannot run here (no Vulkan device, ...): before any set-up.
+  if (std::string why; ctx.engine->float_filter && !ctx.engine->available(&why)) throw Error(why);
   const ModelLod& m = *ctx.model;
   const double diameter = m.diameter;
   CheckMeshScale(mesh.name, diameter, prep.support);
@@ -728,7 +701,7 @@ EstimateResult RunFilter(const Context& ctx, Scratch& scratch, const std::vector
 namespace {
 
 // The float engines' runs: one context (levels, volumes, hypotheses) and one scratch (windows,
-// workspaces, normals) serve every run and the final polish; each run keeps its own RunState.
+// the weigher, normals) serve every run and the final polish; each run keeps its own RunState.
 class FloatEngine final : public filter::EngineRuns {
  public:
   FloatEngine(std::shared_ptr<const filter::PreparedScene> prep, std::shared_ptr<const filter::ModelLod> model,

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/threads.h"
+#include "filter/engine_registry.h"
 #include "posefilter/auto_prior.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh_simplify.h"
@@ -175,9 +176,13 @@ bool TrackOptions::IsValid(std::string* why) const {
   std::string w;
   if (!ValidateFilterOptions(filter, OptionNaming::kField, &w)) return fail("filter." + w);
   if (!ValidateFilterOptions(init, OptionNaming::kField, &w)) return fail("init." + w);
-  if (filter.engine == "hw" || filter.engine == "rtl")
-    return fail("filter.engine must be a float engine (cpu or reference): the " + filter.engine +
+  if (const filter::EngineRow* row = filter::FindEngine(filter.engine); row != nullptr && !row->float_filter) {
+    std::string floats;
+    for (const filter::EngineRow& r : filter::EngineRegistry())
+      if (r.float_filter) floats += std::string(floats.empty() ? "" : ", ") + r.name;
+    return fail("filter.engine must be a float engine (" + floats + "): the " + filter.engine +
                 " engine does not read pose seeds");
+  }
   return true;
 }
 

@@ -14,6 +14,7 @@
 
 #include "posefilter/filter.h"
 #include "render/cpu_kernel.h"
+#include "filter/engine_registry.h"
 #include "render/gpu_kernel.h"
 #include "test_util.h"
 
@@ -25,18 +26,15 @@ using testing_util::ReadFile;
 using testing_util::RunResult;
 using testing_util::ScratchDir;
 
-// The bench's default set: the engines FilterOptions::IsValid accepts, the gpu engine only
-// where it runs on a GPU (not on a CPU Vulkan driver such as lavapipe).
+// The bench's default set: the engine registry's rows that FilterOptions::IsValid accepts, that
+// this build and machine can run and that default lists take (the gpu engine only where it
+// runs on a GPU, not on a CPU Vulkan driver such as lavapipe; never rtl).
 std::vector<std::string> AvailableEngines() {
   std::vector<std::string> out;
-  for (const char* e : {"reference", "cpu", "hw", "gpu"}) {
+  for (const filter::EngineRow& row : filter::EngineRegistry()) {
     FilterOptions o;
-    o.engine = e;
-    if (!o.IsValid(nullptr)) continue;
-    if (std::string(e) == "gpu" &&
-        (!render::GpuAvailable(nullptr) || render::GpuDeviceName().find("(cpu)") != std::string::npos))
-      continue;
-    out.push_back(e);
+    o.engine = row.name;
+    if (o.IsValid(nullptr) && row.available(nullptr) && row.listed_by_default()) out.push_back(row.name);
   }
   return out;
 }
@@ -231,6 +229,37 @@ TEST(BenchCli, LodAndCullingOnlyModeChangeTheWorkload) {
 
 namespace posefilter {
 namespace {
+
+// The bench's engine list is the registry's: `--help` lists every available row, and an
+// engine the build or machine cannot run is refused with the row's reason.
+TEST(BenchCli, EngineListIsTheRegistrysAndAnUnavailableOneSaysWhy) {
+  ScratchDir dir("bench_registry");
+  const RunResult help = testing_util::RunCli({"bench", "--help"}, dir.dir() / "help");
+  ASSERT_EQ(help.code, 0) << help.err;
+  std::string available, defaults;
+  for (const filter::EngineRow& row : filter::EngineRegistry()) {
+    if (!row.available(nullptr)) continue;
+    available += (available.empty() ? "" : ",") + std::string(row.name);
+    if (row.listed_by_default()) defaults += (defaults.empty() ? "" : ",") + std::string(row.name);
+  }
+  std::string flat;  // CLI11 wraps the help text
+  for (char c : help.out)
+    if (c != '\n' && c != ' ') flat += c;
+  EXPECT_NE(flat.find("available:" + available + ")"), std::string::npos) << help.out;
+  EXPECT_NE(flat.find("(default:" + defaults + ";"), std::string::npos) << help.out;
+  for (const filter::EngineRow& row : filter::EngineRegistry()) {
+    std::string why;
+    if (row.available(&why)) continue;
+    SCOPED_TRACE(row.name);
+    const RunResult r = testing_util::RunCli({"bench", "--engines", row.name, "--particles", "128", "--iterations", "1",
+                                              "--repeats", "1", "--quiet"},
+                                             dir.dir() / row.name);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(Lines(r.err).size(), 1u) << r.err;
+    EXPECT_NE(r.err.find(std::string("engine '") + row.name + "' is not available"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(why), std::string::npos) << r.err;
+  }
+}
 
 // The gpu engine in the bench beside the float engines: its check run counts the fragments
 // they count, and the workload names its device. Without a device (the Vulkan loader pointed
