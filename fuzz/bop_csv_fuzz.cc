@@ -1,5 +1,5 @@
-// Fuzz target: ReadBopResultsCsv (include/posefilter/bop.h, src/eval/bop_io.cc), the BOP 2019
-// results CSV reader of `eval --dataset` and of `run-dataset`'s resume. Seeds:
+// Fuzz target: ReadBopResultsCsv (include/posefilter/bop.h, src/eval/bop_results_csv.cc), the
+// BOP 2019 results CSV reader of `eval --dataset` and of `run-dataset`'s resume. Seeds:
 // fuzz/corpus/bop_csv_fuzz/; dictionary: fuzz/bop_csv.dict.
 #include <Eigen/Core>
 #include <cmath>

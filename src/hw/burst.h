@@ -2,7 +2,7 @@
 //
 // A top's memory arguments are m_axi ports into DDR. A pipelined loop may read or write such a
 // port only at addresses that are an affine function of its counter (one burst; the memory
-// lint of tests/hw/hwtop_lint_test.cc checks it); a kernel that reads at data-dependent
+// lint of tools/hls_lint/ checks it); a kernel that reads at data-dependent
 // addresses (a cell's window, a vertex of a face, a resampled particle) first copies the array
 // into on-chip RAM with BurstLoad and reads the copy. The caller records the copy's cycles,
 // HW_TRACE_MEM(module, label, count, 1, kBurstLoadDepth, kAxiReadLatency), under its own

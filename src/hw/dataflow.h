@@ -14,7 +14,7 @@
 //   HW_DATAFLOW_END(df);                   // last statement
 //
 // Under __SYNTHESIS__ the macros are the plain calls, the STREAM pragma and an unrolled `for`
-// — the canonical region HLS sees (tests/hw/hwtop_lint_test.cc checks it). In C simulation
+// — the canonical region HLS sees (the lint tools/hls_lint/ checks it). In C simulation
 // (hls_sim.h):
 //   sequential mode — each process runs when its statement is reached (the vendor's model);
 //     the instances of HW_PROCESS_UNROLL run in parallel host threads (OpenMP), each with its

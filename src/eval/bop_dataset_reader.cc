@@ -1,94 +1,38 @@
-// eval/bop_io.cc — BOP datasets, the YCB-Video folder, BOP detections and the results CSV
-// (bop.h). Readers are strict: every value they use must be present, of the right type and
+// eval/bop_dataset_reader.cc — the datasets of bop.h: a BOP dataset (models_info.json, the
+// split's scene folders, the targets file), the YCB-Video folder (scenes/ + models/),
+// OpenDataset, which tells them apart, and the loaders of an image's depth and a model's mesh
+// and points. Readers are strict: every value they use must be present, of the right type and
 // finite; every error is one line "<file>: <entry>: <what>".
 #include "posefilter/bop.h"
-
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <system_error>
 #include <tuple>
 
+#include "eval/bop_io_internal.h"
 #include "posefilter/depth_image.h"
 #include "posefilter/error.h"
-#include "posefilter/file_io.h"
 #include "posefilter/metrics.h"
-#include "posefilter/projection.h"
 
 namespace posefilter {
 
 namespace {
 
 namespace fs = std::filesystem;
-using json = nlohmann::json;
-
-// "R is a rotation" tolerance (max |RᵀR − I|), as scene_io.cc uses for gt.json.
-constexpr double kRotationTolerance = 1e-3;
-// Two rows of one image may differ in time by at most this (seconds), as the BOP toolkit allows.
-constexpr double kTimeTolerance = 1e-3;
-// Smallest width/height of a jittered ground-truth box, pixels (as gt-detections).
-constexpr double kMinBoxPx = 4;
-
-// Where a value comes from: the file and the entry inside it, for error messages.
-struct Where {
-  std::string file;
-  std::string entry;  // "image 3, entry 1" or ""
-  [[noreturn]] void Fail(const std::string& what) const {
-    throw Error(file + ": " + (entry.empty() ? std::string() : entry + ": ") + what);
-  }
-  Where Sub(const std::string& more) const { return {file, entry.empty() ? more : entry + ", " + more}; }
-};
-
-// A dataset's JSON file: a regular file of at most kMaxSmallFileBytes (ReadSmallFile).
-json ReadJson(const std::string& path) {
-  const std::string text = ReadSmallFile(path, kMaxSmallFileBytes, "JSON");
-  try {
-    return NameOutOfMemory(path, "JSON", [&] { return json::parse(text); });
-  } catch (const json::exception& e) {
-    std::string what = e.what();
-    std::replace(what.begin(), what.end(), '\n', ' ');
-    throw Error(path + ": malformed JSON: " + what);
-  }
-}
-
-void WriteJson(const json& j, const std::string& path) {
-  WriteFileAtomically(path, [&](std::ostream& out) { out << j.dump(1) << "\n"; });
-}
-
-const json& Key(const json& obj, const char* key, const Where& w) {
-  if (!obj.is_object()) w.Fail("must be a JSON object");
-  const auto it = obj.find(key);
-  if (it == obj.end()) w.Fail(std::string("missing key \"") + key + "\"");
-  return *it;
-}
-
-double Number(const json& j, const std::string& what, const Where& w) {
-  if (!j.is_number()) w.Fail(what + " must be a finite number");
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) w.Fail(what + " must be a finite number");
-  return v;
-}
-
-int Integer(const json& j, const std::string& what, const Where& w) {
-  const double v = Number(j, what, w);
-  if (v != std::floor(v) || std::abs(v) > 2e9) w.Fail(what + " must be an integer");
-  return static_cast<int>(v);
-}
-
-std::vector<double> Numbers(const json& j, std::size_t n, const std::string& what, const Where& w) {
-  if (!j.is_array() || j.size() != n) w.Fail(what + " must be an array of " + std::to_string(n) + " numbers");
-  std::vector<double> v;
-  for (std::size_t i = 0; i < n; ++i) v.push_back(Number(j[i], what + "[" + std::to_string(i) + "]", w));
-  return v;
-}
+using bop_io_internal::Digits6;
+using bop_io_internal::Integer;
+using bop_io_internal::json;
+using bop_io_internal::Key;
+using bop_io_internal::MakePose;
+using bop_io_internal::Number;
+using bop_io_internal::Numbers;
+using bop_io_internal::ReadJson;
+using bop_io_internal::Where;
 
 // A JSON object key that must be a non-negative integer ("12" → 12).
 int IdKey(const std::string& key, const std::string& what, const Where& w) {
@@ -97,26 +41,6 @@ int IdKey(const std::string& key, const std::string& what, const Where& w) {
   if (key.empty() || ec != std::errc() || ptr != key.data() + key.size() || v < 0)
     w.Fail("key \"" + key + "\" is not " + what);
   return v;
-}
-
-std::string Digits6(int id) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%06d", id);
-  return buf;
-}
-
-// Row-major 3×3 (+ t) → isometry; R must be a rotation.
-Eigen::Isometry3d MakePose(const std::vector<double>& r9, const Eigen::Vector3d& t_m, const std::string& what,
-                           const Where& w) {
-  Eigen::Matrix3d R;
-  for (int i = 0; i < 9; ++i) R(i / 3, i % 3) = r9[i];
-  const double ortho = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  if (ortho > kRotationTolerance || R.determinant() < 0)
-    w.Fail(what + " is not a rotation matrix (|RᵀR − I| = " + std::to_string(ortho) + ")");
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R;
-  T.translation() = t_m;
-  return T;
 }
 
 bool IsAllDigits(const std::string& s) {
@@ -540,281 +464,6 @@ Mesh LoadDatasetMesh(const DatasetModel& model) {
 std::vector<Eigen::Vector3f> LoadDatasetPoints(const DatasetModel& model, int max_points) {
   if (!model.points_path.empty()) return ReadXyzPoints(model.points_path);
   return SamplePoints(LoadDatasetMesh(model), max_points);
-}
-
-// ---- Writing -----------------------------------------------------------------------------------
-
-void WriteBopModels(const std::string& root, const std::vector<DatasetModel>& models,
-                    const std::vector<const Mesh*>& meshes) {
-  if (meshes.size() != models.size()) throw Error("WriteBopModels: one mesh pointer per model expected");
-  const fs::path dir = fs::path(root) / "models";
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw Error(dir.string() + ": cannot create folder: " + ec.message());
-  json info = json::object();
-  for (std::size_t i = 0; i < models.size(); ++i) {
-    const DatasetModel& m = models[i];
-    json e;
-    e["diameter"] = m.diameter_m * 1e3;
-    if (!m.symmetries_discrete.empty()) {
-      e["symmetries_discrete"] = json::array();
-      for (const auto& S : m.symmetries_discrete) {
-        json v = json::array();
-        for (int r = 0; r < 4; ++r)
-          for (int c = 0; c < 4; ++c) v.push_back(c == 3 && r < 3 ? S.matrix()(r, c) * 1e3 : S.matrix()(r, c));
-        e["symmetries_discrete"].push_back(v);
-      }
-    }
-    if (!m.symmetries_continuous.empty()) {
-      e["symmetries_continuous"] = json::array();
-      for (const auto& c : m.symmetries_continuous)
-        e["symmetries_continuous"].push_back(
-            {{"axis", {c.axis.x(), c.axis.y(), c.axis.z()}},
-             {"offset", {c.offset.x() * 1e3, c.offset.y() * 1e3, c.offset.z() * 1e3}}});
-    }
-    info[std::to_string(m.obj_id)] = e;
-    if (meshes[i]) {
-      Mesh mm = *meshes[i];
-      for (auto& v : mm.vertices) v *= 1000.f;
-      SaveMeshPly(mm, (dir / ("obj_" + Digits6(m.obj_id) + ".ply")).string());
-    }
-  }
-  WriteJson(info, (dir / "models_info.json").string());
-}
-
-void WriteBopScene(const std::string& root, const std::string& split, const std::vector<DatasetImage>& images,
-                   const std::vector<DepthImage>& depths) {
-  if (images.empty() || depths.size() != images.size())
-    throw Error("WriteBopScene: one depth image per image expected");
-  const fs::path dir = fs::path(root) / split / Digits6(images[0].scene_id);
-  std::error_code ec;
-  fs::create_directories(dir / "depth", ec);
-  if (ec) throw Error(dir.string() + ": cannot create folder: " + ec.message());
-  json cams = json::object(), gts = json::object(), infos = json::object();
-  bool all_info = true;
-  for (std::size_t i = 0; i < images.size(); ++i) {
-    const DatasetImage& im = images[i];
-    if (im.scene_id != images[0].scene_id) throw Error("WriteBopScene: images of different scenes");
-    const std::string key = std::to_string(im.im_id);
-    const Camera& c = im.camera;
-    cams[key] = {{"cam_K", {c.fx, 0.0, c.cx, 0.0, c.fy, c.cy, 0.0, 0.0, 1.0}}, {"depth_scale", im.depth_scale_m * 1e3}};
-    json list = json::array(), info_list = json::array();
-    for (const auto& g : im.gt) {
-      json R = json::array();
-      for (int r = 0; r < 3; ++r)
-        for (int k = 0; k < 3; ++k) R.push_back(g.T_cam_obj.linear()(r, k));
-      const Eigen::Vector3d t = g.T_cam_obj.translation() * 1e3;
-      list.push_back({{"cam_R_m2c", R}, {"cam_t_m2c", {t.x(), t.y(), t.z()}}, {"obj_id", g.obj_id}});
-      all_info = all_info && g.has_info;
-      info_list.push_back({{"bbox_obj", {g.bbox_obj[0], g.bbox_obj[1], g.bbox_obj[2], g.bbox_obj[3]}},
-                           {"bbox_visib", {g.bbox_visib[0], g.bbox_visib[1], g.bbox_visib[2], g.bbox_visib[3]}},
-                           {"visib_fract", g.visib_fract}});
-    }
-    gts[key] = list;
-    infos[key] = info_list;
-    SaveDepthPng(depths[i], (dir / "depth" / (Digits6(im.im_id) + ".png")).string(), im.depth_scale_m);
-  }
-  WriteJson(cams, (dir / "scene_camera.json").string());
-  WriteJson(gts, (dir / "scene_gt.json").string());
-  if (all_info) WriteJson(infos, (dir / "scene_gt_info.json").string());
-}
-
-// ---- Detections --------------------------------------------------------------------------------
-
-std::vector<BopDetection> ReadBopDetections(const std::string& path) {
-  const json root = ReadJson(path);
-  const Where file{path, ""};
-  const json* list = &root;
-  if (root.is_object() && root.contains("detections")) list = &root["detections"];
-  if (!list->is_array()) file.Fail("must be a JSON array of {scene_id, image_id, category_id, bbox, score}");
-  std::vector<BopDetection> out;
-  for (std::size_t i = 0; i < list->size(); ++i) {
-    const json& e = (*list)[i];
-    const Where w = file.Sub("entry " + std::to_string(i));
-    BopDetection d;
-    d.scene_id = Integer(Key(e, "scene_id", w), "scene_id", w);
-    d.im_id = Integer(Key(e, "image_id", w), "image_id", w);
-    d.obj_id = Integer(Key(e, "category_id", w), "category_id", w);
-    d.score = Number(Key(e, "score", w), "score", w);
-    if (d.score < 0 || d.score > 1) w.Fail("score must be in [0, 1]");
-    const std::vector<double> b = Numbers(Key(e, "bbox", w), 4, "bbox", w);
-    d.x = b[0];
-    d.y = b[1];
-    d.w = b[2];
-    d.h = b[3];
-    if (!(d.w > 0 && d.h > 0)) w.Fail("bbox width and height must be > 0");
-    if (const auto it = e.find("time"); it != e.end()) d.time_s = Number(*it, "time", w);
-    out.push_back(d);
-  }
-  return out;
-}
-
-std::vector<Detection> ToPriorDetections(const std::vector<BopDetection>& detections, const Dataset& dataset,
-                                         const std::string& source) {
-  std::vector<Detection> out;
-  for (const auto& d : detections) {
-    const DatasetModel* m = dataset.Model(d.obj_id);
-    if (!m)
-      throw Error(source + ": scene " + std::to_string(d.scene_id) + ", image " + std::to_string(d.im_id) +
-                  ": category_id " + std::to_string(d.obj_id) + " has no model in the dataset");
-    out.push_back({m->name, d.score, d.x, d.y, d.w, d.h});
-  }
-  return out;
-}
-
-GtBoxDetection JitteredGtBox(const Mesh& mesh, const Eigen::Isometry3d& T_cam_obj, const Camera& camera,
-                             const std::string& cls, double jitter_px, double score, Rng& rng) {
-  if (!std::isfinite(jitter_px) || jitter_px < 0) throw Error("gt boxes: jitter must be finite and ≥ 0 pixels");
-  if (!std::isfinite(score) || score < 0 || score > 1) throw Error("gt boxes: score must be in [0, 1]");
-  const double jx = rng.Normal(), jy = rng.Normal(), jw = rng.Normal(), jh = rng.Normal();
-  GtBoxDetection out;
-  out.silhouette = ProjectedBox(mesh, T_cam_obj, camera);
-  const Box& box = out.silhouette;
-  out.in_view = box.w > 0 && box.h > 0;
-  if (!out.in_view) return out;
-  Box b = box;
-  b.cx += std::clamp(jitter_px * jx, -0.25 * box.w, 0.25 * box.w);
-  b.cy += std::clamp(jitter_px * jy, -0.25 * box.h, 0.25 * box.h);
-  b.w = std::max(kMinBoxPx, box.w + jitter_px * jw);
-  b.h = std::max(kMinBoxPx, box.h + jitter_px * jh);
-  out.detection = {cls, score, b.cx - b.w / 2, b.cy - b.h / 2, b.w, b.h};
-  return out;
-}
-
-// ---- Results CSV -------------------------------------------------------------------------------
-
-std::string FormatBopCsvRow(const BopResult& r) {
-  std::string s = std::to_string(r.scene_id) + "," + std::to_string(r.im_id) + "," + std::to_string(r.obj_id) + ",";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6f,", r.score);
-  s += buf;
-  const Eigen::Matrix3d R = r.T_cam_obj.linear();
-  for (int i = 0; i < 9; ++i) {
-    std::snprintf(buf, sizeof buf, i < 8 ? "%.9g " : "%.9g,", R(i / 3, i % 3));
-    s += buf;
-  }
-  const Eigen::Vector3d t = r.T_cam_obj.translation() * 1e3;
-  std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f,", t.x(), t.y(), t.z());
-  s += buf;
-  std::snprintf(buf, sizeof buf, "%.6f", r.time_s);
-  return s + buf;
-}
-
-namespace {
-
-std::vector<std::string> SplitOn(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::size_t b = 0;
-  while (true) {
-    const auto e = s.find(sep, b);
-    out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
-    if (e == std::string::npos) break;
-    b = e + 1;
-  }
-  return out;
-}
-
-std::vector<std::string> SplitSpaces(const std::string& s) {
-  std::vector<std::string> out;
-  std::istringstream in(s);
-  for (std::string tok; in >> tok;) out.push_back(tok);
-  return out;
-}
-
-double ParseDouble(const std::string& tok, const std::string& what, const Where& w) {
-  double v = 0;
-  const char* first = tok.data();
-  const char* last = first + tok.size();
-  if (first != last && *first == '+') ++first;
-  const auto [ptr, ec] = std::from_chars(first, last, v);
-  if (tok.empty() || ec != std::errc() || ptr != last) w.Fail(what + ": not a number: '" + tok + "'");
-  if (!std::isfinite(v)) w.Fail(what + ": non-finite value '" + tok + "'");
-  return v;
-}
-
-int ParseInt(const std::string& tok, const std::string& what, const Where& w) {
-  int v = 0;
-  const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-  if (tok.empty() || ec != std::errc() || ptr != tok.data() + tok.size() || v < 0)
-    w.Fail(what + ": not a non-negative integer: '" + tok + "'");
-  return v;
-}
-
-}  // namespace
-
-std::vector<BopResult> ReadBopResultsCsv(const std::string& path) {
-  CheckInputFile(path, kMaxResultsCsvBytes, "results CSV");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open results CSV");
-  std::vector<BopResult> out;
-  std::map<std::pair<int, int>, std::pair<double, int>> times;  // image → (time, first line)
-  std::string line;
-  int line_no = 0;
-  bool header = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const Where w{path, "line " + std::to_string(line_no)};
-    if (!header) {
-      if (line != kBopCsvHeader) w.Fail(std::string("header must be exactly \"") + kBopCsvHeader + "\"");
-      header = true;
-      continue;
-    }
-    if (line.find_first_not_of(" \t") == std::string::npos) continue;
-    const std::vector<std::string> f = SplitOn(line, ',');
-    if (f.size() != 7)
-      w.Fail("expected 7 fields scene_id,im_id,obj_id,score,R,t,time, got " + std::to_string(f.size()) +
-             " (truncated row?)");
-    BopResult r;
-    r.scene_id = ParseInt(f[0], "scene_id", w);
-    r.im_id = ParseInt(f[1], "im_id", w);
-    r.obj_id = ParseInt(f[2], "obj_id", w);
-    r.score = ParseDouble(f[3], "score", w);
-    const std::vector<std::string> rt = SplitSpaces(f[4]), tt = SplitSpaces(f[5]);
-    if (rt.size() != 9) w.Fail("R must hold 9 space-separated numbers, got " + std::to_string(rt.size()));
-    if (tt.size() != 3) w.Fail("t must hold 3 space-separated numbers (mm), got " + std::to_string(tt.size()));
-    std::vector<double> R9;
-    for (const auto& tok : rt) R9.push_back(ParseDouble(tok, "R", w));
-    Eigen::Vector3d t;
-    for (int k = 0; k < 3; ++k) t[k] = ParseDouble(tt[k], "t", w) * 1e-3;
-    r.T_cam_obj = MakePose(R9, t, "R", w);
-    r.time_s = ParseDouble(f[6], "time", w);
-    const auto key = std::make_pair(r.scene_id, r.im_id);
-    if (const auto it = times.find(key); it != times.end()) {
-      if (std::abs(it->second.first - r.time_s) > kTimeTolerance)
-        w.Fail("time " + f[6] + " differs from line " + std::to_string(it->second.second) + " of the same image (" +
-               std::to_string(it->second.first) + "); BOP needs one time per image");
-    } else {
-      times.emplace(key, std::make_pair(r.time_s, line_no));
-    }
-    out.push_back(r);
-  }
-  if (in.bad()) throw Error(path + ": read error");
-  if (!header) throw Error(path + ": empty file (no header \"" + std::string(kBopCsvHeader) + "\")");
-  return out;
-}
-
-void WriteBopResultsCsv(const std::vector<BopResult>& results, const std::string& path) {
-  WriteFileAtomically(path, [&](std::ostream& out) {
-    out << kBopCsvHeader << "\n";
-    for (const auto& r : results) out << FormatBopCsvRow(r) << "\n";
-  });
-}
-
-void AppendBopResultsCsv(const std::vector<BopResult>& results, const std::string& path) {
-  std::error_code ec;
-  const bool fresh = !fs::exists(path, ec) || fs::file_size(path, ec) == 0;
-  if (!fresh) {
-    std::ifstream in(path, std::ios::binary);
-    in.seekg(-1, std::ios::end);
-    char last = 0;
-    if (!in.get(last) || last != '\n')
-      throw Error(path + ": does not end with a newline (a partly written row?); remove the last line and rerun");
-  }
-  std::string text;
-  if (fresh) text += std::string(kBopCsvHeader) + "\n";
-  for (const auto& r : results) text += FormatBopCsvRow(r) + "\n";
-  AppendFileDurably(path, text);
 }
 
 }  // namespace posefilter
