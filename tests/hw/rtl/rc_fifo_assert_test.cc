@@ -5,47 +5,13 @@
 // overflow assertion and a pop from the empty FIFO the underflow assertion. Verilator counts
 // the failed assertions (errorCount) instead of stopping, so the test can check each one.
 #include <cstdio>
-#include <memory>
 
 #include "Vrc_fifo.h"
-#include "verilated.h"
+#include "rc_fifo_harness.h"
 
 namespace {
 
-struct Fifo {
-  std::unique_ptr<VerilatedContext> ctx;
-  std::unique_ptr<Vrc_fifo> m;
-  Fifo() : ctx(new VerilatedContext), m(new Vrc_fifo(ctx.get())) {
-    ctx->fatalOnError(false);
-    ctx->errorLimit(1000000);  // count failed assertions, do not stop
-    m->clk = 0;
-    m->rst = 1;
-    m->push = m->pop = 0;
-    m->din = 0;
-    Clock();
-    Clock();
-    m->rst = 0;
-  }
-  void Clock() {
-    m->eval();
-    m->clk = 1;
-    m->eval();
-    m->clk = 0;
-    m->eval();
-  }
-  // One clock with the given push/pop; returns the head seen before the edge.
-  int Step(bool push, int din, bool pop) {
-    m->push = push;
-    m->din = din;
-    m->pop = pop;
-    m->eval();
-    const int head = m->head;
-    Clock();
-    m->push = m->pop = 0;
-    return head;
-  }
-  int Errors() const { return ctx->errorCount(); }
-};
+using Fifo = FifoHarness<Vrc_fifo>;
 
 }  // namespace
 
@@ -73,9 +39,7 @@ int RunRcFifoAssertTest() {
   failures += !over;
 
   // Underflow: a pop from the empty FIFO (after a reset).
-  f.m->rst = 1;
-  f.Clock();
-  f.m->rst = 0;
+  f.Reset();
   const int before_under = f.Errors();
   f.Step(false, 0, true);
   const bool under = f.Errors() > before_under;

@@ -9,51 +9,16 @@
 // the failed assertions instead of stopping).
 #include <cstdio>
 #include <deque>
-#include <memory>
 #include <random>
 
 #include "Vrc_fifo_bram.h"
-#include "verilated.h"
+#include "rc_fifo_harness.h"
 
 namespace {
 
 constexpr int kDepth = 16;
 
-struct Fifo {
-  std::unique_ptr<VerilatedContext> ctx;
-  std::unique_ptr<Vrc_fifo_bram> m;
-  Fifo() : ctx(new VerilatedContext), m(new Vrc_fifo_bram(ctx.get())) {
-    ctx->fatalOnError(false);
-    ctx->errorLimit(1000000);  // count failed assertions, do not stop
-    m->clk = 0;
-    m->push = m->pop = 0;
-    m->din = 0;
-    Reset();
-  }
-  void Reset() {
-    m->rst = 1;
-    Clock();
-    Clock();
-    m->rst = 0;
-  }
-  void Clock() {
-    m->eval();
-    m->clk = 1;
-    m->eval();
-    m->clk = 0;
-    m->eval();
-  }
-  void Step(bool push, int din, bool pop) {
-    m->push = push;
-    m->din = din;
-    m->pop = pop;
-    m->eval();
-    Clock();
-    m->push = m->pop = 0;
-    m->eval();
-  }
-  int Errors() const { return ctx->errorCount(); }
-};
+using Fifo = FifoHarness<Vrc_fifo_bram>;
 
 }  // namespace
 
