@@ -63,6 +63,21 @@ double Median(std::vector<double> v) {
   return *mid;
 }
 
+// A plane's residual scale at 1 m (σ₁, m) from its inliers' residuals divided by z²: the
+// median absolute deviation, scaled to a normal distribution's σ (1.4826).
+double ResidualScale(std::vector<double> scaled) {
+  const double med = Median(scaled);
+  for (double& v : scaled) v = std::fabs(v - med);
+  return 1.4826 * Median(scaled);
+}
+
+// A support surface's band about its plane at depth z, m: band_sigmas·σ₁·z², at least
+// min_band_m, at most max_band_m·max(1, z²) (SupportSurface::Band).
+double SurfaceBand(const SupportPlane& plane, double z, const SupportSurfaceOptions& opt) {
+  return std::clamp(opt.plane.band_sigmas * plane.sigma_1m * z * z, opt.plane.min_band_m,
+                    opt.plane.max_band_m * std::max(1.0, z * z));
+}
+
 // Convex hull of 2-D points (Andrew's monotone chain), counter-clockwise.
 std::vector<Eigen::Vector2d> Hull2d(std::vector<Eigen::Vector2d> pts) {
   std::sort(pts.begin(), pts.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -186,11 +201,9 @@ SupportPlane FindSupportPlane(const DepthImage& depth, const Camera& camera, con
     const double r = best_n.dot(p) + best_d;
     if (std::fabs(r) <= opt.ransac_band_m * p.z() * p.z()) scaled.push_back(r / (p.z() * p.z()));
   }
-  const double med = Median(scaled);
-  for (double& s : scaled) s = std::fabs(s - med);
   plane.normal = best_n;
   plane.offset = best_d;
-  plane.sigma_1m = 1.4826 * Median(scaled);
+  plane.sigma_1m = ResidualScale(std::move(scaled));
   int on = 0;
   for (const auto& p : pts) on += std::fabs(plane.Height(p)) <= plane.Band(p.z(), opt);
   plane.fraction = double(on) / double(n);
@@ -235,10 +248,7 @@ bool SupportSurface::Over(const Eigen::Vector3d& p, double margin_m) const {
   return FootWithin(*this, EdgesOf(outline), p, margin_m);
 }
 
-double SupportSurface::Band(double z, const SupportSurfaceOptions& opt) const {
-  return std::clamp(opt.plane.band_sigmas * plane.sigma_1m * z * z, opt.plane.min_band_m,
-                    opt.plane.max_band_m * std::max(1.0, z * z));
-}
+double SupportSurface::Band(double z, const SupportSurfaceOptions& opt) const { return SurfaceBand(plane, z, opt); }
 
 int SupportSurfaces::Below(const Eigen::Vector3d& p, const SupportSurfaceOptions& opt, double max_height_m) const {
   int best = -1;
@@ -367,19 +377,14 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
         const Eigen::Vector3d& p = pts[std::size_t(i)];
         scaled.push_back((nn.dot(p) + d) / (p.z() * p.z()));
       }
-      const double med = Median(scaled);
-      for (double& v : scaled) v = std::fabs(v - med);
-      return 1.4826 * Median(scaled);
+      return ResidualScale(std::move(scaled));
     };
     plane.sigma_1m = residual_scale(members, best_n, best_d);
     for (int round = 0; round < 2; ++round) {
       std::vector<int> tight;
       for (int i : members) {
         const Eigen::Vector3d& p = pts[std::size_t(i)];
-        const double z = p.z();
-        const double b = std::clamp(opt.plane.band_sigmas * plane.sigma_1m * z * z, opt.plane.min_band_m,
-                                    opt.plane.max_band_m * std::max(1.0, z * z));
-        if (std::fabs(best_n.dot(p) + best_d) <= b) tight.push_back(i);
+        if (std::fabs(best_n.dot(p) + best_d) <= SurfaceBand(plane, p.z(), opt)) tight.push_back(i);
       }
       if (tight.size() < 3 || tight.size() == members.size()) break;
       std::vector<Eigen::Vector3d> in;
@@ -555,14 +560,12 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
         const double z = pts[std::size_t(idx[i])].z();
         scaled.push_back((h[i] - level) / (z * z));
       }
-    const double med = Median(scaled);
-    for (double& v : scaled) v = std::fabs(v - med);
     // The outline's vertices, dropped onto the level plane, in its own coordinates.
     std::vector<Eigen::Vector3d> corners;
     for (const Eigen::Vector2d& a : p.outline) corners.push_back(p.origin + a.x() * p.e1 + a.y() * p.e2);
     p.plane.normal = up;
     p.plane.offset = -level;
-    p.plane.sigma_1m = 1.4826 * Median(scaled);
+    p.plane.sigma_1m = ResidualScale(std::move(scaled));
     p.origin = level * up;
     p.e1 = up.unitOrthogonal();
     p.e2 = up.cross(p.e1);
