@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""posefilter against classical peers on the YCB table-top suite, in the same run.
+"""posefilter against classical peers on the YCB table-top or room suite, in the same run.
 
 Peers (`--peers`, default both; `scripts/setup.sh peers` installs their packages):
   open3d      the pipeline of Open3D's registration tutorial, as a robotics engineer would set
@@ -26,17 +26,38 @@ Peers (`--peers`, default both; `scripts/setup.sh peers` installs their packages
               (a median 8 x 4 x 13 cm on the YCB table-top suite: fast, but coarser than every
               object's own step).
               Training is model preparation and is not counted in the time per object.
+What the peers see (--world; the detection boxes or masks are cut from it):
+  ycbv        the table world: the scene minus its dominant plane, the table (RANSAC, 8 mm).
+  room        the room world: there is no one table plane; the dominant plane is often the floor
+              or a wall, and the objects stand on a small tablet, stool or shelf board. The
+              peers get what a user without a detector would give them: the points within 2 m
+              of the camera (--max-depth; the world puts the objects' centre 0.5-1.5 m away,
+              the sensor reads to 3.5 m), minus every plane larger than any object's face.
+              Planes are found by repeated RANSAC (1 cm, on a 1 cm voxel grid of those points,
+              at most 16 planes, until one holds under 100 voxels); a plane's points are those
+              within its slab (8 mm at 1 m, growing as z^2 with the sensor's noise) whose normal
+              is within 30 degrees of the plane's (an object's sides standing on it are not),
+              the plane refit to them once by least squares. A plane is removed when one
+              connected patch of it in the image covers at least 0.04 m^2 (--large-plane; the
+              largest face of a YCB-Video object, the cracker box's, is 0.035 m^2), each point
+              counted by its footprint on the plane, (z/fx)(z/fy)/cos of the viewing angle. So
+              the floor, walls, desk tops, shelf boards and panels and the larger supports go;
+              a support smaller than that (a stool's top of 20 cm, or one its objects hide)
+              stays, as clutter beside the objects, and the furniture's legs and edges, the
+              distractors and the other objects stay in any case. posefilter gets the whole
+              image, as always.
 Where a class has several boxes (a false box of the same class), every box is tried and the
 registration with the highest fitness (open3d) or the lowest residual (opencv-ppf) wins.
 All methods get the same scenes and the same boxes (or masks): this script runs
-`posefilter suite --world ycbv --write-scenes`, then each peer on the scenes written, and
-prints per-class recall (ADD-S < 10 % of the diameter), AUC of ADD-S and time per object
-side by side.
+`posefilter suite --world ycbv|room --write-scenes`, then each peer on the scenes written,
+and prints per-class recall (ADD-S < 10 % of the diameter), AUC of ADD-S and time per object
+side by side. The peers' time per object includes its share of the scene's plane removal.
 
-usage: scripts/peers.py [--count N] [--first-seed S] [--prior boxes|masks|auto]
-                        [--peers open3d,opencv-ppf] [--opencv-model-points N]
-                        [--opencv-scene-sampling model|scene] [--models DIR]
-                        [--out DIR] [--json FILE]
+usage: scripts/peers.py [--world ycbv|room] [--count N] [--first-seed S]
+                        [--prior boxes|masks|auto] [--peers open3d,opencv-ppf]
+                        [--opencv-model-points N] [--opencv-scene-sampling model|scene]
+                        [--max-depth M] [--large-plane A] [--models DIR]
+                        [--posefilter PATH] [--out DIR] [--json FILE]
                         [-- SUITE OPTIONS...]
 Options after `--` go to `posefilter suite` (e.g. filter options).
 """
@@ -58,6 +79,7 @@ def fail(msg):
 try:
     import numpy as np
     import open3d as o3d
+    from scipy import ndimage
     from scipy.spatial import cKDTree
 except ImportError as e:  # pragma: no cover - depends on the machine
     fail("%s (install the peers' packages with: scripts/setup.sh peers)" % e)
@@ -227,7 +249,97 @@ def scene_points(depth, cam, pixels):
     return np.stack([(u - cam["cx"]) * z / cam["fx"], (v - cam["cy"]) * z / cam["fy"], z], axis=1)
 
 
-def run_peer(peer, scene_dirs, prior):
+def table_off_plane(depth, cam):
+    """--world ycbv: the pixels off the dominant (table) plane (RANSAC, 8 mm)."""
+    all_pix = np.nonzero(depth > 0)
+    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(scene_points(depth, cam, all_pix)))
+    _, inliers = cloud.segment_plane(distance_threshold=0.008, ransac_n=3, num_iterations=500)
+    off_plane = np.ones(depth.shape, bool)
+    off_plane[all_pix[0][inliers], all_pix[1][inliers]] = False
+    return off_plane
+
+
+def pixel_normals(depth, cam, window=15):
+    """Unit normals of the depth image's points (camera frame), from the covariance of the
+    valid points in a window x window neighbourhood (box filters); None where under 60 % of
+    the window is valid (edges, holes)."""
+    H, W = depth.shape
+    v, u = np.mgrid[0:H, 0:W]
+    valid = (depth > 0).astype(float)
+    xyz = [(u - cam["cx"]) * depth / cam["fx"], (v - cam["cy"]) * depth / cam["fy"], depth]
+
+    def mean(a):
+        return ndimage.uniform_filter(a, window, mode="reflect")
+
+    w = mean(valid)
+    ok = (depth > 0) & (w > 0.6)
+    m = [mean(a)[ok] / w[ok] for a in xyz]
+    C = np.empty((int(ok.sum()), 3, 3))
+    for i in range(3):
+        for j in range(i, 3):
+            C[:, i, j] = C[:, j, i] = mean(xyz[i] * xyz[j])[ok] / w[ok] - m[i] * m[j]
+    normals = np.zeros((H, W, 3))
+    normals[ok] = np.linalg.eigh(C)[1][:, :, 0]
+    return normals, ok
+
+
+def room_off_planes(depth, cam, max_depth, large_plane_m2):
+    """--world room: the pixels within max_depth that lie on no plane of at least large_plane_m2.
+
+    Repeated RANSAC (1 cm) on a 1 cm voxel grid of the points. A plane's points are those
+    within its slab (8 mm at 1 m, growing as z^2 with the sensor's noise) whose normal (15 x 15
+    pixel neighbourhood) is within 30 degrees of the plane's (so an object's sides standing on
+    it are not), the plane refit to them by least squares once. Each plane's slab leaves the
+    search; when its points hold a patch, 8-connected in the image, of at least large_plane_m2
+    (each point counted by its footprint on the plane, (z/fx)(z/fy) over the cosine of its
+    viewing angle), they are removed from the scene. At most 16 planes; it stops at a plane
+    of under 100 voxels.
+    """
+    pix = np.nonzero((depth > 0) & (depth <= max_depth))
+    pts = scene_points(depth, cam, pix)
+    keep = np.ones(len(pts), bool)
+    if len(pts) >= 100:
+        normals, has_normal = pixel_normals(depth, cam)
+        normals, has_normal = normals[pix], has_normal[pix]
+        footprint = (pts[:, 2] / cam["fx"]) * (pts[:, 2] / cam["fy"])
+        ray = np.linalg.norm(pts, axis=1)
+        slab = 0.008 * np.maximum(1.0, pts[:, 2] ** 2)
+        pool = np.asarray(o3d.geometry.PointCloud(o3d.utility.Vector3dVector(pts)).voxel_down_sample(0.01).points)
+        cos30 = np.cos(np.radians(30))
+        for _ in range(16):
+            if len(pool) < 100:
+                break
+            plane, inliers = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(pool)).segment_plane(
+                distance_threshold=0.01, ransac_n=3, num_iterations=1000)
+            if len(inliers) < 100:
+                break
+            n = np.asarray(plane[:3], float)
+            n, d = n / np.linalg.norm(n), plane[3] / np.linalg.norm(n)
+            on = has_normal & (np.abs(pts @ n + d) < slab) & (np.abs(normals @ n) > cos30)
+            if on.sum() >= 3:  # least-squares refit: the normal of the points' covariance
+                c = pts[on].mean(axis=0)
+                n_fit = np.linalg.eigh(np.cov((pts[on] - c).T))[1][:, 0]
+                n, d = n_fit, -float(n_fit @ c)
+                on = has_normal & (np.abs(pts @ n + d) < slab) & (np.abs(normals @ n) > cos30)
+            pool_z = np.maximum(1.0, pool[:, 2] ** 2)
+            rest = np.abs(pool @ n + d) >= 0.008 * pool_z
+            rest[inliers] = False
+            pool = pool[rest]
+            if not on.any():
+                continue
+            cos = np.maximum(np.abs(pts[on] @ n) / ray[on], 0.1)
+            image = np.zeros(depth.shape, bool)
+            image[pix[0][on], pix[1][on]] = True
+            patches, _ = ndimage.label(image, structure=np.ones((3, 3), int))
+            area = np.bincount(patches[pix[0][on], pix[1][on]], weights=footprint[on] / cos)
+            if area.max() >= large_plane_m2:
+                keep &= ~on
+    off_planes = np.zeros(depth.shape, bool)
+    off_planes[pix[0][keep], pix[1][keep]] = True
+    return off_planes
+
+
+def run_peer(peer, scene_dirs, prior, world="ycbv", max_depth=2.0, large_plane_m2=0.04):
     o3d.utility.random.seed(1)
     rows = []
     for d in scene_dirs:
@@ -238,13 +350,11 @@ def run_peer(peer, scene_dirs, prior):
         dets = load_json(os.path.join(d, "detections.json"))["detections"]
         masks = np.asarray(o3d.io.read_image(os.path.join(d, "mask.png"))) if prior == "masks" else None
         t0 = time.perf_counter()
-        # The usual table-plane removal, once per scene.
+        # The usual table-plane removal (in a room: the working range minus every large
+        # plane), once per scene.
         H, W = depth.shape
-        all_pix = np.nonzero(depth > 0)
-        cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(scene_points(depth, cam, all_pix)))
-        _, inliers = cloud.segment_plane(distance_threshold=0.008, ransac_n=3, num_iterations=500)
-        off_plane = np.ones(depth.shape, bool)
-        off_plane[all_pix[0][inliers], all_pix[1][inliers]] = False
+        off_plane = (table_off_plane(depth, cam) if world == "ycbv"
+                     else room_off_planes(depth, cam, max_depth, large_plane_m2))
         plane_ms = 1000 * (time.perf_counter() - t0)
         n_targets = sum(1 for o in info["objects"] if o["target"])
         for obj, g in zip(info["objects"], gt):
@@ -253,7 +363,7 @@ def run_peer(peer, scene_dirs, prior):
             cls = obj["obj"]
             t1 = time.perf_counter()
             regions = []
-            if prior == "auto":  # no detector: the whole scene minus the table plane
+            if prior == "auto":  # no detector: the whole scene minus the table plane (room: planes)
                 regions.append(off_plane)
             elif prior == "masks":
                 regions.append((masks == obj["instance"]) & off_plane)
@@ -283,6 +393,8 @@ PEERS = {"open3d": ("Open3D FPFH+RANSAC+ICP", Peer), "opencv-ppf": ("OpenCV PPF+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--world", choices=["ycbv", "room"], default="ycbv",
+                    help="the suite: ycbv, the YCB table-top world (default), or room (docs/SYNTHETIC.md)")
     ap.add_argument("--count", type=int, default=20, help="scenes (default 20)")
     ap.add_argument("--first-seed", type=int, default=1)
     ap.add_argument("--prior", choices=["boxes", "masks", "auto"], default="boxes")
@@ -292,6 +404,10 @@ def main():
     ap.add_argument("--opencv-scene-sampling", choices=["model", "scene"], default="model",
                     help="opencv-ppf: the scene's grid: the model's step, diameter/20 (default), or "
                          "0.05 of the scene's extent (OpenCV's usual relativeSceneDistance)")
+    ap.add_argument("--max-depth", type=float,
+                    help="room: the peers' working range, metres from the camera (default 2)")
+    ap.add_argument("--large-plane", type=float,
+                    help="room: planes covering at least this many m^2 are removed for the peers (default 0.04)")
     ap.add_argument("--models", default=os.path.join(os.environ.get("POSEFILTER_DATA") or os.path.join(ROOT, "..", "shared", "data"),
                                                      "ycbv", "models"),
                     help="the YCB-Video meshes (default: $POSEFILTER_DATA/ycbv/models, else ../shared/data/ycbv/models)")
@@ -305,6 +421,14 @@ def main():
         fail("--count must be >= 1")
     if args.opencv_model_points < 10:
         fail("--opencv-model-points must be >= 10")
+    if args.world == "ycbv" and (args.max_depth is not None or args.large_plane is not None):
+        fail("--max-depth and --large-plane apply to --world room (the table world removes the table plane)")
+    max_depth = 2.0 if args.max_depth is None else args.max_depth
+    large_plane = 0.04 if args.large_plane is None else args.large_plane
+    if not max_depth > 0.35:
+        fail("--max-depth must be above 0.35 (metres; the sensor reads from 0.35 m)")
+    if not large_plane > 0:
+        fail("--large-plane must be > 0 (m^2)")
     peers = [p for p in args.peers.split(",") if p]
     for p in peers:
         if p not in PEERS:
@@ -318,7 +442,7 @@ def main():
     scenes = os.path.join(args.out, "scenes")
     os.makedirs(scenes, exist_ok=True)
     ours_json = os.path.join(args.out, "posefilter.json")
-    cmd = [args.posefilter, "suite", "--world", "ycbv", "--count", str(args.count), "--first-seed",
+    cmd = [args.posefilter, "suite", "--world", args.world, "--count", str(args.count), "--first-seed",
            str(args.first_seed), "--prior", args.prior, "--models", args.models, "--write-scenes", scenes,
            "--json", ours_json] + suite_extra
     print("== posefilter: " + " ".join(cmd), flush=True)
@@ -332,7 +456,7 @@ def main():
         print("== peer: %s on the same %d scenes" % (title, len(dirs)), flush=True)
         peer = (cls(args.models, args.opencv_model_points, args.opencv_scene_sampling) if name == "opencv-ppf"
                 else cls(args.models))
-        peer_rows[name] = run_peer(peer, dirs, args.prior)
+        peer_rows[name] = run_peer(peer, dirs, args.prior, args.world, max_depth, large_plane)
         train_s[name] = getattr(peer, "train_s", {})
 
     points, diameters = {}, {}
@@ -401,7 +525,7 @@ def main():
             print("  %s model preparation (not in the time per object): %.1f s per model on average" % (
                 PEERS[m][0], sum(train_s[m].values()) / len(train_s[m])))
     if args.json:
-        out = {"prior": args.prior, "count": args.count, "first_seed": args.first_seed, "targets": n_all,
+        out = {"world": args.world, "prior": args.prior, "count": args.count, "first_seed": args.first_seed, "targets": n_all,
                "opencv_scene_sampling": args.opencv_scene_sampling, "classes": summary}
         for m in methods:
             t = totals[m]

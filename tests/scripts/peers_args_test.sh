@@ -41,6 +41,10 @@ expect_error "--peers: name at least one peer" --peers ,
 expect_error "--opencv-scene-sampling" --opencv-scene-sampling fine
 expect_error "--count must be >= 1" --count 0
 expect_error "--opencv-model-points must be >= 10" --opencv-model-points 5
+expect_error "--world" --world kitchen
+expect_error "--max-depth and --large-plane apply to --world room" --max-depth 2
+expect_error "--max-depth must be above 0.35" --world room --max-depth 0.2
+expect_error "--large-plane must be > 0" --world room --large-plane 0
 expect_error "no such folder" --models "$T/no_models"
 expect_error "no posefilter binary" --posefilter "$T/no_posefilter"
 
