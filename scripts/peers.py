@@ -58,8 +58,10 @@ usage: scripts/peers.py [--world ycbv|room] [--count N] [--first-seed S]
                         [--opencv-model-points N] [--opencv-scene-sampling model|scene]
                         [--max-depth M] [--large-plane A] [--models DIR]
                         [--posefilter PATH] [--out DIR] [--json FILE]
-                        [-- SUITE OPTIONS...]
-Options after `--` go to `posefilter suite` (e.g. filter options).
+                        [--reuse-posefilter] [-- SUITE OPTIONS...]
+Options after `--` go to `posefilter suite` (e.g. filter options). --reuse-posefilter skips the
+suite and takes its scenes and results from an earlier run into the same --out: the peers of
+one suite run can then run as separate processes, or on a subset of its seeds.
 """
 import argparse
 import json
@@ -414,6 +416,9 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "peers"), help="scenes and results folder")
     ap.add_argument("--posefilter", default=os.path.join(ROOT, "build", "release", "posefilter"))
     ap.add_argument("--json", help="also write the comparison as JSON")
+    ap.add_argument("--reuse-posefilter", action="store_true",
+                    help="do not run the suite: reuse the scenes and posefilter.json that an earlier run wrote to "
+                         "--out (same --world and --prior, covering the seeds asked for)")
     args, suite_extra = ap.parse_known_args()
     if suite_extra and suite_extra[0] == "--":
         suite_extra = suite_extra[1:]
@@ -437,19 +442,36 @@ def main():
         fail("--peers: name at least one peer")
     if not os.path.isdir(args.models):
         fail(args.models + ": no such folder (the YCB-Video meshes)")
-    if not os.access(args.posefilter, os.X_OK):
-        fail("no posefilter binary at %s (run scripts/build.sh)" % args.posefilter)
     scenes = os.path.join(args.out, "scenes")
-    os.makedirs(scenes, exist_ok=True)
     ours_json = os.path.join(args.out, "posefilter.json")
-    cmd = [args.posefilter, "suite", "--world", args.world, "--count", str(args.count), "--first-seed",
-           str(args.first_seed), "--prior", args.prior, "--models", args.models, "--write-scenes", scenes,
-           "--json", ours_json] + suite_extra
-    print("== posefilter: " + " ".join(cmd), flush=True)
-    if subprocess.call(cmd) != 0:
-        fail("posefilter suite failed")
-    ours = load_json(ours_json)
-    dirs = [os.path.join(scenes, "scene_%06d" % (args.first_seed + i)) for i in range(args.count)]
+    seeds = set(range(args.first_seed, args.first_seed + args.count))
+    dirs = [os.path.join(scenes, "scene_%06d" % s) for s in sorted(seeds)]
+    if args.reuse_posefilter:
+        # The suite's results and scenes of an earlier run into --out (e.g. the peers of that run
+        # in processes of their own): the same world and prior, every seed asked for.
+        if suite_extra:
+            fail("--reuse-posefilter: the suite does not run, so it takes no options after --")
+        if not os.path.isfile(ours_json):
+            fail("--reuse-posefilter: no posefilter.json in %s (run without it first)" % args.out)
+        ours = load_json(ours_json)
+        if ours.get("world") != args.world or ours.get("prior") != args.prior:
+            fail("--reuse-posefilter: %s is of --world %s --prior %s" % (ours_json, ours.get("world"), ours.get("prior")))
+        missing = sorted(seeds - {o["seed"] for o in ours["objects"]}) + [d for d in dirs if not os.path.isdir(d)]
+        if missing:
+            fail("--reuse-posefilter: %s lacks %s" % (args.out, ", ".join(str(m) for m in missing[:5])))
+        ours["objects"] = [o for o in ours["objects"] if o["seed"] in seeds]
+        print("== posefilter: its results in %s, reused (the suite does not run)" % ours_json, flush=True)
+    else:
+        if not os.access(args.posefilter, os.X_OK):
+            fail("no posefilter binary at %s (run scripts/build.sh)" % args.posefilter)
+        os.makedirs(scenes, exist_ok=True)
+        cmd = [args.posefilter, "suite", "--world", args.world, "--count", str(args.count), "--first-seed",
+               str(args.first_seed), "--prior", args.prior, "--models", args.models, "--write-scenes", scenes,
+               "--json", ours_json] + suite_extra
+        print("== posefilter: " + " ".join(cmd), flush=True)
+        if subprocess.call(cmd) != 0:
+            fail("posefilter suite failed")
+        ours = load_json(ours_json)
     peer_rows, train_s = {}, {}
     for name in peers:
         title, cls = PEERS[name]

@@ -45,6 +45,7 @@ expect_error "--world" --world kitchen
 expect_error "--max-depth and --large-plane apply to --world room" --max-depth 2
 expect_error "--max-depth must be above 0.35" --world room --max-depth 0.2
 expect_error "--large-plane must be > 0" --world room --large-plane 0
+expect_error "--reuse-posefilter: no posefilter.json" --reuse-posefilter
 expect_error "no such folder" --models "$T/no_models"
 expect_error "no posefilter binary" --posefilter "$T/no_posefilter"
 
