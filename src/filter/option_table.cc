@@ -88,9 +88,10 @@ const std::vector<OptionInfo>& Table() {
       // ---- engine and run
       Row("engine", POSEFILTER_FIELD(engine), "Engine", kAny, kAllEngines, "engine that weighs the particles",
           EngineChoiceText()),
-      Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kEngineCpu | kEngineGpu,
-          "cpu kernel's instruction set (the cpu engine; the gpu engine's ICP weighings): auto (the best this CPU "
-          "runs), avx512, avx2 or portable (same results)",
+      Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kAllEngines,
+          "cpu kernel's instruction set (the cpu engine; the gpu engine's ICP weighings; every engine's final "
+          "polish): auto (the best this CPU runs), avx512, avx2 or portable (same weights; a polished pose may "
+          "differ in rounding)",
           "auto|avx512|avx2|portable"),
       Row("threads", POSEFILTER_FIELD(threads), "Engine", AtLeast(0), kAllEngines,
           "worker threads: scoring, scene normals, heuristic volumes (0 = all cores, at most 4 per hardware thread)"),
@@ -179,8 +180,9 @@ const std::vector<OptionInfo>& Table() {
       Thesis("1", Row("anneal-subsample", POSEFILTER_FIELD(anneal.subsample), "Annealing", Closed(1, 4), kFloatEngines,
                       "coarse-to-fine: weigh on every Nth pixel of every Nth row while the threshold anneals (1 = "
                       "every pixel)")),
-      Thesis("false", Row("anneal-simplify", POSEFILTER_FIELD(anneal.simplify), "Annealing", kAny, kFloatEngines,
-                          "on the coarse annealing grid, weigh a mesh simplified to faces / N^2 (off: the full mesh)")),
+      Thesis("false", Row("anneal-simplify", POSEFILTER_FIELD(anneal.simplify), "Annealing", kAny, kAllEngines,
+                          "on a coarse pixel grid, weigh a mesh simplified to faces / N^2 (off: the full mesh; the "
+                          "hw engine: in its final polish only)")),
       // ---- niches
       Thesis("1", Row("region-cap", POSEFILTER_FIELD(niches.region_cap), "Niches", kPositiveFraction, kAllEngines,
                       "at most this fraction of the resampling pool from one detection (1 = off)")),
