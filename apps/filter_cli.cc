@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -33,8 +34,15 @@ CLI::Validator SeedValidator() {
       "SEED");
 }
 
-void AddFilterOptions(CLI::App& app, FilterOptions* o) {
-  for (const OptionInfo& f : FilterOptionTable()) {
+namespace {
+
+// Registers one flag per row of `rows` on `app`, writing into the fields of *o (defaults: *o's
+// values), each in the --help section `section` + the row's group (or `section` alone).
+template <class Options>
+void AddOptionRowFlags(CLI::App& app, std::span<const OptionInfo> rows, Options* o, const std::string& section,
+                       bool with_group) {
+  const Options defaults = *o;
+  for (const OptionInfo& f : rows) {
     const std::string flag = f.Name(OptionNaming::kCli);
     CLI::Option* added = VisitOption(f, *o, [&](auto& value) {
       using T = std::remove_cvref_t<decltype(value)>;
@@ -53,7 +61,7 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
                 },
                 f.help)
             ->expected(kNumMoves)
-            ->default_str(f.ValueText(FilterOptions{}));
+            ->default_str(f.ValueText(defaults));
       } else {
         CLI::Option* opt = app.add_option(flag, value, f.help)->capture_default_str();
         if constexpr (std::is_same_v<T, std::uint64_t>) opt->transform(SeedValidator());
@@ -61,8 +69,50 @@ void AddFilterOptions(CLI::App& app, FilterOptions* o) {
         return opt;
       }
     });
-    added->group(std::string("Filter options: ") + f.group);
+    added->group(with_group ? section + ": " + f.group : section);
   }
+}
+
+// Throws Error("<what>: " + IsValid's message) unless `o` is valid; a message that starts with
+// a row's field names its flag too ("--lost-weight (lost_weight): must be in [0, 1] (got 3)").
+template <class Options>
+void CheckOptionRows(std::span<const OptionInfo> rows, const Options& o, const std::string& what) {
+  std::string why;
+  if (o.IsValid(&why)) return;
+  for (const OptionInfo& f : rows) {
+    const std::string field = f.field;
+    if (why.rfind(field + " ", 0) == 0)
+      throw Error(what + ": " + f.Name(OptionNaming::kCli) + " (" + field + "): " + why.substr(field.size() + 1));
+  }
+  throw Error(what + ": " + why);
+}
+
+}  // namespace
+
+void AddFilterOptions(CLI::App& app, FilterOptions* o) {
+  AddOptionRowFlags(app, FilterOptionTable(), o, "Filter options", true);
+}
+
+void AddTrackOptions(CLI::App& app, TrackOptions* o) {
+  AddOptionRowFlags(app, TrackOptionTable(), o, "Tracker options", false);
+}
+
+void AddScenePassOptions(CLI::App& app, ScenePassOptions* o) {
+  AddOptionRowFlags(app, ScenePassOptionTable(), o, "Scene pass options", false);
+}
+
+void AddAutoPriorOptions(CLI::App& app, AutoPriorOptions* o) {
+  AddOptionRowFlags(app, AutoPriorOptionTable(), o, "Auto prior options", false);
+}
+
+void CheckTrackOptions(const TrackOptions& o) { CheckOptionRows(TrackOptionTable(), o, "invalid track option"); }
+
+void CheckScenePassOptions(const ScenePassOptions& o) {
+  CheckOptionRows(ScenePassOptionTable(), o, "invalid scene pass option");
+}
+
+void CheckAutoPriorOptions(const AutoPriorOptions& o) {
+  CheckOptionRows(AutoPriorOptionTable(), o, "invalid auto prior option");
 }
 
 void CheckFilterOptions(const FilterOptions& opt) {

@@ -6,9 +6,10 @@
 //     label.png) with one object's mesh reduced to the engine's level of detail and the windows
 //     its label mask's box gives (the box a segmentation front end would report), as the
 //     thesis's real scenes.
-// Two configurations: "thesis" (the given options with every extension of ours off: no
-// z-buffer, the thesis's 13 moves, no annealing, niches, support plane or polish) and "ours"
-// (the options as given). docs/HARDWARE.md explains the model and the comparison.
+// Two configurations: "thesis" (ThesisFilterOptions, from the option table's thesis column:
+// the given options with every extension of ours off: no z-buffer, the thesis's 13 moves, no
+// annealing, niches, support plane or polish) and "ours" (the options as given).
+// docs/HARDWARE.md explains the model and the comparison.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -30,6 +31,7 @@
 #include "posefilter/prior.h"
 #include "posefilter/scene_io.h"
 #include "posefilter/metrics.h"
+#include "posefilter/option_table.h"
 #include "posefilter/synth.h"
 
 namespace posefilter::cli {
@@ -54,32 +56,6 @@ std::string Ms(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f", v);
   return buf;
-}
-
-// The thesis's configuration of the filter (Ch. 7): the scale of `opt` (particles, iterations,
-// seed, windows) with each extension of ours off.
-FilterOptions ThesisConfiguration(FilterOptions opt) {
-  opt.render.zbuffer = false;
-  opt.render.adaptive_resolution = false;
-  opt.render.grow_window = false;
-  opt.score.occlusion_aware = false;
-  opt.score.delta = 0;  // the edge penalty needs the z-buffer
-  opt.support.plane = false;
-  opt.support.contact = 0;
-  opt.support.stable_start = 0;
-  opt.anneal.start_m = 0;  // the fixed inlier threshold
-  opt.anneal.subsample = 1;
-  opt.anneal.simplify = false;
-  opt.niches.region_cap = 1;
-  opt.niches.rotation_cap = 1;
-  opt.diffusion.min_sigma_fraction = 0;
-  for (int m = 0; m < kNumMoves; ++m) opt.diffusion.move_probabilities[m] = m < int(Move::kAlignDepth) ? 1.0 : 0.0;
-  opt.polish.steps = 0;
-  opt.init_oversample = 1;
-  opt.seed_start = 0;
-  opt.fine_particle_fraction = 1;
-  opt.stop.stall_iterations = 0;
-  return opt;
 }
 
 // What the report models: the scene, the object and its prior, and the ground truth.
@@ -301,7 +277,7 @@ int RunHwReport(int argc, char** argv) {
       if (std::any_of(runs.begin(), runs.end(), [&](const Configuration& c) { return c.name == name; })) continue;
       Configuration c;
       c.name = name;
-      c.options = name == "thesis" ? ThesisConfiguration(opt) : opt;
+      c.options = name == "thesis" ? ThesisFilterOptions(opt) : opt;
       c.profile = ProfileHw(scene.input, scene.target, scene.prior, scene.cls, c.options, popt);
       c.errors = ComputePoseErrors(SamplePoints(scene.target), scene.target.Diameter(), c.profile.result.T_cam_obj,
                                    scene.gt);

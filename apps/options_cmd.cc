@@ -1,20 +1,45 @@
 // apps/options_cmd.cc — `posefilter options`: every filter option (posefilter/option_table.h)
-// with its default, range, engines and meaning; --markdown prints docs/OPTIONS.md.
+// with its default, range, engines, thesis value and meaning, then the other option sets'
+// tables (tracker, scene pass, auto prior); --markdown prints docs/OPTIONS.md.
 #include <cstdio>
+#include <span>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "posefilter/auto_prior.h"
 #include "posefilter/filter_options.h"
 #include "posefilter/option_table.h"
+#include "posefilter/scene_pass.h"
+#include "posefilter/tracker.h"
 
 namespace posefilter::cli {
+namespace {
+
+// One line per row: flag, default, range, engines (filter rows), thesis value, meaning.
+template <class Options>
+void PrintOptionRows(std::span<const OptionInfo> rows, const Options& defaults, bool engines, bool first_group) {
+  std::string group;
+  for (const OptionInfo& f : rows) {
+    if (group != f.group) {
+      std::printf("%s%s:\n", first_group ? "" : "\n", f.group);
+      group = f.group;
+      first_group = false;
+    }
+    const std::string range = f.RangeText();
+    const std::string thesis = f.thesis == nullptr ? "-" : std::string(f.thesis) + (f.thesis_kept ? " (kept)" : "");
+    std::printf("  --%-28s %-18s %-26s %-15s %-12s %s\n", f.name, f.ValueText(defaults).c_str(),
+                range.empty() ? "-" : range.c_str(), engines ? f.EnginesText().c_str() : "-", thesis.c_str(), f.help);
+  }
+}
+
+}  // namespace
 
 int RunOptions(int argc, char** argv) {
-  CLI::App app{"Every filter option: name, default, range, engines that read it, meaning", "options"};
+  CLI::App app{"Every option: name, default, range, engines that read it, the thesis's value, meaning", "options"};
   bool markdown = false;
-  app.add_flag("--markdown", markdown, "print the table as Markdown (docs/OPTIONS.md)");
+  app.add_flag("--markdown", markdown, "print the tables as Markdown (docs/OPTIONS.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -24,17 +49,11 @@ int RunOptions(int argc, char** argv) {
     std::fputs(OptionTableMarkdown().c_str(), stdout);
     return 0;
   }
-  const FilterOptions defaults;
-  std::string group;
-  for (const OptionInfo& f : FilterOptionTable()) {
-    if (group != f.group) {
-      group = f.group;
-      std::printf("%s%s:\n", group == FilterOptionTable().front().group ? "" : "\n", f.group);
-    }
-    const std::string range = f.RangeText();
-    std::printf("  --%-28s %-18s %-26s %-15s %s\n", f.name, f.ValueText(defaults).c_str(),
-                range.empty() ? "-" : range.c_str(), f.EnginesText().c_str(), f.help);
-  }
+  std::printf("%-30s %-18s %-26s %-15s %-12s %s\n\n", "option", "default", "range", "engines", "thesis", "meaning");
+  PrintOptionRows(FilterOptionTable(), FilterOptions{}, true, true);
+  PrintOptionRows(TrackOptionTable(), TrackOptions{}, false, false);
+  PrintOptionRows(ScenePassOptionTable(), ScenePassOptions{}, false, false);
+  PrintOptionRows(AutoPriorOptionTable(), AutoPriorOptions{}, false, false);
   return 0;
 }
 

@@ -36,6 +36,7 @@
 #include "posefilter/camera.h"
 #include "posefilter/depth_image.h"
 #include "posefilter/filter.h"
+#include "posefilter/option_rows.h"
 #include "posefilter/ppf.h"
 #include "posefilter/prior.h"
 #include "posefilter/support_plane.h"
@@ -63,6 +64,11 @@ struct AutoPriorOptions {
   int max_seeds = 24;                // pose seeds kept per object (most votes first), ≥ 1
   bool IsValid(std::string* why) const;
 };
+
+// AutoPriorOptions' own fields (not the nested surfaces' and PPF options) as rows
+// (posefilter/option_rows.h): CLI flag, Python keyword, range, help. IsValid checks their ranges
+// from these rows, then min_height_m < max_height_m and the nested options' IsValid.
+std::span<const OptionInfo> AutoPriorOptionTable();
 
 // One region of step 2–3: pixel bounding box [x0, x1) × [y0, y1), pixel count, median depth.
 struct CandidateRegion {

@@ -8,11 +8,13 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "posefilter/camera.h"
 #include "posefilter/depth_image.h"
+#include "posefilter/option_rows.h"
 #include "posefilter/prior.h"
 
 namespace posefilter {
@@ -38,8 +40,15 @@ struct HeuristicOptions {
   double max_depth_m = 4.0;
   // A box with fewer valid sampled pixels than this (≥ 1) gives valid = false.
   int min_valid_pixels = 5;
+  // Every range of HeuristicOptionTable, then percentile_lo <= percentile_hi; `why` names the
+  // field ("max_samples must be >= 1 (got 0)").
   bool IsValid(std::string* why) const;
 };
+
+// HeuristicOptions' fields as rows (posefilter/option_rows.h): range, help, unit. The one place
+// their ranges are written: the filter's heuristics-* options (posefilter/option_table.h) take
+// theirs from these rows.
+std::span<const OptionInfo> HeuristicOptionTable();
 
 // One volume per box (boxes in pixels, prior.h conventions: a pixel belongs to a box when its
 // centre (u, v) lies in [cx − w/2, cx + w/2) × [cy − h/2, cy + h/2); boxes are cut to the

@@ -1,24 +1,28 @@
-// posefilter/option_table.h — every FilterOptions field as data: its CLI name, C++ field path,
-// group, help (with unit), type, range and the engines that read it. This one table drives the
-// CLI's options (apps/filter_cli.cc), the Python keywords and their help (python/bindings),
-// the range checks of FilterOptions::IsValid and their messages, the engine check, the .pyi
-// stub's Estimator signature and docs/OPTIONS.md (`posefilter options --markdown`).
+// posefilter/option_table.h — every FilterOptions field as a row (posefilter/option_rows.h):
+// its CLI name, C++ field path, group, help (with unit), type, range, the engines that read it
+// and the thesis's value. This one table drives the CLI's options (apps/filter_cli.cc), the
+// Python keywords and their help (python/bindings), the range checks of FilterOptions::IsValid
+// and their messages, the engine check, the ignored-option warnings, the thesis configuration
+// (ThesisFilterOptions: hw-report's "thesis"), the .pyi stub's Estimator signature and
+// docs/OPTIONS.md (`posefilter options --markdown`, with the other option sets' tables).
 //
 // Names: the CLI option is "--" + name (a bool: "--name" / "--no-name"); the Python keyword is
 // name with '-' → '_'. Adding an option = a field in filter_options.h + a row in
-// src/filter/option_table.cc (+ its use).
+// src/filter/option_table.cc (+ its use) + a probe in tests/filter/option_engines_test.cc: the
+// tests fail while a field has no row (tests/filter/option_rows_test.cc, counted from the
+// structs) or a row's engines differ from those whose results the option changes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "posefilter/filter_options.h"
+#include "posefilter/option_rows.h"
 
 namespace posefilter {
-
-enum class OptionType { kBool, kInt, kFloat, kDouble, kString, kUint64, kMoveProbabilities };
 
 // The engines an option is read by (bit set): a bit per engine with options of its own. The
 // engine registry (src/filter/engine_registry.h) gives each engine name its bit; an engine may
@@ -35,50 +39,6 @@ enum EngineBits : unsigned {
 // "rtl" with the hw engine's bit); 0 for any other name.
 unsigned EngineBit(const std::string& engine);
 
-// How a validation message names an option.
-enum class OptionNaming {
-  kField,   // C++ field path: "anneal.subsample"
-  kCli,     // "--anneal-subsample"
-  kPython,  // "anneal_subsample"
-};
-
-struct OptionInfo {
-  const char* name;      // CLI name without "--"; Python keyword = name with '-' → '_'
-  const char* field;     // field path in FilterOptions, e.g. "anneal.subsample"
-  const char* group;     // section of --help and docs/OPTIONS.md
-  const char* help;      // one line, with the unit
-  OptionType type;
-  // Range of a number (kInt, kFloat, kDouble, kUint64; each element of kMoveProbabilities):
-  // lo ≤ v ≤ hi, with lo < v where lo_open and v < hi where hi_open; ±inf = unbounded. A
-  // non-finite value is never in range.
-  double lo, hi;
-  bool lo_open, hi_open;
-  const char* choices;   // kString: the allowed values, '|'-separated; nullptr: any
-  unsigned engines;      // EngineBits of the engines that read it
-  // The field of `o` (typed by `type`: bool, int, float, double, std::string, std::uint64_t,
-  // std::array<double, kNumMoves>).
-  void* (*ref)(FilterOptions& o);
-
-  // The option's name as `naming` spells it.
-  std::string Name(OptionNaming naming) const;
-  // The field's value and default as text ("0.02", "true", "cpu", "0.09,0.09,…").
-  std::string ValueText(const FilterOptions& o) const;
-  // Whether the field's value in `a` equals the one in `b`.
-  bool SameValue(const FilterOptions& a, const FilterOptions& b) const;
-  // The range as text: "[1, 4]", "(0, 1]", ">= 0", "> 0", "cpu|reference|hw", or "" (any).
-  std::string RangeText() const;
-  // The engines as text: "all" or e.g. "reference, cpu".
-  std::string EnginesText() const;
-  // The allowed values of a kString option with choices ({"cpu", "reference", "hw"}); empty
-  // when any value goes.
-  std::vector<std::string> Choices() const;
-
-  template <class T>
-  T& Of(FilterOptions& o) const { return *static_cast<T*>(ref(o)); }
-  template <class T>
-  const T& Of(const FilterOptions& o) const { return *static_cast<const T*>(ref(const_cast<FilterOptions&>(o))); }
-};
-
 // Calls fn(field) with the field of `o` that `f` describes, as its C++ type (bool&, int&, …;
 // const with a const `o`), and returns what fn returns (the same type for every field type).
 template <class Options, class Fn>
@@ -90,7 +50,7 @@ decltype(auto) VisitOption(const OptionInfo& f, Options& o, Fn&& fn) {
     case OptionType::kDouble: return fn(f.Of<double>(o));
     case OptionType::kString: return fn(f.Of<std::string>(o));
     case OptionType::kUint64: return fn(f.Of<std::uint64_t>(o));
-    case OptionType::kMoveProbabilities: break;
+    case OptionType::kDoubles: break;
   }
   return fn(f.Of<std::array<double, kNumMoves>>(o));
 }
@@ -117,8 +77,15 @@ void ThrowIfInvalid(const FilterOptions& o, OptionNaming naming);
 // option is read (or the engine is unknown: IsValid reports that).
 std::vector<std::string> IgnoredOptions(const FilterOptions& o, OptionNaming naming);
 
-// The table as a Markdown document (docs/OPTIONS.md): one section per group, one row per
-// option with CLI name, Python keyword, default, range, engines and help.
+// The thesis's configuration of the filter (Ch. 7) at the scale of `scale`: `scale` with every
+// row's thesis value set where the row has one and does not keep the caller's (thesis_kept):
+// no z-buffer, the thesis's 13 moves, no annealing, niches, support plane or polish; the
+// particles, iterations, windows, thresholds and seed stay those of `scale`.
+FilterOptions ThesisFilterOptions(const FilterOptions& scale);
+
+// docs/OPTIONS.md: the filter options, one section per group, one row per option with CLI
+// name, Python keyword, C++ field, default, range, engines, thesis value and help; then the
+// other option sets' tables (the tracker's, the scene pass's, the auto prior's).
 std::string OptionTableMarkdown();
 
 }  // namespace posefilter

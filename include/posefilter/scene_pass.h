@@ -23,6 +23,7 @@
 #include "posefilter/filter.h"
 #include "posefilter/filter_options.h"
 #include "posefilter/mesh.h"
+#include "posefilter/option_rows.h"
 #include "posefilter/prepared_model.h"
 #include "posefilter/prior.h"
 
@@ -37,6 +38,10 @@ struct ScenePassOptions {
   double conflict_drop = 0.1;
   bool IsValid(std::string* why) const;
 };
+
+// ScenePassOptions' fields as rows (posefilter/option_rows.h): CLI flag, Python keyword, range,
+// help. IsValid checks the ranges of these rows.
+std::span<const OptionInfo> ScenePassOptionTable();
 
 // One estimated object of the scene: its mesh (metres), its class in the prior, the
 // per-object estimate (EstimatePose's result with the same scene, prior and options), and

@@ -30,6 +30,7 @@
 #include "posefilter/filter.h"
 #include "posefilter/filter_options.h"
 #include "posefilter/mesh.h"
+#include "posefilter/option_rows.h"
 #include "posefilter/prepared_model.h"
 #include "posefilter/prior.h"
 
@@ -74,6 +75,10 @@ struct TrackOptions {
   // "lost_weight must be in [0, 1] (got 2)", "filter.num_particles ...").
   bool IsValid(std::string* why) const;
 };
+
+// TrackOptions' own fields (not the filter option sets) as rows (posefilter/option_rows.h):
+// CLI flag, Python keyword, range, help. IsValid checks their ranges from these rows.
+std::span<const OptionInfo> TrackOptionTable();
 
 enum class TrackStatus {
   kTracked,        // found about its predicted pose

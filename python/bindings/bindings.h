@@ -125,6 +125,11 @@ std::string PythonTypeName(OptionType t);
 // Estimator's docstring: every keyword with its type, default, range, engines and meaning.
 const std::string& EstimatorDoc();
 const std::vector<Keyword<SynthOptions>>& SynthKeywords();
+// One keyword per row of TrackOptionTable, ScenePassOptionTable and AutoPriorOptionTable (the
+// row's Python spelling: "lost_weight", "constant_velocity", "scene_pass_band", "auto_min_height").
+const std::vector<Keyword<TrackOptions>>& TrackKeywords();
+const std::vector<Keyword<ScenePassOptions>>& ScenePassKeywords();
+const std::vector<Keyword<AutoPriorOptions>>& AutoPriorKeywords();
 
 
 template <class Options>

@@ -1,29 +1,51 @@
 // python/bindings/keywords.cc — the keyword options of Estimator (the rows of the option table,
-// posefilter/option_table.h) and of make_synth_scene (every SynthOptions field by name).
+// posefilter/option_table.h), of the tracker, the scene pass and the auto prior (the rows of
+// their tables, posefilter/option_rows.h) and of make_synth_scene (every SynthOptions field by name).
 #include "bindings.h"
 
 namespace posefilter::python {
 
 namespace {
 
-template <class T>
-Keyword<FilterOptions> TableKeyword(const OptionInfo& f) {
+// The keyword of one row of an options table: its Python spelling, a setter and a getter of the
+// row's field (of type T).
+template <class Options, class T>
+Keyword<Options> RowKeyword(const OptionInfo& f) {
   const OptionInfo* row = &f;
-  return {f.Name(OptionNaming::kPython), [row](FilterOptions& o, py::handle h) { row->Of<T>(o) = h.cast<T>(); },
-          [row](const FilterOptions& o) { return py::cast(row->Of<T>(o)); }};
+  return {f.Name(OptionNaming::kPython), [row](Options& o, py::handle h) { row->Of<T>(o) = h.cast<T>(); },
+          [row](const Options& o) { return py::cast(row->Of<T>(o)); }};
+}
+
+// One keyword per row of `rows`, in their order.
+template <class Options>
+std::vector<Keyword<Options>> RowKeywords(std::span<const OptionInfo> rows) {
+  std::vector<Keyword<Options>> out;
+  Options typed;  // only the fields' types are read
+  for (const OptionInfo& f : rows)
+    VisitOption(f, typed, [&](auto& v) { out.push_back(RowKeyword<Options, std::remove_cvref_t<decltype(v)>>(f)); });
+  return out;
 }
 
 }  // namespace
 
 // One keyword per row of the option table (posefilter/option_table.h), in its order.
 const std::vector<Keyword<FilterOptions>>& FilterKeywords() {
-  static const std::vector<Keyword<FilterOptions>> k = [] {
-    std::vector<Keyword<FilterOptions>> out;
-    FilterOptions typed;  // only the fields' types are read
-    for (const OptionInfo& f : FilterOptionTable())
-      VisitOption(f, typed, [&](auto& v) { out.push_back(TableKeyword<std::remove_cvref_t<decltype(v)>>(f)); });
-    return out;
-  }();
+  static const std::vector<Keyword<FilterOptions>> k = RowKeywords<FilterOptions>(FilterOptionTable());
+  return k;
+}
+
+const std::vector<Keyword<TrackOptions>>& TrackKeywords() {
+  static const std::vector<Keyword<TrackOptions>> k = RowKeywords<TrackOptions>(TrackOptionTable());
+  return k;
+}
+
+const std::vector<Keyword<ScenePassOptions>>& ScenePassKeywords() {
+  static const std::vector<Keyword<ScenePassOptions>> k = RowKeywords<ScenePassOptions>(ScenePassOptionTable());
+  return k;
+}
+
+const std::vector<Keyword<AutoPriorOptions>>& AutoPriorKeywords() {
+  static const std::vector<Keyword<AutoPriorOptions>> k = RowKeywords<AutoPriorOptions>(AutoPriorOptionTable());
   return k;
 }
 
@@ -35,7 +57,7 @@ std::string PythonTypeName(OptionType t) {
     case OptionType::kFloat:
     case OptionType::kDouble: return "float";
     case OptionType::kString: return "str";
-    case OptionType::kMoveProbabilities: return "Sequence[float]";
+    case OptionType::kDoubles: return "Sequence[float]";
   }
   return "object";
 }

@@ -1,26 +1,28 @@
 // src/filter/option_table.cc — the table of every FilterOptions field (posefilter/option_table.h)
-// and what is derived from it: names, value text, ranges, ignored-option checks, Markdown.
+// and what is derived from it: the engines text, the checks between options, ignored-option
+// warnings, the thesis configuration, docs/OPTIONS.md.
 #include "posefilter/option_table.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <limits>
+#include <stdexcept>
 #include <string>
-#include <type_traits>
 
 #include "core/threads.h"
 #include "filter/engine_registry.h"
+#include "posefilter/auto_prior.h"
 #include "posefilter/error.h"
+#include "posefilter/heuristics.h"
 #include "posefilter/hw_engine.h"
 #include "posefilter/mesh_simplify.h"
+#include "posefilter/scene_pass.h"
+#include "posefilter/tracker.h"
 #include "render/cpu_kernel.h"
 
 namespace posefilter {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // The engines that run the float filter (engine_registry.h), not modelled by the hw engine.
 unsigned FloatEngineBits() {
   unsigned bits = 0;
@@ -35,39 +37,49 @@ const char* EngineChoiceText() {
   return choices.c_str();
 }
 
-struct Range {
-  double lo, hi;
-  bool lo_open, hi_open;
-};
-constexpr Range Closed(double lo, double hi) { return {lo, hi, false, false}; }
-constexpr Range AtLeast(double lo) { return {lo, kInf, false, false}; }
-constexpr Range kPositive = {0, kInf, true, false};
-constexpr Range kFraction = Closed(0, 1);                 // [0, 1]
-constexpr Range kPositiveFraction = {0, 1, true, false};  // (0, 1]
-constexpr Range kAny = {-kInf, kInf, false, false};
+constexpr OptionRange Closed(double lo, double hi) { return ClosedRange(lo, hi); }
+constexpr OptionRange AtLeast(double lo) { return AtLeastRange(lo); }
+constexpr OptionRange kPositive = kPositiveRange;
+constexpr OptionRange kFraction = kFractionRange;                  // [0, 1]
+constexpr OptionRange kPositiveFraction = kPositiveFractionRange;  // (0, 1]
+constexpr OptionRange kAny = kAnyRange;
 
-template <class T>
-constexpr OptionType TypeCode() {
-  if constexpr (std::is_same_v<T, bool>) return OptionType::kBool;
-  else if constexpr (std::is_same_v<T, int>) return OptionType::kInt;
-  else if constexpr (std::is_same_v<T, float>) return OptionType::kFloat;
-  else if constexpr (std::is_same_v<T, double>) return OptionType::kDouble;
-  else if constexpr (std::is_same_v<T, std::string>) return OptionType::kString;
-  else if constexpr (std::is_same_v<T, std::uint64_t>) return OptionType::kUint64;
-  else {
-    static_assert(std::is_same_v<T, std::array<double, kNumMoves>>, "a FilterOptions field of an unknown type");
-    return OptionType::kMoveProbabilities;
-  }
+#define POSEFILTER_FIELD(path) POSEFILTER_OPTION_FIELD(FilterOptions, path)
+
+OptionInfo Row(const char* name, const char* field, void* (*ref)(void*), OptionType type, int count,
+               const std::type_info* owner, const char* group, OptionRange range, unsigned engines, const char* help,
+               const char* choices = nullptr) {
+  OptionInfo row = MakeOptionRow(name, field, ref, type, count, owner, group, range, help);
+  row.engines = engines;
+  row.choices = choices;
+  return row;
 }
 
-// The field path, its accessor and its type, from one spelling of the path.
-#define POSEFILTER_FIELD(path)                                 \
-  #path, [](FilterOptions& o) -> void* { return &o.path; }, \
-      TypeCode<std::remove_cvref_t<decltype(std::declval<FilterOptions&>().path)>>()
+// A row with the thesis's value, which a thesis configuration sets (an extension of ours the
+// thesis does not have, switched off).
+OptionInfo Thesis(const char* value, OptionInfo row) {
+  row.thesis = value;
+  return row;
+}
+// A row with the thesis's value, which a thesis configuration keeps from the caller's options
+// (the run's scale, a threshold the caller varies).
+OptionInfo ThesisKept(const char* value, OptionInfo row) {
+  row.thesis = value;
+  row.thesis_kept = true;
+  return row;
+}
 
-OptionInfo Row(const char* name, const char* field, void* (*ref)(FilterOptions&), OptionType type, const char* group,
-               Range range, unsigned engines, const char* help, const char* choices = nullptr) {
-  return OptionInfo{name, field, group, help, type, range.lo, range.hi, range.lo_open, range.hi_open, choices, engines, ref};
+// A heuristic-volume row: range and help from HeuristicOptionTable (posefilter/heuristics.h),
+// the one place they are written.
+OptionInfo HeuristicRow(const char* name, const char* field, void* (*ref)(void*), OptionType type, int count,
+                        const std::type_info* owner, const char* heuristic_field, const char* help = nullptr) {
+  const OptionInfo* h = FindOptionRow(HeuristicOptionTable(), heuristic_field);
+  if (h == nullptr || h->type != type) throw std::logic_error(std::string("no heuristic option row ") + heuristic_field);
+  OptionInfo row = Row(name, field, ref, type, count, owner, "Heuristic volumes",
+                       OptionRange{h->lo, h->hi, h->lo_open, h->hi_open}, kAllEngines, help ? help : h->help);
+  row.thesis = h->thesis;
+  row.thesis_kept = h->thesis_kept;
+  return row;
 }
 
 const std::vector<OptionInfo>& Table() {
@@ -76,118 +88,134 @@ const std::vector<OptionInfo>& Table() {
       // ---- engine and run
       Row("engine", POSEFILTER_FIELD(engine), "Engine", kAny, kAllEngines, "engine that weighs the particles",
           EngineChoiceText()),
-      Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kEngineCpu | kEngineGpu,
-          "cpu kernel's instruction set (the cpu engine; the gpu engine's ICP weighings): auto (the best this CPU "
-          "runs), avx512, avx2 or portable (same results)",
+      Row("cpu-isa", POSEFILTER_FIELD(cpu_isa), "Engine", kAny, kAllEngines,
+          "cpu kernel's instruction set (the cpu engine; the gpu engine's ICP weighings; every engine's final "
+          "polish): auto (the best this CPU runs), avx512, avx2 or portable (same weights; a polished pose may "
+          "differ in rounding)",
           "auto|avx512|avx2|portable"),
       Row("threads", POSEFILTER_FIELD(threads), "Engine", AtLeast(0), kAllEngines,
           "worker threads: scoring, scene normals, heuristic volumes (0 = all cores, at most 4 per hardware thread)"),
       Row("seed", POSEFILTER_FIELD(seed), "Engine", kAny, kAllEngines,
           "random seed (same seed, same poses), an integer in [0, 2^64 - 1]"),
-      Row("restarts", POSEFILTER_FIELD(restarts), "Engine", Closed(1, 100), kAllEngines,
-          "independent runs, the best weight wins (time x restarts)"),
+      ThesisKept("1", Row("restarts", POSEFILTER_FIELD(restarts), "Engine", Closed(1, 100), kAllEngines,
+                          "independent runs, the best weight wins (time x restarts)")),
       Row("record-particles", POSEFILTER_FIELD(record_particles), "Engine", kAny, kFloatEngines,
           "record each iteration's particle set (poses, weights) for the viewer; changes no pose"),
       // ---- particles and resampling
-      Row("particles", POSEFILTER_FIELD(num_particles), "Particles", Closed(2, 1'000'000), kAllEngines,
-          "number of particles N (the hw engine: at most 510)"),
+      ThesisKept("510", Row("particles", POSEFILTER_FIELD(num_particles), "Particles", Closed(2, 1'000'000),
+                            kAllEngines, "number of particles N (the hw engine: at most 510)")),
       Row("elite", POSEFILTER_FIELD(num_elite), "Particles", Closed(0, 1'000'000), kAllEngines,
           "best particles carried unchanged into the next set (< --particles)"),
       Row("pool", POSEFILTER_FIELD(resample_pool), "Particles", kPositiveFraction, kAllEngines,
           "fraction of the sorted set the rest is resampled from"),
-      Row("fine-fraction", POSEFILTER_FIELD(fine_particle_fraction), "Particles", kPositiveFraction, kFloatEngines,
-          "after annealing, each set has this fraction of --particles (1 = all of them)"),
-      Row("init-oversample", POSEFILTER_FIELD(init_oversample), "Particles", Closed(1, 64), kFloatEngines,
-          "draw this many x N initial particles, weigh them all and keep the best N"),
-      Row("seed-start", POSEFILTER_FIELD(seed_start), "Particles", kFraction, kFloatEngines,
-          "fraction of the initial particles started at the scene's pose seeds (the --prior auto proposals) where "
-          "it has any"),
-      Row("tracker-bins", POSEFILTER_FIELD(tracker_bins), "Particles", Closed(1, 4096), kFloatEngines,
-          "threshold-tracker entries of the CDF samplers (thesis 7.4; the hw engine has 32)"),
+      Thesis("1", Row("fine-fraction", POSEFILTER_FIELD(fine_particle_fraction), "Particles", kPositiveFraction,
+                      kFloatEngines, "after annealing, each set has this fraction of --particles (1 = all of them)")),
+      Thesis("1", Row("init-oversample", POSEFILTER_FIELD(init_oversample), "Particles", Closed(1, 64), kFloatEngines,
+                      "draw this many x N initial particles, weigh them all and keep the best N")),
+      Thesis(
+          "0",
+          Row("seed-start", POSEFILTER_FIELD(seed_start), "Particles", kFraction, kFloatEngines,
+              "fraction of the initial particles started at the scene's pose seeds (the --prior auto proposals) where "
+              "it has any")),
+      ThesisKept("32", Row("tracker-bins", POSEFILTER_FIELD(tracker_bins), "Particles", Closed(1, 4096), kFloatEngines,
+                           "threshold-tracker entries of the CDF samplers (thesis 7.4; the hw engine has 32)")),
       // ---- weight, eq. 7.4 [ALGORITHM.md]
       Row("alpha", POSEFILTER_FIELD(score.alpha), "Weight", kFraction, kAllEngines,
           "weight of I/N_raster (eq. 7.4); alpha + beta + gamma = 1"),
       Row("beta", POSEFILTER_FIELD(score.beta), "Weight", kFraction, kAllEngines, "weight of I/N_depth (eq. 7.4)"),
       Row("gamma", POSEFILTER_FIELD(score.gamma), "Weight", kFraction, kAllEngines,
           "weight of the stage-1 probability (eq. 7.4)"),
-      Row("delta", POSEFILTER_FIELD(score.delta), "Weight", kFraction, kAllEngines,
-          "silhouette edge penalty: weight lost where the scene surface continues across the outline (0 = off)"),
+      Thesis(
+          "0",
+          Row("delta", POSEFILTER_FIELD(score.delta), "Weight", kFraction, kAllEngines,
+              "silhouette edge penalty: weight lost where the scene surface continues across the outline (0 = off)")),
       Row("edge-band", POSEFILTER_FIELD(score.edge_band_m), "Weight", kPositive, kAllEngines,
           "edge penalty: depth step across the outline below which the surface continues (m)"),
-      Row("inlier-thr", POSEFILTER_FIELD(score.inlier.thr1_m), "Weight", kPositive, kAllEngines,
-          "soft inlier: chi = 1 up to this, 0 from twice it (m)"),
-      Row("hard-inlier", POSEFILTER_FIELD(score.inlier.hard), "Weight", kAny, kAllEngines,
-          "hard inlier (chi = 1 iff d <= --hard-inlier-thr) instead of the soft ramp"),
-      Row("hard-inlier-thr", POSEFILTER_FIELD(score.inlier.hard_thr_m), "Weight", kPositive, kAllEngines,
-          "hard inlier threshold (m)"),
-      Row("occlusion-aware", POSEFILTER_FIELD(score.occlusion_aware), "Weight", kAny, kAllEngines,
-          "leave rendered pixels hidden behind nearer scene depth out of N_raster (off: the thesis)"),
+      ThesisKept("0.00390625", Row("inlier-thr", POSEFILTER_FIELD(score.inlier.thr1_m), "Weight", kPositive,
+                                   kAllEngines, "soft inlier: chi = 1 up to this, 0 from twice it (m)")),
+      ThesisKept("false", Row("hard-inlier", POSEFILTER_FIELD(score.inlier.hard), "Weight", kAny, kAllEngines,
+                              "hard inlier (chi = 1 iff d <= --hard-inlier-thr) instead of the soft ramp")),
+      ThesisKept("0.005", Row("hard-inlier-thr", POSEFILTER_FIELD(score.inlier.hard_thr_m), "Weight", kPositive,
+                              kAllEngines, "hard inlier threshold (m)")),
+      Thesis("false", Row("occlusion-aware", POSEFILTER_FIELD(score.occlusion_aware), "Weight", kAny, kAllEngines,
+                          "leave rendered pixels hidden behind nearer scene depth out of N_raster (off: the thesis)")),
       // ---- support plane
-      Row("support-plane", POSEFILTER_FIELD(support.plane), "Support plane", kAny, kAllEngines,
-          "leave the dominant plane's (the table's) pixels out of the scored depth (off: every pixel, the thesis)"),
-      Row("contact", POSEFILTER_FIELD(support.contact), "Support plane", kFraction, kAllEngines,
-          "contact prior: weight lost by a pose floating above or sunk into the support plane (0 = off)"),
+      Thesis("false", Row("support-plane", POSEFILTER_FIELD(support.plane), "Support plane", kAny, kAllEngines,
+                          "leave the dominant plane's (the table's) pixels out of the scored depth (off: every pixel, "
+                          "the thesis)")),
+      Thesis("0", Row("contact", POSEFILTER_FIELD(support.contact), "Support plane", kFraction, kAllEngines,
+                      "contact prior: weight lost by a pose floating above or sunk into the support plane (0 = off)")),
       Row("contact-tolerance", POSEFILTER_FIELD(support.contact_tolerance_m), "Support plane", AtLeast(0), kAllEngines,
           "contact prior: gap or overlap with the plane that costs nothing (m)"),
       Row("contact-span", POSEFILTER_FIELD(support.contact_span_m), "Support plane", kPositive, kAllEngines,
           "contact prior: distance beyond the tolerance over which the full --contact is lost (m)"),
-      Row("stable-start", POSEFILTER_FIELD(support.stable_start), "Support plane", kFraction, kAllEngines,
-          "fraction of the initial particles resting on the plane in a stable pose of the mesh (0 = off; the hw "
-          "engine uses it for the polish only)"),
+      Thesis("0",
+             Row("stable-start", POSEFILTER_FIELD(support.stable_start), "Support plane", kFraction, kAllEngines,
+                 "fraction of the initial particles resting on the plane in a stable pose of the mesh (0 = off; the hw "
+                 "engine uses it for the polish only)")),
       // ---- rendering and windows
-      Row("zbuffer", POSEFILTER_FIELD(render.zbuffer), "Rendering", kAny, kAllEngines,
-          "exact z-buffer (off: the thesis's back-face culling only)"),
+      Thesis("false", Row("zbuffer", POSEFILTER_FIELD(render.zbuffer), "Rendering", kAny, kAllEngines,
+                          "exact z-buffer (off: the thesis's back-face culling only)")),
       Row("near", POSEFILTER_FIELD(render.near_m), "Rendering", kPositive, kAllEngines,
           "triangles closer than this to the camera are skipped (m; the hw engine: >= 1/64)"),
       Row("lod", POSEFILTER_FIELD(render.lod_max_faces), "Rendering", AtLeast(0), kAllEngines,
           "level of detail: render the mesh simplified to at most this many faces (0 = the full mesh, else >= 4)"),
-      Row("window", POSEFILTER_FIELD(render.max_window_px), "Rendering", AtLeast(8), kAllEngines,
-          "maximum window side (pixels; the hw engine: at most 200)"),
-      Row("adaptive-resolution", POSEFILTER_FIELD(render.adaptive_resolution), "Rendering", kAny, kAllEngines,
-          "weigh objects too large for a window on every s-th pixel, s the smallest stride that fits (off: every "
-          "pixel, the thesis; the hw engine uses it for the polish only)"),
-      Row("min-window-diameters", POSEFILTER_FIELD(render.min_window_diameters), "Rendering", Closed(0, 4),
-          kAllEngines, "windows are at least this fraction of the object's projected diameter (0 = the box)"),
-      Row("grow-window", POSEFILTER_FIELD(render.grow_window), "Rendering", kAny, kAllEngines,
-          "grow each particle's window to its own projected box (off: the cell's window, the thesis)"),
+      ThesisKept("200", Row("window", POSEFILTER_FIELD(render.max_window_px), "Rendering", AtLeast(8), kAllEngines,
+                            "maximum window side (pixels; the hw engine: at most 200)")),
+      Thesis(
+          "false",
+          Row("adaptive-resolution", POSEFILTER_FIELD(render.adaptive_resolution), "Rendering", kAny, kAllEngines,
+              "weigh objects too large for a window on every s-th pixel, s the smallest stride that fits (off: every "
+              "pixel, the thesis; the hw engine uses it for the polish only)")),
+      ThesisKept(
+          "0", Row("min-window-diameters", POSEFILTER_FIELD(render.min_window_diameters), "Rendering", Closed(0, 4),
+                   kAllEngines, "windows are at least this fraction of the object's projected diameter (0 = the box)")),
+      Thesis("false", Row("grow-window", POSEFILTER_FIELD(render.grow_window), "Rendering", kAny, kAllEngines,
+                          "grow each particle's window to its own projected box (off: the cell's window, the thesis)")),
       // ---- coarse-to-fine
-      Row("anneal", POSEFILTER_FIELD(anneal.start_m), "Annealing", AtLeast(0), kAllEngines,
-          "coarse-to-fine: initial inlier threshold (m; 0 = off)"),
+      Thesis("0", Row("anneal", POSEFILTER_FIELD(anneal.start_m), "Annealing", AtLeast(0), kAllEngines,
+                      "coarse-to-fine: initial inlier threshold (m; 0 = off)")),
       Row("anneal-fraction", POSEFILTER_FIELD(anneal.fraction), "Annealing", kFraction, kAllEngines,
           "coarse-to-fine: fraction of --iterations over which the threshold falls to --inlier-thr"),
-      Row("anneal-subsample", POSEFILTER_FIELD(anneal.subsample), "Annealing", Closed(1, 4), kFloatEngines,
-          "coarse-to-fine: weigh on every Nth pixel of every Nth row while the threshold anneals (1 = every pixel)"),
-      Row("anneal-simplify", POSEFILTER_FIELD(anneal.simplify), "Annealing", kAny, kFloatEngines,
-          "on the coarse annealing grid, weigh a mesh simplified to faces / N^2 (off: the full mesh)"),
+      Thesis("1", Row("anneal-subsample", POSEFILTER_FIELD(anneal.subsample), "Annealing", Closed(1, 4), kFloatEngines,
+                      "coarse-to-fine: weigh on every Nth pixel of every Nth row while the threshold anneals (1 = "
+                      "every pixel)")),
+      Thesis("false", Row("anneal-simplify", POSEFILTER_FIELD(anneal.simplify), "Annealing", kAny, kAllEngines,
+                          "on a coarse pixel grid, weigh a mesh simplified to faces / N^2 (off: the full mesh; the "
+                          "hw engine: in its final polish only)")),
       // ---- niches
-      Row("region-cap", POSEFILTER_FIELD(niches.region_cap), "Niches", kPositiveFraction, kAllEngines,
-          "at most this fraction of the resampling pool from one detection (1 = off)"),
-      Row("rotation-cap", POSEFILTER_FIELD(niches.rotation_cap), "Niches", kPositiveFraction, kAllEngines,
-          "at most this fraction of the pool from one detection and coarse orientation (1 = off)"),
+      Thesis("1", Row("region-cap", POSEFILTER_FIELD(niches.region_cap), "Niches", kPositiveFraction, kAllEngines,
+                      "at most this fraction of the resampling pool from one detection (1 = off)")),
+      Thesis("1", Row("rotation-cap", POSEFILTER_FIELD(niches.rotation_cap), "Niches", kPositiveFraction, kAllEngines,
+                      "at most this fraction of the pool from one detection and coarse orientation (1 = off)")),
       // ---- diffusion
       Row("sigma-t", POSEFILTER_FIELD(diffusion.sigma_t0_m), "Diffusion", AtLeast(0), kAllEngines,
           "diffusion translation sigma at weight 0 (m)"),
       Row("sigma-r", POSEFILTER_FIELD(diffusion.sigma_r0_rad), "Diffusion", AtLeast(0), kAllEngines,
           "diffusion rotation sigma at weight 0 (rad)"),
-      Row("min-sigma-fraction", POSEFILTER_FIELD(diffusion.min_sigma_fraction), "Diffusion", kFraction, kAllEngines,
-          "sigma never decays below this fraction of sigma at weight 0"),
-      Row("move-probabilities", POSEFILTER_FIELD(diffusion.move_probabilities), "Diffusion", AtLeast(0), kAllEngines,
-          "probability of each of the 17 moves (docs/ALGORITHM.md), normalised over the moves that apply"),
+      Thesis("0", Row("min-sigma-fraction", POSEFILTER_FIELD(diffusion.min_sigma_fraction), "Diffusion", kFraction,
+                      kAllEngines, "sigma never decays below this fraction of sigma at weight 0")),
+      Thesis("1,1,1,1,1,1,1,1,1,1,1,1,1,0,0,0,0",
+             Row("move-probabilities", POSEFILTER_FIELD(diffusion.move_probabilities), "Diffusion", AtLeast(0),
+                 kAllEngines,
+                 "probability of each of the 17 moves (docs/ALGORITHM.md), normalised over the moves that apply")),
       Row("align-band", POSEFILTER_FIELD(diffusion.align_band_m), "Diffusion", kPositive, kAllEngines,
           "depth differences used by the align-depth move (m)"),
       // ---- stopping
-      Row("iterations", POSEFILTER_FIELD(stop.max_iterations), "Stopping", Closed(1, 100'000), kAllEngines,
-          "maximum iterations per run"),
+      ThesisKept("50", Row("iterations", POSEFILTER_FIELD(stop.max_iterations), "Stopping", Closed(1, 100'000),
+                           kAllEngines, "maximum iterations per run")),
       Row("confidence", POSEFILTER_FIELD(stop.confidence), "Stopping", kPositiveFraction, kAllEngines,
           "a run stops when its best weight reaches this"),
-      Row("stall-iterations", POSEFILTER_FIELD(stop.stall_iterations), "Stopping", Closed(0, 1000), kAllEngines,
-          "a run ends when its best weight rose by less than --stall-gain over this many iterations at the final "
-          "threshold (0 = off)"),
+      Thesis(
+          "0",
+          Row("stall-iterations", POSEFILTER_FIELD(stop.stall_iterations), "Stopping", Closed(0, 1000), kAllEngines,
+              "a run ends when its best weight rose by less than --stall-gain over this many iterations at the final "
+              "threshold (0 = off)")),
       Row("stall-gain", POSEFILTER_FIELD(stop.stall_gain), "Stopping", kFraction, kAllEngines,
           "see --stall-iterations (weight)"),
       // ---- polish
-      Row("polish-steps", POSEFILTER_FIELD(polish.steps), "Polish", Closed(0, 100), kAllEngines,
-          "final polish: ICP steps per polished candidate (0 = off)"),
+      Thesis("0", Row("polish-steps", POSEFILTER_FIELD(polish.steps), "Polish", Closed(0, 100), kAllEngines,
+                      "final polish: ICP steps per polished candidate (0 = off)")),
       Row("polish-turns", POSEFILTER_FIELD(polish.turns), "Polish", kAny, kAllEngines,
           "final polish: also try the 23 cube turns of each seed"),
       Row("polish-pivots", POSEFILTER_FIELD(polish.pivots), "Polish", kAny, kAllEngines,
@@ -200,41 +228,19 @@ const std::vector<OptionInfo>& Table() {
           "final polish: niche leaders per run used as seeds"),
       Row("polish-climbers", POSEFILTER_FIELD(polish.climbers), "Polish", Closed(0, 1000), kAllEngines,
           "final polish: candidates refined by pattern search"),
-      // ---- heuristic volumes
-      Row("heuristics-percentile-lo", POSEFILTER_FIELD(heuristics.percentile_lo), "Heuristic volumes", kFraction,
-          kAllEngines, "volume bounds: lower quantile of the cell's points, per axis"),
-      Row("heuristics-percentile-hi", POSEFILTER_FIELD(heuristics.percentile_hi), "Heuristic volumes", kFraction,
-          kAllEngines, "volume bounds: upper quantile (>= the lower)"),
-      Row("heuristics-depth-extension", POSEFILTER_FIELD(heuristics.depth_extension_m), "Heuristic volumes",
-          AtLeast(0), kAllEngines, "points also moved this far along their ray (m; 0 = the object's radius)"),
-      Row("heuristics-max-samples", POSEFILTER_FIELD(heuristics.max_samples), "Heuristic volumes", AtLeast(1),
-          kAllEngines, "depth pixels sampled per box"),
-      Row("heuristics-max-depth", POSEFILTER_FIELD(heuristics.max_depth_m), "Heuristic volumes", kPositive,
-          kAllEngines, "depth beyond this is ignored (m)"),
-      Row("heuristics-min-valid-pixels", POSEFILTER_FIELD(heuristics.min_valid_pixels), "Heuristic volumes",
-          AtLeast(1), kAllEngines, "a box with fewer valid sampled pixels has no volume"),
+      // ---- heuristic volumes (ranges and help: HeuristicOptionTable)
+      HeuristicRow("heuristics-percentile-lo", POSEFILTER_FIELD(heuristics.percentile_lo), "percentile_lo"),
+      HeuristicRow("heuristics-percentile-hi", POSEFILTER_FIELD(heuristics.percentile_hi), "percentile_hi"),
+      HeuristicRow("heuristics-depth-extension", POSEFILTER_FIELD(heuristics.depth_extension_m), "depth_extension_m",
+                   "points also moved this far along their ray (m; 0 = the object's radius)"),
+      HeuristicRow("heuristics-max-samples", POSEFILTER_FIELD(heuristics.max_samples), "max_samples"),
+      HeuristicRow("heuristics-max-depth", POSEFILTER_FIELD(heuristics.max_depth_m), "max_depth_m"),
+      HeuristicRow("heuristics-min-valid-pixels", POSEFILTER_FIELD(heuristics.min_valid_pixels), "min_valid_pixels"),
   };
   return t;
 }
 
 #undef POSEFILTER_FIELD
-
-// The shortest text that reads back as `v` (an integral value without exponent).
-template <class T>
-std::string NumberText(T v) {
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  if (std::isfinite(v) && v == std::trunc(v) && std::fabs(v) < 1e15) return std::to_string(static_cast<long long>(v));
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-bool InRange(double v, const OptionInfo& f) {
-  if (!std::isfinite(v)) return false;
-  if (f.lo_open ? !(v > f.lo) : !(v >= f.lo)) return false;
-  if (f.hi_open ? !(v < f.hi) : !(v <= f.hi)) return false;
-  return true;
-}
 
 }  // namespace
 
@@ -245,68 +251,7 @@ unsigned EngineBit(const std::string& engine) {
 
 std::span<const OptionInfo> FilterOptionTable() { return Table(); }
 
-const OptionInfo* FindOption(const std::string& key) {
-  for (const OptionInfo& f : Table()) {
-    if (key == f.field || key == f.name || key == f.Name(OptionNaming::kPython)) return &f;
-  }
-  return nullptr;
-}
-
-std::string OptionInfo::Name(OptionNaming naming) const {
-  switch (naming) {
-    case OptionNaming::kField:
-      return field;
-    case OptionNaming::kCli:
-      return std::string("--") + name;
-    case OptionNaming::kPython: {
-      std::string s = name;
-      for (char& c : s)
-        if (c == '-') c = '_';
-      return s;
-    }
-  }
-  return name;
-}
-
-std::string OptionInfo::ValueText(const FilterOptions& o) const {
-  return VisitOption(*this, o, [](const auto& v) -> std::string {
-    using T = std::remove_cvref_t<decltype(v)>;
-    if constexpr (std::is_same_v<T, bool>) {
-      return v ? "true" : "false";
-    } else if constexpr (std::is_same_v<T, std::string>) {
-      return v;
-    } else if constexpr (std::is_integral_v<T>) {
-      return std::to_string(v);
-    } else if constexpr (std::is_floating_point_v<T>) {
-      return NumberText(v);
-    } else {  // the move probabilities
-      std::string s;
-      for (double p : v) {
-        if (!s.empty()) s += ',';
-        s += NumberText(p);
-      }
-      return s;
-    }
-  });
-}
-
-bool OptionInfo::SameValue(const FilterOptions& a, const FilterOptions& b) const {
-  return VisitOption(*this, a, [&](const auto& va) {
-    return va == Of<std::remove_cvref_t<decltype(va)>>(b);
-  });
-}
-
-std::string OptionInfo::RangeText() const {
-  if (choices != nullptr) return choices;
-  if (type == OptionType::kBool || type == OptionType::kString) return "";
-  if (type == OptionType::kUint64) return "[0, 2^64 - 1]";
-  const bool lo_bounded = std::isfinite(lo), hi_bounded = std::isfinite(hi);
-  if (lo_bounded && hi_bounded)
-    return std::string(lo_open ? "(" : "[") + NumberText(lo) + ", " + NumberText(hi) + (hi_open ? ")" : "]");
-  if (lo_bounded) return std::string(lo_open ? "> " : ">= ") + NumberText(lo);
-  if (hi_bounded) return std::string(hi_open ? "< " : "<= ") + NumberText(hi);
-  return "";
-}
+const OptionInfo* FindOption(const std::string& key) { return FindOptionRow(Table(), key); }
 
 std::string OptionInfo::EnginesText() const {
   if (engines == kAllEngines) return "all";
@@ -321,17 +266,6 @@ std::string OptionInfo::EnginesText() const {
   return s;
 }
 
-std::vector<std::string> OptionInfo::Choices() const {
-  std::vector<std::string> out;
-  if (choices == nullptr) return out;
-  for (std::string c = choices;;) {
-    const std::size_t bar = c.find('|');
-    out.push_back(c.substr(0, bar));
-    if (bar == std::string::npos) return out;
-    c = c.substr(bar + 1);
-  }
-}
-
 std::vector<std::string> IgnoredOptions(const FilterOptions& o, OptionNaming naming) {
   std::vector<std::string> out;
   const unsigned bit = EngineBit(o.engine);
@@ -343,74 +277,78 @@ std::vector<std::string> IgnoredOptions(const FilterOptions& o, OptionNaming nam
   return out;
 }
 
+FilterOptions ThesisFilterOptions(const FilterOptions& scale) {
+  FilterOptions o = scale;
+  for (const OptionInfo& f : Table()) {
+    std::string why;
+    if (f.thesis != nullptr && !f.thesis_kept && !f.SetFromText(o, f.thesis, &why))
+      throw std::logic_error("option table: the thesis value of " + why);
+  }
+  return o;
+}
+
+namespace {
+
+// The thesis column: the value, "(kept)" where a thesis configuration keeps the caller's.
+std::string ThesisText(const OptionInfo& f) {
+  if (f.thesis == nullptr) return "";
+  return std::string(f.thesis) + (f.thesis_kept ? " (kept)" : "");
+}
+
+// An option set's section of docs/OPTIONS.md.
+std::string SetSection(const char* title, const char* intro, std::span<const OptionInfo> rows, const void* defaults) {
+  return std::string("\n## ") + title + "\n\n" + intro + "\n\n" + OptionRowsMarkdown(rows, defaults);
+}
+
+}  // namespace
+
 std::string OptionTableMarkdown() {
   const FilterOptions defaults;
   std::string md =
-      "# Filter options\n\n"
+      "# Options\n\n"
       "Every option of the particle filter, as `posefilter estimate`, `demo`, `suite`, `run-dataset` and\n"
       "`hw-report` take it (`--name`; a switch also as `--no-name`) and as `posefilter.Estimator` takes it (the keyword is\n"
       "the name with `-` as `_`). C++ sets the field of `posefilter::FilterOptions` (posefilter/filter_options.h).\n"
       "Ranges are checked before any work, and an error names the option. Engines: the engines that read the\n"
-      "option; setting one away from its default for another engine prints a warning.\n\n"
+      "option; setting one away from its default for another engine prints a warning. Thesis: the thesis's value\n"
+      "(Ch. 7) where it fixes one; `hw-report`'s thesis configuration sets it, except where marked (kept): there it\n"
+      "keeps the value given (the run's scale, thresholds).\n\n"
+      "Then the options of the tracker, the scene pass and the auto prior, from tables of the same kind.\n\n"
       "This file is the output of `posefilter options --markdown`; a test keeps them equal.\n";
   const char* group = "";
   for (const OptionInfo& f : Table()) {
     if (std::string(group) != f.group) {
       group = f.group;
-      md += std::string("\n## ") + group + "\n\n| option | Python | C++ field | default | range | engines | meaning |\n"
-            "|---|---|---|---|---|---|---|\n";
+      md += std::string("\n## ") + group +
+            "\n\n| option | Python | C++ field | default | range | engines | thesis | meaning |\n"
+            "|---|---|---|---|---|---|---|---|\n";
     }
     std::string range = f.RangeText();
-    for (char& c : range)
-      if (c == '|') c = '/';
+    std::replace(range.begin(), range.end(), '|', '/');
     md += "| `--" + std::string(f.name) + "` | `" + f.Name(OptionNaming::kPython) + "` | `" + f.field + "` | " +
-          f.ValueText(defaults) + " | " + range + " | " + f.EnginesText() + " | " + f.help + " |\n";
+          f.ValueText(defaults) + " | " + range + " | " + f.EnginesText() + " | " + ThesisText(f) + " | " + f.help +
+          " |\n";
   }
+  const TrackOptions track;
+  md += SetSection("Tracker",
+                   "`posefilter track` and `posefilter.Tracker` (C++: `posefilter::TrackOptions`, posefilter/tracker.h); the "
+                   "tracking step's filter options are the filter options above.",
+                   TrackOptionTable(), &track);
+  const ScenePassOptions pass;
+  md += SetSection("Scene pass",
+                   "The joint pass over several objects' estimates (C++: `posefilter::ScenePassOptions`, "
+                   "posefilter/scene_pass.h).",
+                   ScenePassOptionTable(), &pass);
+  const AutoPriorOptions autop;
+  md += SetSection("Auto prior",
+                   "`--prior auto`: regions above the support and PPF pose proposals (C++: `posefilter::AutoPriorOptions`, "
+                   "posefilter/auto_prior.h).",
+                   AutoPriorOptionTable(), &autop);
   return md;
 }
 
-namespace {
-
-// Every range and choice list of the table.
-bool ValidateRanges(const FilterOptions& o, OptionNaming naming, std::string* why) {
-  auto fail = [&](const OptionInfo& f, const std::string& value) {
-    if (why) {
-      const std::string range = f.RangeText();
-      const bool interval = !range.empty() && (range[0] == '[' || range[0] == '(');
-      *why = f.Name(naming) + " must be " + (f.choices ? "one of " : interval ? "in " : "") + range + " (got " + value +
-             ")";
-    }
-    return false;
-  };
-  for (const OptionInfo& f : Table()) {
-    const bool ok = VisitOption(f, o, [&](const auto& v) {
-      using T = std::remove_cvref_t<decltype(v)>;
-      if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::uint64_t>) {
-        return true;  // every value is in range
-      } else if constexpr (std::is_same_v<T, std::string>) {
-        const std::vector<std::string> choices = f.Choices();
-        if (choices.empty() || std::find(choices.begin(), choices.end(), v) != choices.end()) return true;
-        return fail(f, "'" + v + "'");
-      } else if constexpr (std::is_arithmetic_v<T>) {
-        return InRange(v, f) || fail(f, f.ValueText(o));
-      } else {  // the move probabilities: each in range
-        for (double p : v)
-          if (!InRange(p, f)) {
-            if (why) *why = f.Name(naming) + " must each be finite and >= 0 (got " + NumberText(p) + ")";
-            return false;
-          }
-        return true;
-      }
-    });
-    if (!ok) return false;
-  }
-  return true;
-}
-
-}  // namespace
-
 bool ValidateFilterOptions(const FilterOptions& o, OptionNaming naming, std::string* why) {
-  if (!ValidateRanges(o, naming, why)) return false;
+  if (!ValidateOptionRows(Table(), o, naming, why)) return false;
   auto name = [naming](const char* field) { return FindOption(field)->Name(naming); };
   auto fail = [&](const std::string& m) {
     if (why) *why = m;
@@ -449,7 +387,7 @@ bool ValidateFilterOptions(const FilterOptions& o, OptionNaming naming, std::str
       return fail(name("render.max_window_px") + " must be <= " + std::to_string(kHwMaxWindowPx) +
                   " with the hw engine (got " + std::to_string(o.render.max_window_px) + ")");
     if (o.render.near_m < kHwMinNearM)
-      return fail(name("render.near_m") + " must be >= 1/64 m with the hw engine (got " + NumberText(o.render.near_m) +
+      return fail(name("render.near_m") + " must be >= 1/64 m with the hw engine (got " + OptionNumberText(o.render.near_m) +
                   ")");
   }
   if (o.heuristics.percentile_lo > o.heuristics.percentile_hi)

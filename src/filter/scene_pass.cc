@@ -14,16 +14,6 @@
 
 namespace posefilter {
 
-bool ScenePassOptions::IsValid(std::string* why) const {
-  auto fail = [why](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(std::isfinite(band_m) && band_m > 0)) return fail("band_m must be finite and > 0");
-  if (!(std::isfinite(conflict_drop) && conflict_drop > 0 && conflict_drop <= 1)) return fail("conflict_drop must be in (0, 1]");
-  return true;
-}
-
 std::vector<ScenePassResult> RunScenePass(const SceneInput& scene, const Prior& prior, const std::vector<SceneObject>& objects,
                                           const FilterOptions& options, const ScenePassOptions& pass) {
   using Clock = std::chrono::steady_clock;

@@ -156,36 +156,6 @@ FilterOptions TrackingFilterOptions() {
   return o;
 }
 
-bool TrackOptions::IsValid(std::string* why) const {
-  auto fail = [why](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
-  auto num = [](double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-  };
-  if (!in(lost_weight, 0, 1)) return fail("lost_weight must be in [0, 1] (got " + num(lost_weight) + ")");
-  if (!in(search_t_m, 0, 1)) return fail("search_t_m must be in [0, 1] (got " + num(search_t_m) + ")");
-  if (!in(search_r_rad, 0, M_PI)) return fail("search_r_rad must be in [0, pi] (got " + num(search_r_rad) + ")");
-  if (!in(refresh_weight, 0, 1)) return fail("refresh_weight must be in [0, 1] (got " + num(refresh_weight) + ")");
-  if (!(in(window_margin, 0, 2) && window_margin > 0))
-    return fail("window_margin must be in (0, 2] (got " + num(window_margin) + ")");
-  std::string w;
-  if (!ValidateFilterOptions(filter, OptionNaming::kField, &w)) return fail("filter." + w);
-  if (!ValidateFilterOptions(init, OptionNaming::kField, &w)) return fail("init." + w);
-  if (const filter::EngineRow* row = filter::FindEngine(filter.engine); row != nullptr && !row->float_filter) {
-    std::string floats;
-    for (const filter::EngineRow& r : filter::EngineRegistry())
-      if (r.float_filter) floats += std::string(floats.empty() ? "" : ", ") + r.name;
-    return fail("filter.engine must be a float engine (" + floats + "): the " + filter.engine +
-                " engine does not read pose seeds");
-  }
-  return true;
-}
-
 const char* TrackStatusName(TrackStatus status) {
   switch (status) {
     case TrackStatus::kTracked: return "tracked";

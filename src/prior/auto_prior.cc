@@ -12,31 +12,6 @@
 
 namespace posefilter {
 
-bool AutoPriorOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  std::string p;
-  if (!surfaces.IsValid(&p)) return fail("surfaces: " + p);
-  if (!(min_height_m >= 0 && min_height_m < max_height_m && std::isfinite(max_height_m)))
-    return fail("need 0 <= min_height_m < max_height_m");
-  if (!(max_step_fraction > 0 && max_step_fraction <= 1)) return fail("max_step_fraction must be in (0, 1]");
-  if (min_pixels < 1) return fail("min_pixels must be >= 1");
-  if (!(fit_factor >= 1 && std::isfinite(fit_factor))) return fail("fit_factor must be >= 1");
-  if (!(min_fill > 0 && min_fill <= 1)) return fail("min_fill must be in (0, 1]");
-  if (!(fit_score > 0 && fit_score <= 1) || !(tile_score > 0 && tile_score <= 1))
-    return fail("fit_score and tile_score must be in (0, 1]");
-  if (!(full_size > 0 && std::isfinite(full_size))) return fail("full_size must be > 0");
-  if (!(min_size_weight > 0 && min_size_weight <= 1)) return fail("min_size_weight must be in (0, 1]");
-  if (!(tile_weight_when_one_fits > 0 && tile_weight_when_one_fits <= 1))
-    return fail("tile_weight_when_one_fits must be in (0, 1]");
-  if (!ppf.IsValid(&p)) return fail("ppf: " + p);
-  if (!(proposal_score > 0 && proposal_score <= 1)) return fail("proposal_score must be in (0, 1]");
-  if (max_seeds < 1) return fail("max_seeds must be >= 1");
-  return true;
-}
-
 std::vector<CandidateRegion> FindCandidateRegions(const DepthImage& depth, const Camera& camera,
                                                   const AutoPriorOptions& opt, std::vector<int>* labels_out) {
   std::string why;

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/threads.h"
+#include "posefilter/option_rows.h"
 #include "posefilter/error.h"
 #include "prior/quantiles.h"
 #include "prior/volume_cache.h"
@@ -157,19 +158,37 @@ void CheckInputs(const DepthImage& depth, const Camera& camera, const std::vecto
 
 }  // namespace
 
+// The heuristic options' rows: their ranges and help are written here only (the filter's
+// heuristics-* options take them from these rows).
+std::span<const OptionInfo> HeuristicOptionTable() {
+  using O = HeuristicOptions;
+  const char* g = "Heuristic volumes";
+  static const std::vector<OptionInfo> rows = [&] {
+    std::vector<OptionInfo> r = {
+        MakeOptionRow("percentile-lo", POSEFILTER_OPTION_FIELD(O, percentile_lo), g, kFractionRange,
+                      "volume bounds: lower quantile of the cell's points, per axis"),
+        MakeOptionRow("percentile-hi", POSEFILTER_OPTION_FIELD(O, percentile_hi), g, kFractionRange,
+                      "volume bounds: upper quantile (>= the lower)"),
+        MakeOptionRow("depth-extension", POSEFILTER_OPTION_FIELD(O, depth_extension_m), g, AtLeastRange(0),
+                      "points also moved this far along their ray (m; 0 = the surface points only)"),
+        MakeOptionRow("max-samples", POSEFILTER_OPTION_FIELD(O, max_samples), g, AtLeastRange(1),
+                      "depth pixels sampled per box"),
+        MakeOptionRow("max-depth", POSEFILTER_OPTION_FIELD(O, max_depth_m), g, kPositiveRange,
+                      "depth beyond this is ignored (m)"),
+        MakeOptionRow("min-valid-pixels", POSEFILTER_OPTION_FIELD(O, min_valid_pixels), g, AtLeastRange(1),
+                      "a box with fewer valid sampled pixels has no volume"),
+    };
+    // The thesis clips the depth at 4 m (Table 7.1 [HARDWARE.md]); a thesis configuration keeps the caller's.
+    r[4].thesis = "4";
+    r[4].thesis_kept = true;
+    return r;
+  }();
+  return rows;
+}
+
 bool HeuristicOptions::IsValid(std::string* why) const {
-  if (!(std::isfinite(percentile_lo) && std::isfinite(percentile_hi) && percentile_lo >= 0 &&
-        percentile_lo <= percentile_hi && percentile_hi <= 1)) {
-    return Fail(why, "need 0 ≤ percentile_lo ≤ percentile_hi ≤ 1");
-  }
-  if (!std::isfinite(depth_extension_m) || depth_extension_m < 0) {
-    return Fail(why, "depth_extension_m must be finite and ≥ 0");
-  }
-  if (max_samples < 1) return Fail(why, "max_samples must be ≥ 1");
-  if (!std::isfinite(max_depth_m) || max_depth_m <= 0) {
-    return Fail(why, "max_depth_m must be finite and > 0");
-  }
-  if (min_valid_pixels < 1) return Fail(why, "min_valid_pixels must be ≥ 1");
+  if (!ValidateOptionRows(HeuristicOptionTable(), *this, OptionNaming::kField, why)) return false;
+  if (percentile_lo > percentile_hi) return Fail(why, "percentile_lo must be <= percentile_hi");
   return true;
 }
 

@@ -8,10 +8,13 @@
 #include <fstream>
 #include <limits>
 #include <set>
+#include <span>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 
 #include "posefilter/filter.h"
+#include "posefilter/tracker.h"
 
 namespace posefilter {
 namespace {
@@ -49,7 +52,7 @@ void SetNumber(const OptionInfo& f, FilterOptions& o, double v) {
     case OptionType::kInt: f.Of<int>(o) = static_cast<int>(v); break;
     case OptionType::kFloat: f.Of<float>(o) = static_cast<float>(v); break;
     case OptionType::kDouble: f.Of<double>(o) = v; break;
-    case OptionType::kMoveProbabilities: f.Of<std::array<double, kNumMoves>>(o)[3] = v; break;
+    case OptionType::kDoubles: f.Of<std::array<double, kNumMoves>>(o)[3] = v; break;
     default: FAIL() << f.name << " is not a number";
   }
 }
@@ -120,16 +123,18 @@ TEST(OptionTable, OptionsTheEngineIgnoresAreReported) {
   }
   o.engine = "hw";
   o.anneal.subsample = 2;
-  o.cpu_isa = "portable";
-  o.num_particles = 300;  // read by every engine
+  o.record_particles = true;
+  o.cpu_isa = "portable";  // every engine's polish reads it
+  o.num_particles = 300;   // read by every engine
   const std::vector<std::string> hw = IgnoredOptions(o, OptionNaming::kCli);
   ASSERT_EQ(hw.size(), 2u);
-  EXPECT_EQ(hw[0], "--cpu-isa is ignored by the hw engine");
+  EXPECT_EQ(hw[0], "--record-particles is ignored by the hw engine");
   EXPECT_EQ(hw[1], "--anneal-subsample is ignored by the hw engine");
-  o.engine = "reference";
-  EXPECT_EQ(IgnoredOptions(o, OptionNaming::kPython), std::vector<std::string>{"cpu_isa is ignored by the reference engine"});
-  o.engine = "cpu";
-  EXPECT_TRUE(IgnoredOptions(o, OptionNaming::kPython).empty());
+  EXPECT_EQ(IgnoredOptions(o, OptionNaming::kPython)[1], "anneal_subsample is ignored by the hw engine");
+  for (const char* e : {"reference", "cpu"}) {
+    o.engine = e;
+    EXPECT_TRUE(IgnoredOptions(o, OptionNaming::kPython).empty()) << e;
+  }
 }
 
 TEST(OptionTable, ValueTextReadsBack) {
@@ -140,8 +145,90 @@ TEST(OptionTable, ValueTextReadsBack) {
   EXPECT_EQ(FindOption("particles")->RangeText(), "[2, 1000000]");
   EXPECT_EQ(FindOption("pool")->RangeText(), "(0, 1]");
   EXPECT_EQ(FindOption("near")->RangeText(), "> 0");
-  EXPECT_EQ(FindOption("cpu-isa")->EnginesText(), "cpu, gpu");
+  EXPECT_EQ(FindOption("cpu-isa")->EnginesText(), "all");
+  EXPECT_EQ(FindOption("seed-start")->EnginesText(), "reference, cpu, gpu");
   EXPECT_EQ(FindOption("anneal-subsample")->EnginesText(), "reference, cpu, gpu");
+}
+
+// The thesis column: ThesisFilterOptions is the thesis's configuration that hw-report used to
+// write by hand (each extension of ours off), at the caller's scale.
+TEST(OptionTable, ThesisColumnIsTheThesisConfiguration) {
+  FilterOptions scale;  // a caller's scale and thresholds, away from the defaults
+  scale.num_particles = 100;
+  scale.stop.max_iterations = 50;
+  scale.render.max_window_px = 120;
+  scale.render.min_window_diameters = 4;
+  scale.score.inlier.thr1_m = 0.005;
+  scale.seed = 7;
+  FilterOptions expected = scale;
+  expected.render.zbuffer = false;
+  expected.render.adaptive_resolution = false;
+  expected.render.grow_window = false;
+  expected.score.occlusion_aware = false;
+  expected.score.delta = 0;
+  expected.support.plane = false;
+  expected.support.contact = 0;
+  expected.support.stable_start = 0;
+  expected.anneal.start_m = 0;
+  expected.anneal.subsample = 1;
+  expected.anneal.simplify = false;
+  expected.niches.region_cap = 1;
+  expected.niches.rotation_cap = 1;
+  expected.diffusion.min_sigma_fraction = 0;
+  for (int m = 0; m < kNumMoves; ++m) expected.diffusion.move_probabilities[m] = m < int(Move::kAlignDepth) ? 1.0 : 0.0;
+  expected.polish.steps = 0;
+  expected.init_oversample = 1;
+  expected.seed_start = 0;
+  expected.fine_particle_fraction = 1;
+  expected.stop.stall_iterations = 0;
+  const FilterOptions thesis = ThesisFilterOptions(scale);
+  std::string why;
+  EXPECT_TRUE(thesis.IsValid(&why)) << why;
+  for (const OptionInfo& f : FilterOptionTable())
+    EXPECT_TRUE(f.SameValue(thesis, expected)) << f.name << ": " << f.ValueText(thesis) << " vs " << f.ValueText(expected);
+  int set = 0, kept = 0;
+  for (const OptionInfo& f : FilterOptionTable()) {
+    if (f.thesis == nullptr) {
+      EXPECT_FALSE(f.thesis_kept) << f.name;
+      continue;
+    }
+    SCOPED_TRACE(f.name);
+    // The value reads back as the field's type, is in range, and is what the column says.
+    FilterOptions o;
+    ASSERT_TRUE(f.SetFromText(o, f.thesis, &why)) << why;
+    EXPECT_EQ(f.ValueText(o), f.thesis);
+    EXPECT_TRUE(ValidateOptionRows(std::span<const OptionInfo>(&f, 1), o, OptionNaming::kField, &why)) << why;
+    if (f.thesis_kept) {
+      EXPECT_TRUE(f.SameValue(thesis, scale));  // a thesis configuration keeps the caller's value
+      ++kept;
+    } else {
+      EXPECT_EQ(f.ValueText(thesis), f.thesis);
+      ++set;
+    }
+  }
+  EXPECT_EQ(set, 20);
+  EXPECT_GE(kept, 9);
+  // The thesis's figures the column states and keeps: N = 510, 32 tracker entries, 200 px windows.
+  EXPECT_STREQ(FindOption("particles")->thesis, "510");
+  EXPECT_STREQ(FindOption("tracker-bins")->thesis, "32");
+  EXPECT_STREQ(FindOption("window")->thesis, "200");
+  EXPECT_STREQ(FindOption("inlier-thr")->thesis, "0.00390625");
+}
+
+TEST(OptionTable, SetFromTextRejectsWhatDoesNotRead) {
+  FilterOptions o;
+  std::string why;
+  EXPECT_FALSE(FindOption("particles")->SetFromText(o, "5x", &why));
+  EXPECT_EQ(why, "num_particles: '5x' does not read as its value");
+  EXPECT_FALSE(FindOption("zbuffer")->SetFromText(o, "yes", &why));
+  EXPECT_FALSE(FindOption("move-probabilities")->SetFromText(o, "1,2", &why));
+  EXPECT_TRUE(FindOption("alpha")->SetFromText(o, "0.25", &why));
+  EXPECT_EQ(o.score.alpha, 0.25);
+  EXPECT_TRUE(FindOption("hard-inlier-thr")->SetFromText(o, "0.004", &why));
+  EXPECT_EQ(o.score.inlier.hard_thr_m, 0.004f);
+  // A row used on another struct is a programming error, caught.
+  TrackOptions t;
+  EXPECT_THROW(FindOption("particles")->ValueText(t), std::logic_error);
 }
 
 TEST(OptionTable, DocsOptionsMdIsTheTable) {
