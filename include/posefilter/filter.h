@@ -34,6 +34,7 @@
 namespace posefilter {
 
 class PreparedModel;  // a mesh prepared once for the filter (posefilter/prepared_model.h)
+class PreparedFrame;  // a depth frame prepared once for the filter (posefilter/prepared_frame.h)
 
 // Counters of one run, the quantities the thesis reports (§7.4, §7.5.3–7.5.4).
 struct FilterStats {
@@ -121,6 +122,13 @@ struct SceneInput {
   std::vector<PoseSeed> seeds = {};
 };
 
+// What one object adds to a frame prepared once for several (PreparedFrame): SceneInput's mask
+// and seeds, with the same meaning and checks.
+struct ObjectInput {
+  std::vector<std::uint8_t> mask = {};
+  std::vector<PoseSeed> seeds = {};
+};
+
 // Checks that depth and camera agree in size, the depth holds at least one valid pixel and
 // no NaN/inf/negative value, a mask (if any) has the image's size and at least one pixel,
 // and every seed is finite with a score > 0; throws Error naming `what` otherwise.
@@ -145,6 +153,16 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
 // from any threads.
 EstimateResult EstimatePose(const SceneInput& scene, const PreparedModel& model, const Prior& prior, int cls,
                             const FilterOptions& options, const ProgressFn& progress = nullptr);
+// The same on a frame prepared once (PrepareFrame, posefilter/prepared_frame.h) with the
+// object's mask and seeds: the result of EstimatePose on SceneInput{frame's depth and camera,
+// object.mask, object.seeds}, bit for bit, without preparing the frame again (its support
+// surfaces) when the frame was prepared with options.support.plane. Throws Error as above, and
+// on a mask or seed that SceneInput's checks (ValidateScene) reject.
+EstimateResult EstimatePose(const PreparedFrame& frame, const ObjectInput& object, const PreparedModel& model,
+                            const Prior& prior, int cls, const FilterOptions& options,
+                            const ProgressFn& progress = nullptr);
+EstimateResult EstimatePose(const PreparedFrame& frame, const ObjectInput& object, const Mesh& mesh, const Prior& prior,
+                            int cls, const FilterOptions& options, const ProgressFn& progress = nullptr);
 
 // Weighs given hypotheses (pose object → base, prior cell whose window is used) exactly as
 // the filter would with `options` (final inlier thresholds): eq. 7.4 [ALGORITHM.md] per hypothesis.
@@ -152,5 +170,12 @@ std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const 
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses);
 std::vector<double> WeighPoses(const SceneInput& scene, const PreparedModel& model, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses);
+// The same on a prepared frame with the object's mask and seeds (as EstimatePose above).
+std::vector<double> WeighPoses(const PreparedFrame& frame, const ObjectInput& object, const PreparedModel& model,
+                               const Prior& prior, int cls, const FilterOptions& options,
+                               const std::vector<std::pair<Pose6, int>>& hypotheses);
+std::vector<double> WeighPoses(const PreparedFrame& frame, const ObjectInput& object, const Mesh& mesh,
+                               const Prior& prior, int cls, const FilterOptions& options,
+                               const std::vector<std::pair<Pose6, int>>& hypotheses);
 
 }  // namespace posefilter

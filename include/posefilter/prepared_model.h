@@ -15,14 +15,21 @@
 // EstimatePose(scene, mesh, ...) prepares the mesh on the fly for the one estimate (the same
 // numbers, bit for bit); an estimate whose options need a level of detail or a part the model
 // was not prepared for (another lod_max_faces, say) also prepares that on the fly.
+//
+// A model may also hold the mesh's PPF model (posefilter/ppf.h), the table of `--prior auto`'s
+// pose proposals (PrepareModel with a PpfPreparation): AutoPriorForModels then proposes poses
+// with it, where AutoPriorForMeshes loads (or builds) it again on every call.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "posefilter/auto_prior.h"
 #include "posefilter/filter_options.h"
 #include "posefilter/mesh.h"
+#include "posefilter/ppf.h"
 
 namespace posefilter {
 
@@ -31,10 +38,18 @@ struct ModelLod;    // one level of detail's derived data (src/filter/model_lod.
 struct ModelNeeds;  // what an estimate reads of one (ditto)
 }  // namespace filter
 
+// The PPF part of a preparation: the voting's options (AutoPriorOptions::ppf) and the cache
+// folder LoadOrBuildPpfModel reads and writes ("" = no cache; DefaultPpfCacheDir()).
+struct PpfPreparation {
+  PpfOptions options;
+  std::string cache_dir;
+};
+
 class PreparedModel {
  public:
   // Use PrepareModel.
-  PreparedModel(Mesh mesh, std::vector<std::shared_ptr<const filter::ModelLod>> lods);
+  PreparedModel(Mesh mesh, std::vector<std::shared_ptr<const filter::ModelLod>> lods,
+                std::shared_ptr<const PpfModel> ppf = nullptr, PpfOptions ppf_options = {}, std::string ppf_status = "");
 
   // The mesh as given (object frame, metres; its name is the estimates' EstimateResult::obj).
   const Mesh& mesh() const { return mesh_; }
@@ -49,9 +64,19 @@ class PreparedModel {
   // filter/model_lod.h describes both types.
   std::shared_ptr<const filter::ModelLod> Find(const filter::ModelNeeds& needs) const;
 
+  // The mesh's PPF model, or nullptr when it was prepared without one.
+  const PpfModel* ppf() const { return ppf_.get(); }
+  // Whether ppf() is the table `options` build (their table options agree: PpfCachePath).
+  bool HasPpf(const PpfOptions& options) const;
+  // LoadOrBuildPpfModel's status when ppf() was prepared ("loaded", "built", ...); "" without.
+  const std::string& ppf_status() const { return ppf_status_; }
+
  private:
   Mesh mesh_;
   std::vector<std::shared_ptr<const filter::ModelLod>> lods_;
+  std::shared_ptr<const PpfModel> ppf_;
+  PpfOptions ppf_options_;
+  std::string ppf_status_;
 };
 
 // Prepares `mesh` for estimates with any of the given option sets (at least one; each valid,
@@ -61,6 +86,18 @@ class PreparedModel {
 // mesh) are not an error here: an estimate that needs them throws that error instead.
 std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const std::vector<FilterOptions>& options);
 std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const FilterOptions& options = {});
+// The same, with the mesh's PPF model (LoadOrBuildPpfModel with ppf.options and ppf.cache_dir).
+// Throws Error as above, and on invalid PPF options.
+std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const std::vector<FilterOptions>& options,
+                                                  const PpfPreparation& ppf);
+
+// AutoPriorForMeshes (posefilter/auto_prior.h) on prepared models, named names[k]: each model's
+// PPF model where it holds the one opt.ppf builds (HasPpf), else one built for this call
+// (without a cache). The same stage 1, bit for bit, as AutoPriorForMeshes on the models'
+// meshes; throws Error as it does.
+AutoStage1 AutoPriorForModels(const DepthImage& depth, const Camera& camera, const std::vector<const PreparedModel*>& models,
+                              const std::vector<std::string>& names, const std::string& what,
+                              const AutoPriorOptions& opt = {});
 
 // How many levels of detail this process has prepared so far (PrepareModel, and estimates that
 // prepare on the fly), counted once each: how tests check that a mesh is prepared once.

@@ -24,6 +24,7 @@
 #include "posefilter/filter_options.h"
 #include "posefilter/mesh.h"
 #include "posefilter/option_rows.h"
+#include "posefilter/prepared_frame.h"
 #include "posefilter/prepared_model.h"
 #include "posefilter/prior.h"
 
@@ -69,5 +70,11 @@ struct ScenePassResult {
 // a null mesh, a class out of range, or an invalid scene.
 std::vector<ScenePassResult> RunScenePass(const SceneInput& scene, const Prior& prior, const std::vector<SceneObject>& objects,
                                           const FilterOptions& options, const ScenePassOptions& pass = {});
+// The same on a frame prepared once (PrepareFrame, posefilter/prepared_frame.h, with the
+// options' support.plane): its weighings and re-estimates share the frame's support surfaces
+// instead of finding them again. The same results, bit for bit.
+std::vector<ScenePassResult> RunScenePass(const PreparedFrame& frame, const Prior& prior,
+                                          const std::vector<SceneObject>& objects, const FilterOptions& options,
+                                          const ScenePassOptions& pass = {});
 
 }  // namespace posefilter

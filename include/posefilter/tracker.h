@@ -3,10 +3,14 @@
 // Per frame and object (docs/ALGORITHM.md, "Tracking"):
 //   1. predict: the last pose, moved by the last frame-to-frame motion (constant velocity) when
 //      the object had a pose in the two frames before (tracked, or Reset and then tracked);
-//   2. search: a short particle filter run (TrackOptions::filter: few particles, few iterations,
-//      no annealing, small moves) whose initial particles are the predicted and the last pose
-//      jittered by (search_t_m, search_r_rad), weighed in a window around both poses'
-//      projections (a one-detection prior of the object);
+//   2. search: first the confirmation (TrackOptions::confirm): the predicted pose alone,
+//      refined by the filter's polish (its ICP steps) and weighed in a window around the
+//      predicted and the last pose's projections (a one-detection prior of the object); it
+//      ends the search when it weighs at least refresh_weight, lost_weight and the object's
+//      reference weight less confirm_margin. Otherwise a short particle filter run
+//      (TrackOptions::filter: few particles, few iterations, no annealing, small moves) whose
+//      initial particles are the predicted and the last pose jittered by (search_t_m,
+//      search_r_rad), weighed in the same window;
 //   3. judge: a best weight below lost_weight means the object is lost; it is then
 //      re-initialised by a full estimate (TrackOptions::init) from the frame's stage 1, if
 //      the caller gives one, and stays lost otherwise (the next frames search about its last
@@ -21,6 +25,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -31,6 +36,7 @@
 #include "posefilter/filter_options.h"
 #include "posefilter/mesh.h"
 #include "posefilter/option_rows.h"
+#include "posefilter/prepared_frame.h"
 #include "posefilter/prepared_model.h"
 #include "posefilter/prior.h"
 
@@ -70,6 +76,14 @@ struct TrackOptions {
   // The search window: both poses' projected boxes, united and grown by this fraction of
   // their size on each side, (0, 2].
   double window_margin = 0.25;
+  // Confirm the prediction before searching: the predicted pose, polished alone (filter's
+  // polish: its ICP steps), is the frame's pose when it weighs at least refresh_weight,
+  // lost_weight and the object's reference weight less confirm_margin; the particle search runs only
+  // otherwise. The reference weight is the weight of the object's last particle search or
+  // (re-)initialisation, raised by the confirmations since; an object that has neither (just
+  // Reset, or lost) is searched. false = every frame runs the particle search.
+  bool confirm = true;
+  double confirm_margin = 0.02;  // weight (eq. 7.4 [ALGORITHM.md] units), [0, 1]
 
   // Checks the ranges above and both filter option sets (names the violated field:
   // "lost_weight must be in [0, 1] (got 2)", "filter.num_particles ...").
@@ -98,6 +112,7 @@ struct TrackResult {
   Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();
   double weight = 0;      // the best weight of the step that gave T_cam_obj
   int iterations = 0;     // filter iterations spent on the object in this frame
+  bool confirmed = false; // tracked by the confirmation of its prediction, without the particle search
   double time_ms = 0;     // wall time spent on the object in this frame (stage 1 not included)
 };
 
@@ -117,6 +132,28 @@ using Stage1Fn = std::function<TrackStage1(const SceneInput& frame)>;
 // seeds by mesh name. Throws Error naming `what` as AutoPriorForMeshes does.
 TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<Mesh>& meshes, const std::string& cache_dir,
                             const std::string& what);
+// The same on models prepared once with their PPF models (PrepareModel with a PpfPreparation,
+// posefilter/prepared_model.h: AutoPriorForModels), the seeds by mesh name: no PPF model is
+// loaded or built per frame. The same stage 1, bit for bit.
+TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<std::shared_ptr<const PreparedModel>>& models,
+                            const std::string& what);
+
+// What a tracker has done so far (Tracker::stats): its preparations, searches and weighings.
+struct TrackStats {
+  int frames = 0;                      // frames processed
+  // PrepareModel calls: one per mesh in the constructor (the searches'), and one per mesh by
+  // its first (re-)initialisation (the initialisations').
+  int models_prepared = 0;
+  // Frame preparations: the scored depth of the searches (support plane out), one per frame.
+  int scenes_prepared = 0;
+  // The initialisations' prepared frame (PrepareFrame with `init`'s options): one in each
+  // frame that calls the stage 1, shared by its initialisations and its scene pass.
+  int init_scenes_prepared = 0;
+  int searches = 0;                    // tracking steps of objects with a pose
+  int confirmed = 0;                   // of those, ended by the confirmation
+  int initialisations = 0;             // full estimates from a stage 1
+  std::int64_t weighings = 0;          // particle scores of the searches (FilterStats::weighings)
+};
 
 class Tracker {
  public:
@@ -143,6 +180,7 @@ class Tracker {
   const std::vector<std::shared_ptr<const PreparedModel>>& models() const { return models_; }
   const std::vector<std::shared_ptr<const PreparedModel>>& init_models() const { return init_models_; }
   const TrackOptions& options() const { return options_; }
+  const TrackStats& stats() const { return stats_; }
 
  private:
   struct State {
@@ -151,6 +189,13 @@ class Tracker {
     bool has_velocity = false;   // `velocity` holds the last frame-to-frame motion
     Eigen::Isometry3d last = Eigen::Isometry3d::Identity();      // object → camera
     Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();  // camera frame, last[t] · last[t−1]⁻¹
+    bool has_reference = false;  // `reference` holds the confirmation's reference weight
+    double reference = 0;
+  };
+  // What one object's search did (summed into stats_ after the parallel searches).
+  struct SearchCounts {
+    bool searched = false, confirmed = false;
+    std::int64_t weighings = 0;
   };
   // A search window: the frame's scoring depth cropped around it, its one-detection prior, and
   // the cell whose window is the search window's.
@@ -161,10 +206,14 @@ class Tracker {
   };
   bool MakeWindow(const Camera& cam, const Box& a, const Box& b, std::size_t k, Window* out) const;
   FilterOptions StepOptions(std::uint64_t seed) const;
-  TrackResult Search(const Camera& cam, std::size_t k);
+  // The confirmation's options: StepOptions with two particles at the one seed, one weighing,
+  // and the polish.
+  FilterOptions ConfirmOptions(std::uint64_t seed) const;
+  TrackResult Search(const Camera& cam, std::size_t k, SearchCounts* counts);
   // The full estimate of object k from the stage 1 (*est, *cls: its result and class, when it
   // ran), judged by Judge.
-  TrackResult Initialise(const SceneInput& frame, std::size_t k, const TrackStage1& stage1, EstimateResult* est, int* cls);
+  TrackResult Initialise(const PreparedFrame& frame, std::size_t k, const TrackStage1& stage1, EstimateResult* est,
+                         int* cls);
   // An estimate of object k weighed as a search would weigh it, and its status by lost_weight.
   TrackResult Judge(const Camera& cam, std::size_t k, const EstimateResult& e) const;
   void Accept(std::size_t k, const TrackResult& r);
@@ -180,6 +229,7 @@ class Tracker {
   std::vector<std::shared_ptr<const PreparedModel>> init_models_;  // per mesh: the initialisations' (InitModel)
   TrackOptions options_;
   std::vector<State> states_;
+  TrackStats stats_;
   DepthImage scoring_;            // this frame's depth without its support plane's pixels
   int frame_ = 0;
   int width_ = 0, height_ = 0;

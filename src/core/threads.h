@@ -1,5 +1,6 @@
 // src/core/threads.h — how many worker threads an option's thread count means, and the one
-// parallel loop the filter runs its workers with (internal).
+// parallel loop of the library (internal): the filter's weighings and searches, the scene
+// normals, the heuristic volumes and the PPF voting run their workers through ParallelFor.
 #pragma once
 
 #include <omp.h>

@@ -20,6 +20,7 @@
 #include "filter/scene_prep.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
+#include "posefilter/prepared_frame.h"
 #include "posefilter/prepared_model.h"
 
 namespace posefilter::filter {
@@ -164,12 +165,12 @@ namespace posefilter {
 
 namespace {
 
-// EstimatePose with the mesh's prepared model (null: prepared on the fly for the float engines).
-EstimateResult Estimate(const SceneInput& scene, const PreparedModel* model, const Mesh& mesh, const Prior& prior,
-                        int cls, const FilterOptions& options, const ProgressFn& progress) {
-  const auto t_start = filter::Clock::now();
-  ThrowIfInvalid(options, OptionNaming::kField);
-  const auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
+// EstimatePose on a prepared scene with the mesh's prepared model (null: prepared on the fly
+// for the float engines); options checked, t_start the call's start.
+EstimateResult EstimateOn(std::shared_ptr<const filter::PreparedScene> prep, const PreparedModel* model, const Mesh& mesh,
+                          const Prior& prior, int cls, const FilterOptions& options, const ProgressFn& progress,
+                          filter::Clock::time_point t_start) {
+  const Camera camera = prep->scoring.camera;
   // A known name (checked above); the row makes the engine's runs.
   const filter::EngineRow* engine = filter::FindEngine(options.engine);
   const std::unique_ptr<filter::EngineRuns> runs =
@@ -180,12 +181,29 @@ EstimateResult Estimate(const SceneInput& scene, const PreparedModel* model, con
   });
   if (options.polish.steps > 0) {
     const filter::PolishResult p = runs->PolishRuns(&best.stats);
-    if (runs->PolishReplacesRuns() || p.weight > best.weight)
-      filter::AdoptPose(&best, scene.camera, p, options.stop.confidence);
+    if (runs->PolishReplacesRuns() || p.weight > best.weight) filter::AdoptPose(&best, camera, p, options.stop.confidence);
   }
   best.obj = mesh.name;
   best.time_ms = filter::MsSince(t_start);
   return best;
+}
+
+// EstimatePose on a scene: prepared for this estimate.
+EstimateResult Estimate(const SceneInput& scene, const PreparedModel* model, const Mesh& mesh, const Prior& prior,
+                        int cls, const FilterOptions& options, const ProgressFn& progress) {
+  const auto t_start = filter::Clock::now();
+  ThrowIfInvalid(options, OptionNaming::kField);
+  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
+  return EstimateOn(std::move(prep), model, mesh, prior, cls, options, progress, t_start);
+}
+
+// EstimatePose on a prepared frame and an object's mask and seeds.
+EstimateResult EstimateFrame(const PreparedFrame& frame, const ObjectInput& object, const PreparedModel* model,
+                             const Mesh& mesh, const Prior& prior, int cls, const FilterOptions& options,
+                             const ProgressFn& progress) {
+  const auto t_start = filter::Clock::now();
+  ThrowIfInvalid(options, OptionNaming::kField);
+  return EstimateOn(filter::SceneFor(frame, object, options), model, mesh, prior, cls, options, progress, t_start);
 }
 
 }  // namespace
@@ -198,6 +216,16 @@ EstimateResult EstimatePose(const SceneInput& scene, const Mesh& mesh, const Pri
 EstimateResult EstimatePose(const SceneInput& scene, const PreparedModel& model, const Prior& prior, int cls,
                             const FilterOptions& options, const ProgressFn& progress) {
   return Estimate(scene, &model, model.mesh(), prior, cls, options, progress);
+}
+
+EstimateResult EstimatePose(const PreparedFrame& frame, const ObjectInput& object, const PreparedModel& model,
+                            const Prior& prior, int cls, const FilterOptions& options, const ProgressFn& progress) {
+  return EstimateFrame(frame, object, &model, model.mesh(), prior, cls, options, progress);
+}
+
+EstimateResult EstimatePose(const PreparedFrame& frame, const ObjectInput& object, const Mesh& mesh, const Prior& prior,
+                            int cls, const FilterOptions& options, const ProgressFn& progress) {
+  return EstimateFrame(frame, object, nullptr, mesh, prior, cls, options, progress);
 }
 
 }  // namespace posefilter

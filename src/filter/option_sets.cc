@@ -31,6 +31,11 @@ std::span<const OptionInfo> TrackOptionTable() {
                       "objects estimated from one frame's stage 1 go through the joint scene pass together"),
         MakeOptionRow("window-margin", POSEFILTER_OPTION_FIELD(O, window_margin), g, {0, 2, true, false},
                       "search window: the poses' boxes grown by this fraction per side"),
+        MakeOptionRow("confirm", POSEFILTER_OPTION_FIELD(O, confirm), g, kAnyRange,
+                      "confirm the prediction before searching: the predicted pose, polished alone, is the frame's "
+                      "pose when it weighs enough (off: every frame runs the particle search)"),
+        MakeOptionRow("confirm-margin", POSEFILTER_OPTION_FIELD(O, confirm_margin), g, kFractionRange,
+                      "a confirmed prediction weighs at least the object's reference weight less this (eq. 7.4 units)"),
     };
     r[4].python = "constant_velocity";
     return r;

@@ -36,6 +36,7 @@
 #include "posefilter/filter.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
+#include "posefilter/prepared_frame.h"
 #include "posefilter/prepared_model.h"
 #include "posefilter/rng.h"
 #include "posefilter/stable_poses.h"
@@ -363,17 +364,22 @@ void ValidateScene(const SceneInput& scene, const std::string& what) {
        << kMaxPlausibleDepthM << "] m of a depth camera: wrong depth scale (metres per PNG unit)?";
     throw Error(os.str());
   }
-  if (!scene.mask.empty()) {
-    if (scene.mask.size() != d.data.size()) {
+  filter::ValidateObjectInput(scene.mask, scene.seeds, d.data.size(), what);
+}
+
+void filter::ValidateObjectInput(const std::vector<std::uint8_t>& mask, const std::vector<PoseSeed>& seeds,
+                                 std::size_t pixels, const std::string& what) {
+  if (!mask.empty()) {
+    if (mask.size() != pixels) {
       std::ostringstream os;
-      os << what << ": the mask holds " << scene.mask.size() << " pixels but the image " << d.data.size();
+      os << what << ": the mask holds " << mask.size() << " pixels but the image " << pixels;
       throw Error(os.str());
     }
-    if (std::none_of(scene.mask.begin(), scene.mask.end(), [](std::uint8_t m) { return m != 0; }))
+    if (std::none_of(mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; }))
       throw Error(what + ": the mask is empty (no pixel of the object)");
   }
-  for (std::size_t k = 0; k < scene.seeds.size(); ++k)
-    if (!scene.seeds[k].T_cam_obj.matrix().allFinite() || !(scene.seeds[k].score > 0 && std::isfinite(scene.seeds[k].score)))
+  for (std::size_t k = 0; k < seeds.size(); ++k)
+    if (!seeds[k].T_cam_obj.matrix().allFinite() || !(seeds[k].score > 0 && std::isfinite(seeds[k].score)))
       throw Error(what + ": pose seed " + std::to_string(k) + " is not finite or has no positive score");
 }
 
@@ -529,6 +535,24 @@ std::vector<double> WeighPoses(const SceneInput& scene, const PreparedModel& mod
   ThrowIfInvalid(options, OptionNaming::kField);
   auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
   auto lod = filter::LodFor(&model, model.mesh(), options, false, prep->plane.found);
+  return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
+}
+
+std::vector<double> WeighPoses(const PreparedFrame& frame, const ObjectInput& object, const PreparedModel& model,
+                               const Prior& prior, int cls, const FilterOptions& options,
+                               const std::vector<std::pair<Pose6, int>>& hypotheses) {
+  ThrowIfInvalid(options, OptionNaming::kField);
+  auto prep = filter::SceneFor(frame, object, options);
+  auto lod = filter::LodFor(&model, model.mesh(), options, false, prep->plane.found);
+  return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
+}
+
+std::vector<double> WeighPoses(const PreparedFrame& frame, const ObjectInput& object, const Mesh& mesh,
+                               const Prior& prior, int cls, const FilterOptions& options,
+                               const std::vector<std::pair<Pose6, int>>& hypotheses) {
+  ThrowIfInvalid(options, OptionNaming::kField);
+  auto prep = filter::SceneFor(frame, object, options);
+  auto lod = filter::LodFor(nullptr, mesh, options, false, prep->plane.found);
   return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
 }
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "core/mesh_scale.h"
 #include "filter/driver.h"
 #include "filter/model_lod.h"
 #include "posefilter/error.h"
@@ -153,8 +154,18 @@ std::shared_ptr<const ModelLod> LodFor(const PreparedModel* model, const Mesh& m
 
 }  // namespace filter
 
-PreparedModel::PreparedModel(Mesh mesh, std::vector<std::shared_ptr<const filter::ModelLod>> lods)
-    : mesh_(std::move(mesh)), lods_(std::move(lods)) {}
+PreparedModel::PreparedModel(Mesh mesh, std::vector<std::shared_ptr<const filter::ModelLod>> lods,
+                             std::shared_ptr<const PpfModel> ppf, PpfOptions ppf_options, std::string ppf_status)
+    : mesh_(std::move(mesh)),
+      lods_(std::move(lods)),
+      ppf_(std::move(ppf)),
+      ppf_options_(std::move(ppf_options)),
+      ppf_status_(std::move(ppf_status)) {}
+
+bool PreparedModel::HasPpf(const PpfOptions& options) const {
+  // The cache file's name hashes the mesh and the options the table depends on.
+  return ppf_ && PpfCachePath(mesh_, ppf_options_, "/") == PpfCachePath(mesh_, options, "/");
+}
 
 std::shared_ptr<const filter::ModelLod> PreparedModel::Find(const filter::ModelNeeds& needs) const {
   for (const auto& lod : lods_)
@@ -178,7 +189,9 @@ const Mesh* PreparedModel::Lod(int lod_max_faces) const {
   return nullptr;
 }
 
-std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const std::vector<FilterOptions>& options) {
+namespace {
+
+std::vector<std::shared_ptr<const filter::ModelLod>> PrepareLods(const Mesh& mesh, const std::vector<FilterOptions>& options) {
   if (options.empty()) throw Error("PrepareModel: no option set");
   for (const FilterOptions& o : options) ThrowIfInvalid(o, OptionNaming::kField);
   std::string why;
@@ -201,7 +214,42 @@ std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const std::vector<F
   }
   std::vector<std::shared_ptr<const filter::ModelLod>> lods;
   for (const filter::ModelNeeds& n : needs) lods.push_back(filter::BuildModelLod(mesh, n));
+  return lods;
+}
+
+}  // namespace
+
+std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const std::vector<FilterOptions>& options) {
+  auto lods = PrepareLods(mesh, options);
   return std::make_shared<const PreparedModel>(std::move(mesh), std::move(lods));
+}
+
+std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const std::vector<FilterOptions>& options,
+                                                  const PpfPreparation& ppf) {
+  auto lods = PrepareLods(mesh, options);
+  std::string why;
+  if (!ppf.options.IsValid(&why)) throw Error("PrepareModel: invalid PPF option: " + why);
+  std::string status;
+  auto table = std::make_shared<const PpfModel>(LoadOrBuildPpfModel(mesh, ppf.options, ppf.cache_dir, &status));
+  return std::make_shared<const PreparedModel>(std::move(mesh), std::move(lods), std::move(table), ppf.options,
+                                               std::move(status));
+}
+
+AutoStage1 AutoPriorForModels(const DepthImage& depth, const Camera& camera, const std::vector<const PreparedModel*>& models,
+                              const std::vector<std::string>& names, const std::string& what,
+                              const AutoPriorOptions& opt) {
+  if (names.size() != models.size()) throw Error(what + ": one name per model needed");
+  for (std::size_t k = 0; k < models.size(); ++k)  // wrong units fail here, as AutoPriorForMeshes does
+    CheckMeshScale(names[k], models[k]->mesh().Diameter(), depth);
+  std::vector<PpfModel> built;  // the tables the models do not hold (reserved: pointers stay valid)
+  built.reserve(models.size());
+  std::vector<AutoObject> objects;
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    const PpfModel* table = models[k]->HasPpf(opt.ppf) ? models[k]->ppf() : nullptr;
+    if (!table) table = &built.emplace_back(BuildPpfModel(models[k]->mesh(), opt.ppf));
+    objects.push_back({names[k], table->diameter, table});
+  }
+  return AutoPrior(depth, camera, objects, what, opt);
 }
 
 std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const FilterOptions& options) {

@@ -8,20 +8,36 @@
 #include <numeric>
 #include <sstream>
 
+#include "filter/scene_prep.h"
 #include "posefilter/error.h"
 #include "posefilter/option_table.h"
+#include "posefilter/prepared_frame.h"
 #include "posefilter/render.h"
 
 namespace posefilter {
 
 std::vector<ScenePassResult> RunScenePass(const SceneInput& scene, const Prior& prior, const std::vector<SceneObject>& objects,
                                           const FilterOptions& options, const ScenePassOptions& pass) {
-  using Clock = std::chrono::steady_clock;
   std::string why;
   if (!pass.IsValid(&why)) throw Error("invalid scene pass option: " + why);
   ThrowIfInvalid(options, OptionNaming::kField);
   ValidateScene(scene, "scene pass");
   if (!scene.mask.empty() || !scene.seeds.empty()) throw Error("scene pass: the scene must hold no mask and no seeds");
+  // The frame prepared once for every weighing and re-estimate (checked above).
+  SceneInput input{scene.depth, scene.camera};
+  auto prep = std::make_shared<const filter::PreparedScene>(filter::FrameScene(input, options.support.plane));
+  return RunScenePass(PreparedFrame(std::move(input), options.support.plane, std::move(prep)), prior, objects, options,
+                      pass);
+}
+
+std::vector<ScenePassResult> RunScenePass(const PreparedFrame& frame, const Prior& prior,
+                                          const std::vector<SceneObject>& objects, const FilterOptions& options,
+                                          const ScenePassOptions& pass) {
+  using Clock = std::chrono::steady_clock;
+  std::string why;
+  if (!pass.IsValid(&why)) throw Error("invalid scene pass option: " + why);
+  ThrowIfInvalid(options, OptionNaming::kField);
+  const SceneInput& scene = frame.frame();
   for (std::size_t i = 0; i < objects.size(); ++i) {
     if (!objects[i].mesh) throw Error("scene pass: object " + std::to_string(i) + " has no mesh");
     if (objects[i].cls < 0 || objects[i].cls >= int(prior.classes.size()))
@@ -36,7 +52,7 @@ std::vector<ScenePassResult> RunScenePass(const SceneInput& scene, const Prior& 
 
   // The objects settled so far, rendered with one z-buffer, and the pixels they explain (mask 0).
   DepthImage settled(cam.width, cam.height, 0.f);
-  SceneInput masked{z, cam, std::vector<std::uint8_t>(z.data.size(), 1)};
+  ObjectInput masked{std::vector<std::uint8_t>(z.data.size(), 1)};
   std::vector<ScenePassResult> out(objects.size());
   for (std::size_t idx : order) {
     const auto t0 = Clock::now();
@@ -48,16 +64,16 @@ std::vector<ScenePassResult> RunScenePass(const SceneInput& scene, const Prior& 
     const bool any_free = std::find(masked.mask.begin(), masked.mask.end(), 1) != masked.mask.end();
     // The caller's prepared model, or the mesh prepared for each call (only what it reads).
     r.weight_masked = !any_free ? 0.0
-                      : obj.model ? WeighPoses(masked, *obj.model, prior, obj.cls, options, hyp)[0]
-                                  : WeighPoses(masked, *obj.mesh, prior, obj.cls, options, hyp)[0];
+                      : obj.model ? WeighPoses(frame, masked, *obj.model, prior, obj.cls, options, hyp)[0]
+                                  : WeighPoses(frame, masked, *obj.mesh, prior, obj.cls, options, hyp)[0];
     if (any_free && r.weight_alone - r.weight_masked > pass.conflict_drop) {
       // Better estimates explain this one's pixels: look again where they leave room.
       FilterOptions o = options;
       o.seed = options.seed ^ (0x9E3779B97F4A7C15ull * (idx + 1));
       r.reestimated = true;
       try {
-        const EstimateResult e = obj.model ? EstimatePose(masked, *obj.model, prior, obj.cls, o)
-                                           : EstimatePose(masked, *obj.mesh, prior, obj.cls, o);
+        const EstimateResult e = obj.model ? EstimatePose(frame, masked, *obj.model, prior, obj.cls, o)
+                                           : EstimatePose(frame, masked, *obj.mesh, prior, obj.cls, o);
         if (e.weight > r.weight_masked) {
           r.estimate = e;
           r.weight_masked = e.weight;

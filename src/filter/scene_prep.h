@@ -16,7 +16,13 @@
 // given) and off the plane; the heuristic volumes and N_depth read it.
 #pragma once
 
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
 #include "posefilter/filter.h"
+#include "posefilter/prepared_frame.h"
 #include "posefilter/support_plane.h"
 
 namespace posefilter::filter {
@@ -31,7 +37,31 @@ struct PreparedScene {
   std::size_t plane_pixels = 0;  // of those, the ones removed as support surfaces or structure
 };
 
-// Validates the scene (ValidateScene, naming `what`) and prepares it for `options`.
+// Validates the scene (ValidateScene, naming `what`) and prepares it for `options`:
+// FrameScene, then WithObject with the scene's mask and seeds.
 PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options, const std::string& what = "scene");
+
+// The part of a scene's preparation that reads the frame alone (depth and camera, checked by
+// the caller): with `support_plane`, the support surfaces found and their pixels taken out of
+// the scoring and support depths; no mask, no seeds.
+PreparedScene FrameScene(const SceneInput& frame, bool support_plane);
+
+// The object's part: `frame` (a FrameScene) with the object's pose seeds and, with a mask,
+// the pixels outside it shifted towards the camera in the scoring depth and dropped from the
+// support depth (`options`: the shift's distance). Mask and seeds checked by the caller.
+PreparedScene WithObject(PreparedScene frame, const std::vector<std::uint8_t>& mask, const std::vector<PoseSeed>& seeds,
+                         const FilterOptions& options);
+
+// The scene an estimate with `options` scores against on a prepared frame with the object's
+// mask and seeds (checked here, naming `what`): the frame's own scene when the object adds
+// nothing and the frame was prepared with options.support.plane; else WithObject of it, or of
+// the frame prepared again with the options' support.plane.
+std::shared_ptr<const PreparedScene> SceneFor(const PreparedFrame& frame, const ObjectInput& object,
+                                              const FilterOptions& options, const std::string& what = "scene");
+
+// Checks a mask and pose seeds for an image of `pixels` pixels (ValidateScene's part for them);
+// throws Error naming `what`.
+void ValidateObjectInput(const std::vector<std::uint8_t>& mask, const std::vector<PoseSeed>& seeds, std::size_t pixels,
+                         const std::string& what);
 
 }  // namespace posefilter::filter

@@ -14,6 +14,7 @@
 #include "posefilter/error.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
+#include "posefilter/prepared_frame.h"
 #include "posefilter/rng.h"
 #include "posefilter/scene_pass.h"
 #include "posefilter/support_plane.h"
@@ -122,6 +123,21 @@ TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<Mesh>& me
   return s;
 }
 
+TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<std::shared_ptr<const PreparedModel>>& models,
+                            const std::string& what) {
+  std::vector<const PreparedModel*> ms;
+  std::vector<std::string> names;
+  for (const auto& m : models) {
+    if (!m) throw Error(what + ": no model");
+    ms.push_back(m.get()), names.push_back(m->mesh().name);
+  }
+  AutoStage1 a = AutoPriorForModels(frame.depth, frame.camera, ms, names, what);
+  TrackStage1 s;
+  s.prior = std::move(a.prior);
+  for (std::size_t k = 0; k < names.size(); ++k) s.seeds[names[k]] = std::move(a.seeds[k]);
+  return s;
+}
+
 FilterOptions TrackingFilterOptions() {
   FilterOptions o;
   o.num_particles = 64;
@@ -177,13 +193,17 @@ Tracker::Tracker(std::vector<Mesh> meshes, TrackOptions options) : meshes_(std::
     // Once per sequence: the searches' level of detail (their judgements too); the
     // (re-)initialisations' is prepared by the first one (InitModel).
     models_.push_back(PrepareModel(m, StepOptions(options_.filter.seed)));
+    ++stats_.models_prepared;
   }
   init_models_.resize(meshes_.size());
   states_.resize(meshes_.size());
 }
 
 const std::shared_ptr<const PreparedModel>& Tracker::InitModel(std::size_t k) {
-  if (!init_models_[k]) init_models_[k] = PrepareModel(meshes_[k], options_.init);
+  if (!init_models_[k]) {
+    init_models_[k] = PrepareModel(meshes_[k], options_.init);
+    ++stats_.models_prepared;
+  }
   return init_models_[k];
 }
 
@@ -234,7 +254,21 @@ FilterOptions Tracker::StepOptions(std::uint64_t seed) const {
   return o;
 }
 
-TrackResult Tracker::Search(const Camera& cam, std::size_t k) {
+FilterOptions Tracker::ConfirmOptions(std::uint64_t seed) const {
+  FilterOptions o = StepOptions(seed);
+  // Two particles at the one seed (the fewest a set holds), weighed once, then the polish of
+  // the better: the search's final step alone.
+  o.num_particles = 2;
+  o.num_elite = 1;
+  o.init_oversample = 1;
+  o.restarts = 1;
+  o.seed_start = 1.0;
+  o.stop.max_iterations = 1;
+  o.polish.seeds = 1;
+  return o;
+}
+
+TrackResult Tracker::Search(const Camera& cam, std::size_t k, SearchCounts* counts) {
   const auto t0 = Clock::now();
   const State& s = states_[k];
   const Mesh& mesh = SearchMesh(k);
@@ -243,12 +277,36 @@ TrackResult Tracker::Search(const Camera& cam, std::size_t k) {
   r.obj = mesh.name;
   r.status = TrackStatus::kLost;
   r.T_cam_obj = s.last;
+  counts->searched = true;
   const Eigen::Isometry3d predicted = options_.constant_velocity && s.has_velocity ? s.velocity * s.last : s.last;
   Window win;
   if (!MakeWindow(cam, CornerBox(mesh, predicted, cam, fo.render.near_m), CornerBox(mesh, s.last, cam, fo.render.near_m), k,
                   &win)) {
     r.time_ms = MsSince(t0);
     return r;  // out of view: lost
+  }
+  // The confirmation: the prediction polished alone, in the search's window and weighing.
+  if (options_.confirm && s.has_reference) {
+    win.scene.seeds = {{predicted, 1.0}};
+    try {
+      const EstimateResult e =
+          EstimatePose(win.scene, *models_[k], win.prior, 0, ConfirmOptions(StepSeed(fo.seed, frame_, k, 4)));
+      counts->weighings += e.stats.weighings;
+      const double floor = std::max({options_.refresh_weight, options_.lost_weight, s.reference - options_.confirm_margin});
+      if (e.weight >= floor) {
+        r.T_cam_obj = e.T_cam_obj;
+        r.weight = e.weight;
+        r.iterations = e.iterations;
+        r.status = TrackStatus::kTracked;
+        r.confirmed = true;
+        counts->confirmed = true;
+        r.time_ms = MsSince(t0);
+        return r;
+      }
+    } catch (const Error&) {
+      // No window cell with valid depth: the particle search below reports it lost.
+    }
+    win.scene.seeds.clear();
   }
   Rng rng(StepSeed(fo.seed, frame_, k, 0));
   const int n = fo.num_particles;
@@ -260,6 +318,7 @@ TrackResult Tracker::Search(const Camera& cam, std::size_t k) {
   try {
     const EstimateResult e =
         EstimatePose(win.scene, *models_[k], win.prior, 0, StepOptions(StepSeed(fo.seed, frame_, k, 1)));
+    counts->weighings += e.stats.weighings;
     r.T_cam_obj = e.T_cam_obj;
     r.weight = e.weight;
     r.iterations = e.iterations;
@@ -271,8 +330,8 @@ TrackResult Tracker::Search(const Camera& cam, std::size_t k) {
   return r;
 }
 
-TrackResult Tracker::Initialise(const SceneInput& frame, std::size_t k, const TrackStage1& stage1, EstimateResult* est,
-                                int* cls) {
+TrackResult Tracker::Initialise(const PreparedFrame& frame, std::size_t k, const TrackStage1& stage1,
+                                EstimateResult* est, int* cls) {
   const auto t0 = Clock::now();
   const Mesh& mesh = meshes_[k];
   TrackResult r;
@@ -283,13 +342,13 @@ TrackResult Tracker::Initialise(const SceneInput& frame, std::size_t k, const Tr
   const auto it = std::find(classes.begin(), classes.end(), mesh.name);
   if (it == classes.end()) return r;
   *cls = int(it - classes.begin());
-  SceneInput scene{frame.depth, frame.camera};
-  if (const auto s = stage1.seeds.find(mesh.name); s != stage1.seeds.end()) scene.seeds = s->second;
+  ObjectInput object;
+  if (const auto s = stage1.seeds.find(mesh.name); s != stage1.seeds.end()) object.seeds = s->second;
   FilterOptions o = options_.init;
   o.seed = StepSeed(options_.filter.seed, frame_, k, 2);
   try {
-    *est = EstimatePose(scene, *InitModel(k), stage1.prior, *cls, o);
-    r = Judge(frame.camera, k, *est);
+    *est = EstimatePose(frame, object, *InitModel(k), stage1.prior, *cls, o);
+    r = Judge(frame.frame().camera, k, *est);
   } catch (const Error&) {
     // The stage 1 holds no usable cell for the object in this frame.
   }
@@ -325,14 +384,20 @@ void Tracker::Accept(std::size_t k, const TrackResult& r) {
     }
     s.last = r.T_cam_obj;
     s.lost = false;
+    // A particle search sets the reference; a confirmation may only raise it.
+    s.reference = r.confirmed && s.has_reference ? std::max(s.reference, r.weight) : r.weight;
+    s.has_reference = true;
   } else if (r.status == TrackStatus::kInitialised) {
     s.last = r.T_cam_obj;
     s.has_pose = true;
     s.lost = false;
     s.has_velocity = false;
+    s.reference = r.weight;
+    s.has_reference = true;
   } else if (r.status == TrackStatus::kLost) {
     s.lost = true;
     s.has_velocity = false;
+    s.has_reference = false;
   }
 }
 
@@ -353,6 +418,7 @@ std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn&
     for (std::size_t i = 0; i < on.size(); ++i)
       if (on[i]) scoring_.data[i] = 0;
   }
+  ++stats_.scenes_prepared;
   std::vector<TrackResult> out(meshes_.size());
   // The searches run in parallel over the objects, each on one thread (a search is a few
   // hundred small weighings: threads inside it would mostly wait on each other). Each has its
@@ -360,30 +426,44 @@ std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn&
   const int n = int(meshes_.size());
   const int workers = std::min(WorkerThreads(options_.filter.threads), n);
   std::vector<std::string> errors(meshes_.size());
+  std::vector<SearchCounts> counts(meshes_.size());
   ParallelFor(workers, n, 1, [&](int, int k) {
     out[std::size_t(k)].obj = meshes_[std::size_t(k)].name;
     if (!states_[std::size_t(k)].has_pose) return;
     try {
-      out[std::size_t(k)] = Search(frame.camera, std::size_t(k));
+      out[std::size_t(k)] = Search(frame.camera, std::size_t(k), &counts[std::size_t(k)]);
     } catch (const std::exception& e) {
       errors[std::size_t(k)] = e.what();
     }
   });
   for (const std::string& e : errors)
     if (!e.empty()) throw Error(what + ": " + e);
+  for (const SearchCounts& c : counts) {
+    stats_.searches += c.searched;
+    stats_.confirmed += c.confirmed;
+    stats_.weighings += c.weighings;
+  }
   std::vector<std::size_t> need;
   for (std::size_t k = 0; k < meshes_.size(); ++k)
     if (!states_[k].has_pose || out[k].status == TrackStatus::kLost || out[k].weight < options_.refresh_weight)
       need.push_back(k);
   if (!need.empty() && stage1) {
     const TrackStage1 s1 = stage1(frame);
+    // The frame prepared once (its support surfaces) for every initialisation and the scene
+    // pass; its time is shared by the objects initialised.
+    const auto t_prep = Clock::now();
+    const std::shared_ptr<const PreparedFrame> prepared = PrepareFrame(SceneInput{frame.depth, frame.camera}, options_.init, what);
+    const double prep_share = MsSince(t_prep) / double(need.size());
+    ++stats_.init_scenes_prepared;
     std::vector<TrackResult> inits(meshes_.size());
     std::vector<SceneObject> joint;  // the objects estimated from the stage 1 in this frame
     std::vector<std::size_t> joint_k;
     for (std::size_t k : need) {
       EstimateResult est;
       int cls = -1;
-      inits[k] = Initialise(frame, k, s1, &est, &cls);
+      inits[k] = Initialise(*prepared, k, s1, &est, &cls);
+      inits[k].time_ms += prep_share;
+      stats_.initialisations += est.iterations > 0;
       if (est.iterations > 0) joint.push_back({&meshes_[k], cls, est, init_models_[k]}), joint_k.push_back(k);
     }
     // Several objects from one stage 1: the joint scene pass (§17), so that two of them do not
@@ -392,7 +472,7 @@ std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn&
       const auto t0 = Clock::now();
       FilterOptions o = options_.init;
       o.seed = StepSeed(options_.filter.seed, frame_, 0, 3);
-      const std::vector<ScenePassResult> passed = RunScenePass(SceneInput{frame.depth, frame.camera}, s1.prior, joint, o);
+      const std::vector<ScenePassResult> passed = RunScenePass(*prepared, s1.prior, joint, o);
       const double share = MsSince(t0) / double(joint.size());
       for (std::size_t j = 0; j < passed.size(); ++j) {
         TrackResult& init = inits[joint_k[j]];
@@ -425,6 +505,7 @@ std::vector<TrackResult> Tracker::Track(const SceneInput& frame, const Stage1Fn&
   }
   for (std::size_t k = 0; k < meshes_.size(); ++k) Accept(k, out[k]);
   ++frame_;
+  ++stats_.frames;
   return out;
 }
 

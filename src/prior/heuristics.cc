@@ -210,20 +210,22 @@ std::vector<Volume> ComputeHeuristics(const DepthImage& depth, const Camera& cam
 
   std::vector<Volume> out(boxes.size());
   const long n = long(uniq.size());
-  const int nt = WorkerThreads(threads);
-#pragma omp parallel num_threads(nt) if (n > 256)
-  {
-    Scratch s;
-    s.x.reserve(2 * size_t(opt.max_samples));
-    s.y.reserve(2 * size_t(opt.max_samples));
-    s.z.reserve(2 * size_t(opt.max_samples));
-#pragma omp for schedule(dynamic, 32)
-    for (long u = 0; u < n; ++u) {
-      const size_t begin = uniq[u], end = u + 1 < n ? size_t(uniq[u + 1]) : order.size();
-      const Volume v = OneVolume(depth, camera, R, t, boxes[order[begin]], opt, s);
-      for (size_t k = begin; k < end; ++k) out[order[k]] = v;
+  // A few boxes on the calling thread; more on the workers, each with its own scratch
+  // (reserved by its first box). Each box writes only its own volumes: any split, same result.
+  const int nt = n > 256 ? WorkerThreads(threads) : 1;
+  std::vector<Scratch> scratch(std::size_t(std::max(nt, 1)));
+  ParallelFor(nt, int(n), 32, [&](int worker, int ui) {
+    const long u = ui;
+    Scratch& s = scratch[std::size_t(worker)];
+    if (s.x.capacity() == 0) {
+      s.x.reserve(2 * size_t(opt.max_samples));
+      s.y.reserve(2 * size_t(opt.max_samples));
+      s.z.reserve(2 * size_t(opt.max_samples));
     }
-  }
+    const size_t begin = uniq[u], end = u + 1 < n ? size_t(uniq[u + 1]) : order.size();
+    const Volume v = OneVolume(depth, camera, R, t, boxes[order[begin]], opt, s);
+    for (size_t k = begin; k < end; ++k) out[order[k]] = v;
+  });
   return out;
 }
 
@@ -237,9 +239,9 @@ VolumeCache::VolumeCache(const DepthImage& depth, const Camera& camera, const st
   valid_.assign(std::size_t(n), 0);
   computed_->volumes.assign(std::size_t(n), Volume{});
   computed_->done.assign(std::size_t(n), 0);
-  const int nt = WorkerThreads(threads);
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (n > 256)
-  for (long i = 0; i < n; ++i) valid_[std::size_t(i)] = HasVolume(depth, boxes[std::size_t(i)], opt) ? 1 : 0;
+  const int nt = n > 256 ? WorkerThreads(threads) : 1;
+  ParallelFor(nt, int(n), 64,
+              [&](int, int i) { valid_[std::size_t(i)] = HasVolume(depth, boxes[std::size_t(i)], opt) ? 1 : 0; });
 }
 
 VolumeCache::VolumeCache(std::vector<Volume> volumes) : valid_(volumes.size()) {

@@ -272,37 +272,38 @@ std::vector<PoseProposal> MatchPpf(const PpfModel& model, const std::vector<Orie
   std::vector<std::size_t> refs;
   for (std::size_t r = 0; r < scene.size(); r += stride) refs.push_back(r);
   std::vector<Vote> per_ref(refs.size(), Vote{Eigen::Isometry3d::Identity(), 0});
-  // References in parallel, each worker with its own accumulator; per_ref keeps their order.
-#pragma omp parallel num_threads(WorkerThreads(opt.threads))
-  {
-    std::vector<std::uint32_t> acc(Nm * std::size_t(A));
-#pragma omp for schedule(dynamic, 4)
-    for (std::size_t j = 0; j < refs.size(); ++j) {
-      const std::size_t r = refs[j];
-      std::fill(acc.begin(), acc.end(), 0u);
-      const Eigen::Isometry3f Ts = ToReferenceFrame(scene[r]);
-      for (std::size_t i = 0; i < scene.size(); ++i) {
-        if (i == r || (scene[i].p - scene[r].p).squaredNorm() > max_d2) continue;
-        const int key = model.Key(scene[r], scene[i]);
-        if (key < 0) continue;
-        // α = α_m − α_s on the 16-bit circle of the entries (2π / 65536 per unit): the entry holds
-        // α_m + π, so the wrapped difference is α + π in [0, 2π), and its bin is (diff · A) >> 16.
-        const float alpha_s = AlphaOf(Ts * scene[i].p);
-        const std::uint16_t s16 = std::uint16_t(std::int32_t(std::lround(alpha_s * float(65536 / (2 * kPi)))));
-        for (std::uint32_t k = model.offsets[std::size_t(key)]; k < model.offsets[std::size_t(key) + 1]; ++k) {
-          const PpfEntry& e = model.entries[k];
-          const std::uint32_t diff = std::uint16_t(e.alpha - s16);
-          ++acc[std::size_t(e.reference) * A + ((diff * std::uint32_t(A)) >> 16)];
-        }
+  // References in parallel, each worker with its own accumulator (allocated by its first
+  // reference); per_ref keeps their order.
+  const int workers = WorkerThreads(opt.threads);
+  std::vector<std::vector<std::uint32_t>> accumulators(std::size_t(std::max(workers, 1)));
+  ParallelFor(workers, int(refs.size()), 4, [&](int worker, int ji) {
+    const std::size_t j = std::size_t(ji);
+    std::vector<std::uint32_t>& acc = accumulators[std::size_t(worker)];
+    if (acc.empty()) acc.resize(Nm * std::size_t(A));
+    const std::size_t r = refs[j];
+    std::fill(acc.begin(), acc.end(), 0u);
+    const Eigen::Isometry3f Ts = ToReferenceFrame(scene[r]);
+    for (std::size_t i = 0; i < scene.size(); ++i) {
+      if (i == r || (scene[i].p - scene[r].p).squaredNorm() > max_d2) continue;
+      const int key = model.Key(scene[r], scene[i]);
+      if (key < 0) continue;
+      // α = α_m − α_s on the 16-bit circle of the entries (2π / 65536 per unit): the entry holds
+      // α_m + π, so the wrapped difference is α + π in [0, 2π), and its bin is (diff · A) >> 16.
+      const float alpha_s = AlphaOf(Ts * scene[i].p);
+      const std::uint16_t s16 = std::uint16_t(std::int32_t(std::lround(alpha_s * float(65536 / (2 * kPi)))));
+      for (std::uint32_t k = model.offsets[std::size_t(key)]; k < model.offsets[std::size_t(key) + 1]; ++k) {
+        const PpfEntry& e = model.entries[k];
+        const std::uint32_t diff = std::uint16_t(e.alpha - s16);
+        ++acc[std::size_t(e.reference) * A + ((diff * std::uint32_t(A)) >> 16)];
       }
-      const auto peak = std::max_element(acc.begin(), acc.end());
-      if (*peak == 0) continue;
-      const std::size_t at = std::size_t(peak - acc.begin());
-      const double alpha = -kPi + (double(at % A) + 0.5) * 2 * kPi / A;
-      const Eigen::Isometry3d Tm = ToReferenceFrame(model.points[at / A]).cast<double>();
-      per_ref[j] = {Ts.cast<double>().inverse() * Eigen::AngleAxisd(-alpha, Eigen::Vector3d::UnitX()) * Tm, *peak};
     }
-  }
+    const auto peak = std::max_element(acc.begin(), acc.end());
+    if (*peak == 0) return;
+    const std::size_t at = std::size_t(peak - acc.begin());
+    const double alpha = -kPi + (double(at % A) + 0.5) * 2 * kPi / A;
+    const Eigen::Isometry3d Tm = ToReferenceFrame(model.points[at / A]).cast<double>();
+    per_ref[j] = {Ts.cast<double>().inverse() * Eigen::AngleAxisd(-alpha, Eigen::Vector3d::UnitX()) * Tm, *peak};
+  });
   std::vector<Vote> poses;
   for (const Vote& v : per_ref)
     if (v.votes > 0) poses.push_back(v);

@@ -62,22 +62,23 @@ void SceneNormalTiles::Prepare(const DepthImage& depth, const Camera& camera, co
   const int n = int(todo.size());
   const int nt = WorkerThreads(threads);
   // Tiles write disjoint pixels: any split over threads gives the same array.
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (n > 1)
-  for (int i = 0; i < n; ++i) {
+  ParallelFor(nt, n, 1, [&](int, int i) {
     const int tu = todo[std::size_t(i)] % tiles_u_, tv = todo[std::size_t(i)] / tiles_u_;
     NormalsInRect(depth, camera, tu * kTile, tv * kTile, std::min((tu + 1) * kTile, w),
                   std::min((tv + 1) * kTile, h), normals_.get());
-  }
+  });
 }
 
 }  // namespace render
 
 std::vector<float> ComputeSceneNormals(const DepthImage& d, const Camera& c, int threads) {
   std::vector<float> n(std::size_t(d.width) * d.height * 3);
-  // Rows are independent (each pixel writes only its own normal): threads over rows, same result.
-  const int nt = WorkerThreads(threads);
-#pragma omp parallel for schedule(static) num_threads(nt) if (d.height > 64)
-  for (int v = 0; v < d.height; ++v) render::NormalsInRect(d, c, 0, v, d.width, v + 1, n.data());
+  // Rows are independent (each pixel writes only its own normal): threads over rows (blocks of
+  // kNormalRowChunk; small images on the calling thread), same result.
+  constexpr int kNormalRowChunk = 16;
+  const int nt = d.height > 64 ? WorkerThreads(threads) : 1;
+  ParallelFor(nt, d.height, kNormalRowChunk,
+              [&](int, int v) { render::NormalsInRect(d, c, 0, v, d.width, v + 1, n.data()); });
   return n;
 }
 

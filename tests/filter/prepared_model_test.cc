@@ -3,7 +3,7 @@
 // on a table scene whose support plane makes the filter read the hull, the stable poses and a
 // simplified coarse mesh); one model serves estimates on several threads at once; options it
 // was not prepared for are prepared on the fly; and the Tracker prepares each mesh once per
-// sequence (ModelLodsPrepared counts every preparation).
+// sequence (ModelLodsPrepared counts every preparation, TrackStats the tracker's own).
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -223,6 +223,17 @@ TEST(TrackerPreparation, EachMeshIsPreparedOncePerSequence) {
   // preparation in all, the L-shape's for the initialisations, made by the first of them.
   EXPECT_EQ(ModelLodsPrepared() - after_construction, 1u)
       << "the searches, initialisations and judgements of " << seq.size() << " frames prepared a mesh again";
+  // The tracker's own count: the same three preparations; one scored depth per frame, and one
+  // prepared frame per stage-1 frame, which its initialisations (and scene pass) share.
+  const TrackStats& st = tracker.stats();
+  EXPECT_EQ(st.frames, int(seq.size()));
+  EXPECT_EQ(st.models_prepared, 3);
+  EXPECT_EQ(std::uint64_t(st.models_prepared), ModelLodsPrepared() - before) << "every preparation is the tracker's";
+  EXPECT_EQ(st.scenes_prepared, int(seq.size()));
+  EXPECT_EQ(st.init_scenes_prepared, stage1_calls);
+  EXPECT_GE(st.initialisations, 2);
+  EXPECT_GE(st.searches, 2 * int(seq.size()) - 1) << "the crate from frame 0, the L-shape from frame 1";
+  EXPECT_GT(st.weighings, 0);
   ASSERT_NE(tracker.init_models()[0], nullptr);
   EXPECT_EQ(tracker.init_models()[1], nullptr) << "no stage 1 names the crate";
   EXPECT_TRUE(tracker.init_models()[0]->Covers(o.init));
