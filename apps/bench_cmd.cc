@@ -133,10 +133,8 @@ std::string LoadAverage() {
   return first;
 }
 
-}  // namespace
-
-int RunBench(int argc, char** argv) {
-  CLI::App app{"Speed of the scoring engines on a fixed synthetic workload (ms per iteration, throughput)", "bench"};
+// The parsed command line of `bench`, and the engine lists its help and checks name.
+struct BenchArgs {
   std::vector<std::string> engines;
   int particles = 510;
   int iterations = 10;
@@ -153,6 +151,25 @@ int RunBench(int argc, char** argv) {
   // gpu engine only on a GPU: on a CPU Vulkan driver, lavapipe, it is correct but hundreds of
   // times slower than the cpu engine).
   std::vector<std::string> defaults;
+};
+
+// The workload's facts the table and the JSON name.
+struct BenchWorkload {
+  std::string target;
+  std::size_t mesh_faces = 0, rendered_faces = 0;
+  double distance_m = 0;
+  int width = 0, height = 0;
+  unsigned hw_threads = 1;
+  std::string load_average, cpu_isa, gpu_device;
+};
+
+// Every option of `bench` on `app`, into *a.
+void AddBenchOptions(CLI::App& app, BenchArgs& a) {
+  auto &engines = a.engines, &available = a.available, &cpu_isas = a.cpu_isas, &defaults = a.defaults;
+  auto &particles = a.particles, &iterations = a.iterations, &repeats = a.repeats, &threads = a.threads, &lod = a.lod;
+  auto &zbuffer = a.zbuffer, &target = a.target, &json_path = a.json_path;
+  auto& seed = a.seed;
+  auto& quiet = a.quiet;
   for (const auto& e : KnownEngines())
     if (EngineAvailable(e)) {
       available.push_back(e);
@@ -174,188 +191,226 @@ int RunBench(int argc, char** argv) {
   app.add_option("--target", target, "object kind of the scene (box, cylinder, lshape, torus)")->capture_default_str();
   app.add_option("--json", json_path, "also write the results as JSON to this file");
   app.add_flag("--quiet", quiet, "no progress on stderr");
+}
 
-  return RunApp(app, argc, argv, [&] {
-    // ---- Options.
-    if (engines.empty()) engines = defaults;
-    if (engines.empty()) throw Error("--engines: no engine is available");
-    for (std::size_t i = 0; i < engines.size(); ++i) {
-      std::string why;
-      if (!EngineAvailable(engines[i], &why))
-        throw Error("--engines: engine '" + engines[i] + "' is not available (available: " + Join(available) +
-                    "; cpu/ with one of: " + Join(cpu_isas) + ")" +
-                    (EngineRowOf(engines[i]) != nullptr && !EngineRowOf(engines[i])->available(nullptr) ? ": " + why : ""));
-      if (std::find(engines.begin(), engines.begin() + i, engines[i]) != engines.begin() + i)
-        throw Error("--engines: engine '" + engines[i] + "' is listed twice");
-    }
-    if (particles < 128 || particles > 8192)
-      throw Error("--particles must be in [128, 8192] (got " + std::to_string(particles) + ")");
-    if (iterations < 1 || iterations > 1000)
-      throw Error("--iterations must be in [1, 1000] (got " + std::to_string(iterations) + ")");
-    if (repeats < 1 || repeats > 100) throw Error("--repeats must be in [1, 100] (got " + std::to_string(repeats) + ")");
-    if (zbuffer != "on" && zbuffer != "off") throw Error("--zbuffer must be 'on' or 'off' (got '" + zbuffer + "')");
-    FilterOptions opt;
-    opt.num_particles = particles;
-    opt.stop.max_iterations = iterations;
-    opt.stop.confidence = 1.0;
-    opt.restarts = 1;
-    opt.stop.stall_iterations = 0;
-    opt.polish.steps = 0;
-    opt.anneal.subsample = 1;         // every iteration weighs every pixel ...
-    opt.fine_particle_fraction = 1;   // ... of --particles particles: the kernel's full-resolution cost
-    opt.threads = threads;
-    opt.render.zbuffer = zbuffer == "on";
-    opt.render.lod_max_faces = lod;
-    opt.seed = seed;
-    CheckFilterOptions(opt);  // names --threads, --lod, ... as the filter commands do
-    SynthOptions synth;
-    synth.target = target;
+// Checks the parsed arguments (before the measurement) and returns the filter options of the
+// workload.
+FilterOptions CheckBenchArgs(BenchArgs& a) {
+  auto &engines = a.engines, &defaults = a.defaults;
+  const auto &available = a.available, &cpu_isas = a.cpu_isas;
+  const auto &particles = a.particles, &iterations = a.iterations, &repeats = a.repeats, &threads = a.threads, &lod = a.lod;
+  const auto &zbuffer = a.zbuffer, &target = a.target, &json_path = a.json_path;
+  const auto& seed = a.seed;
+  if (engines.empty()) engines = defaults;
+  if (engines.empty()) throw Error("--engines: no engine is available");
+  for (std::size_t i = 0; i < engines.size(); ++i) {
     std::string why;
-    if (!synth.IsValid(&why)) throw Error("--target: " + why);
-    CheckOutputPaths({{json_path, "--json"}}, {});  // fail before the measurement, not after it
+    if (!EngineAvailable(engines[i], &why))
+      throw Error("--engines: engine '" + engines[i] + "' is not available (available: " + Join(available) +
+                  "; cpu/ with one of: " + Join(cpu_isas) + ")" +
+                  (EngineRowOf(engines[i]) != nullptr && !EngineRowOf(engines[i])->available(nullptr) ? ": " + why : ""));
+    if (std::find(engines.begin(), engines.begin() + i, engines[i]) != engines.begin() + i)
+      throw Error("--engines: engine '" + engines[i] + "' is listed twice");
+  }
+  if (particles < 128 || particles > 8192)
+    throw Error("--particles must be in [128, 8192] (got " + std::to_string(particles) + ")");
+  if (iterations < 1 || iterations > 1000)
+    throw Error("--iterations must be in [1, 1000] (got " + std::to_string(iterations) + ")");
+  if (repeats < 1 || repeats > 100) throw Error("--repeats must be in [1, 100] (got " + std::to_string(repeats) + ")");
+  if (zbuffer != "on" && zbuffer != "off") throw Error("--zbuffer must be 'on' or 'off' (got '" + zbuffer + "')");
+  FilterOptions opt;
+  opt.num_particles = particles;
+  opt.stop.max_iterations = iterations;
+  opt.stop.confidence = 1.0;
+  opt.restarts = 1;
+  opt.stop.stall_iterations = 0;
+  opt.polish.steps = 0;
+  opt.anneal.subsample = 1;         // every iteration weighs every pixel ...
+  opt.fine_particle_fraction = 1;   // ... of --particles particles: the kernel's full-resolution cost
+  opt.threads = threads;
+  opt.render.zbuffer = zbuffer == "on";
+  opt.render.lod_max_faces = lod;
+  opt.seed = seed;
+  CheckFilterOptions(opt);  // names --threads, --lod, ... as the filter commands do
+  SynthOptions synth;
+  synth.target = target;
+  std::string why;
+  if (!synth.IsValid(&why)) throw Error("--target: " + why);
+  CheckOutputPaths({{json_path, "--json"}}, {});  // fail before the measurement, not after it
+  return opt;
+}
 
-    // ---- Workload.
-    const SynthScene scene = MakeSynthScene(synth, seed);
-    const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
-    const SceneInput input{scene.depth, scene.camera};
-    const int cls = prior.ClassIndex(scene.target.name);
-    Mesh lod_storage;
-    const Mesh& rendered = MeshAtLod(scene.target, lod, &lod_storage);
-    const unsigned hw_threads = std::max(1u, std::thread::hardware_concurrency());
-    const std::string load_average = LoadAverage().empty() ? "n/a" : LoadAverage();
-    // The variant the `cpu` engine runs here: tables of different machines say which they measured.
-    const std::string cpu_isa = render::CpuTargetName(render::BestCpuTarget());
-    const bool uses_gpu = std::find(engines.begin(), engines.end(), "gpu") != engines.end();
-    const std::string gpu_device = uses_gpu ? GpuDevice() : "";
-    std::printf("workload: %s, %zu faces (rendered: %zu%s), at %.2f m in a %dx%d scene (seed %llu); %d particles, "
-                "%d iterations x %d repeats, every pixel and particle in each; threads %d%s; z-buffer %s; "
-                "cpu engine: %s;%s load average %s\n",
-                scene.target.name.c_str(), scene.target.faces.size(), rendered.faces.size(),
-                lod > 0 ? (" with --lod " + std::to_string(lod)).c_str() : "", scene.distance_m, scene.camera.width,
-                scene.camera.height, (unsigned long long)seed, particles, iterations, repeats, threads,
-                threads == 0 ? (" (all " + std::to_string(hw_threads) + " cores)").c_str() : "", zbuffer.c_str(),
-                cpu_isa.c_str(), uses_gpu ? (" gpu engine: " + gpu_device + ";").c_str() : "", load_average.c_str());
-    std::fflush(stdout);
+// The table of the runs (and --json); an Error when the float engines' check runs disagree.
+void ReportBench(const BenchArgs& a, const FilterOptions& opt, const BenchWorkload& wl, const std::vector<EngineRun>& runs) {
+  const auto& engines = a.engines;
+  const auto &particles = a.particles, &iterations = a.iterations, &repeats = a.repeats, &threads = a.threads, &lod = a.lod;
+  const auto& json_path = a.json_path;
+  const auto& seed = a.seed;
+  const double base_ms = Median(runs[0].ms_per_iteration);
+  bool agree = true;
+  // The float engines draw the same particles and must count the same fragments exactly.
+  // The hw engine draws its own (the thesis's LFSRs, fixed-point samples), so its check run
+  // weighs other poses: it is left out of the comparison (its agreement with the float
+  // weighing of the same pose is tested in tests/hw).
+  const EngineRun* first_float = nullptr;
+  for (const auto& r : runs) {
+    if (!EngineRowOf(r.engine)->float_filter) continue;
+    if (first_float == nullptr) first_float = &r;
+    agree = agree && r.check_fragments == first_float->check_fragments;
+  }
+  std::printf("%-12s %12s %12s %12s %12s %13s %10s %12s %9s\n", "engine", "ms/iter(med)", "ms/iter(min)",
+              "cpu-ms/iter", "particles/s", "Mfragments/s", "faces/wgh", "rendered/wgh", "speedup");
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& r : runs) {
+    const double med = Median(r.ms_per_iteration);
+    const double mn = *std::min_element(r.ms_per_iteration.begin(), r.ms_per_iteration.end());
+    const double secs = r.timed_ms / 1000;
+    const double w = double(std::max<std::int64_t>(1, r.stats.weighings));
+    const double pps = secs > 0 ? double(r.stats.weighings) / secs : 0;
+    const double fps = secs > 0 ? double(r.stats.fragments) / secs : 0;
+    const double speedup = med > 0 ? base_ms / med : 0;
+    const bool deterministic = std::all_of(r.fragments_per_repeat.begin(), r.fragments_per_repeat.end(),
+                                           [&](std::int64_t f) { return f == r.fragments_per_repeat[0]; });
+    const double cpu_med = r.cpu_ms_per_iteration.empty() ? 0.0 : Median(r.cpu_ms_per_iteration);
+    char cpu_text[32] = "-";
+    if (!r.cpu_ms_per_iteration.empty()) std::snprintf(cpu_text, sizeof cpu_text, "%.2f", cpu_med);
+    std::printf("%-12s %12.2f %12.2f %12s %12.0f %13.2f %10.0f %12.1f %8.2fx\n", r.engine.c_str(), med, mn, cpu_text,
+                pps, fps / 1e6, double(r.stats.faces_total) / w, double(r.stats.faces_front) / w, speedup);
+    rows.push_back({{"engine", r.engine},
+                    {"ms_per_iteration_median", med},
+                    {"ms_per_iteration_min", mn},
+                    {"ms_per_iteration_repeats", r.ms_per_iteration},
+                    {"cpu_ms_per_iteration_median", r.cpu_ms_per_iteration.empty() ? nlohmann::json() : nlohmann::json(cpu_med)},
+                    {"cpu_ms_per_iteration_repeats", r.cpu_ms_per_iteration},
+                    {"particles_per_s", pps},
+                    {"fragments_per_s", fps},
+                    {"weighings", r.stats.weighings},
+                    {"fragments", r.stats.fragments},
+                    {"faces_per_weighing", double(r.stats.faces_total) / w},
+                    {"rendered_faces_per_weighing", double(r.stats.faces_front) / w},
+                    {"speedup_vs_baseline", speedup},
+                    {"deterministic", deterministic},
+                    {"best_weight", r.best_weight},
+                    {"check_fragments", r.check_fragments},
+                    {"check_weight", r.check_weight}});
+  }
+  std::printf("speedup = median ms/iteration of %s / that of the engine, same run. check run (initial set, same "
+              "poses for all float engines; hw draws its own): fragments %s\n",
+              engines[0].c_str(), agree ? "agree" : "DIFFER");
+  if (!json_path.empty()) {
+    const nlohmann::json doc = {
+        {"workload",
+         {{"target", wl.target},
+          {"mesh_faces", wl.mesh_faces},
+          {"rendered_faces", wl.rendered_faces},
+          {"lod_max_faces", lod},
+          {"distance_m", wl.distance_m},
+          {"image_width", wl.width},
+          {"image_height", wl.height},
+          {"particles", particles},
+          {"iterations", iterations},
+          {"repeats", repeats},
+          {"threads", threads},
+          {"hardware_threads", wl.hw_threads},
+          {"cpu_isa", wl.cpu_isa},
+          {"gpu_device", wl.gpu_device},
+          {"load_average", wl.load_average},
+          {"zbuffer", opt.render.zbuffer},
+          {"seed", seed},
+          {"anneal_subsample", opt.anneal.subsample},
+          {"fine_particle_fraction", opt.fine_particle_fraction},
+          {"timing", "median over repeats of the mean EstimateResult::iteration_ms (no early stop, 1 restart, "
+                     "no polish, every pixel and particle in each iteration); engines interleaved"}}},
+        {"baseline", engines[0]},
+        {"engines", rows},
+        {"engines_agree", agree}};
+    WriteFileAtomically(json_path, [&](std::ostream& out) { out << doc.dump(1) << "\n"; });
+  }
+  if (!agree) throw Error("engines disagree on the fragments of the check run (see the table)");
+}
 
-    std::vector<EngineRun> runs(engines.size());
-    std::vector<double> cpu_stamps;  // process CPU ms at the end of each iteration of the last run
-    auto run_once = [&](const std::string& engine, int its) {
-      FilterOptions o = opt;
-      ApplyEngine(engine, &o);
-      o.stop.max_iterations = its;
-      cpu_stamps.clear();
-      const EstimateResult r =
-          EstimatePose(input, scene.target, prior, cls, o, [&](int, double) { cpu_stamps.push_back(ProcessCpuMs()); });
-      if (r.iterations != its || int(r.iteration_ms.size()) != its)
-        throw Error("engine '" + engine + "' stopped after " + std::to_string(r.iterations) + " of " +
-                    std::to_string(its) + " iterations");
-      return r;
-    };
-    for (std::size_t e = 0; e < engines.size(); ++e) {  // check runs (and warm-up)
-      runs[e].engine = engines[e];
-      const EstimateResult r = run_once(engines[e], 1);
-      runs[e].check_fragments = r.stats.fragments;
-      runs[e].check_weight = r.weight;
-    }
-    for (int rep = 0; rep < repeats; ++rep) {
-      for (std::size_t e = 0; e < engines.size(); ++e) {
-        const EstimateResult r = run_once(engines[e], iterations);
-        const double ms = std::accumulate(r.iteration_ms.begin(), r.iteration_ms.end(), 0.0);
-        runs[e].ms_per_iteration.push_back(ms / iterations);
-        if (iterations >= 2 && int(cpu_stamps.size()) == iterations)
-          runs[e].cpu_ms_per_iteration.push_back((cpu_stamps.back() - cpu_stamps.front()) / (iterations - 1));
-        runs[e].timed_ms += ms;
-        runs[e].stats += r.stats;
-        runs[e].fragments_per_repeat.push_back(r.stats.fragments);
-        runs[e].best_weight = r.weight;
-        if (!quiet)
-          std::fprintf(stderr, "repeat %d/%d %-12s %9.2f ms/iteration\n", rep + 1, repeats, engines[e].c_str(),
-                       ms / iterations);
-      }
-    }
+// Builds the workload, prints its line, and times every engine (a check run each, then the
+// repeats, engines interleaved); then the report.
+void MeasureBench(const BenchArgs& a, const FilterOptions& opt) {
+  const auto& engines = a.engines;
+  const auto &particles = a.particles, &iterations = a.iterations, &repeats = a.repeats, &threads = a.threads, &lod = a.lod;
+  const auto& zbuffer = a.zbuffer;
+  const auto& seed = a.seed;
+  const auto& quiet = a.quiet;
+  SynthOptions synth;
+  synth.target = a.target;
+  const SynthScene scene = MakeSynthScene(synth, seed);
+  const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
+  const SceneInput input{scene.depth, scene.camera};
+  const int cls = prior.ClassIndex(scene.target.name);
+  Mesh lod_storage;
+  const Mesh& rendered = MeshAtLod(scene.target, lod, &lod_storage);
+  const unsigned hw_threads = std::max(1u, std::thread::hardware_concurrency());
+  const std::string load_average = LoadAverage().empty() ? "n/a" : LoadAverage();
+  // The variant the `cpu` engine runs here: tables of different machines say which they measured.
+  const std::string cpu_isa = render::CpuTargetName(render::BestCpuTarget());
+  const bool uses_gpu = std::find(engines.begin(), engines.end(), "gpu") != engines.end();
+  const std::string gpu_device = uses_gpu ? GpuDevice() : "";
+  std::printf("workload: %s, %zu faces (rendered: %zu%s), at %.2f m in a %dx%d scene (seed %llu); %d particles, "
+              "%d iterations x %d repeats, every pixel and particle in each; threads %d%s; z-buffer %s; "
+              "cpu engine: %s;%s load average %s\n",
+              scene.target.name.c_str(), scene.target.faces.size(), rendered.faces.size(),
+              lod > 0 ? (" with --lod " + std::to_string(lod)).c_str() : "", scene.distance_m, scene.camera.width,
+              scene.camera.height, (unsigned long long)seed, particles, iterations, repeats, threads,
+              threads == 0 ? (" (all " + std::to_string(hw_threads) + " cores)").c_str() : "", zbuffer.c_str(),
+              cpu_isa.c_str(), uses_gpu ? (" gpu engine: " + gpu_device + ";").c_str() : "", load_average.c_str());
+  std::fflush(stdout);
 
-    // ---- Results.
-    const double base_ms = Median(runs[0].ms_per_iteration);
-    bool agree = true;
-    // The float engines draw the same particles and must count the same fragments exactly.
-    // The hw engine draws its own (the thesis's LFSRs, fixed-point samples), so its check run
-    // weighs other poses: it is left out of the comparison (its agreement with the float
-    // weighing of the same pose is tested in tests/hw).
-    const EngineRun* first_float = nullptr;
-    for (const auto& r : runs) {
-      if (!EngineRowOf(r.engine)->float_filter) continue;
-      if (first_float == nullptr) first_float = &r;
-      agree = agree && r.check_fragments == first_float->check_fragments;
+  std::vector<EngineRun> runs(engines.size());
+  std::vector<double> cpu_stamps;  // process CPU ms at the end of each iteration of the last run
+  auto run_once = [&](const std::string& engine, int its) {
+    FilterOptions o = opt;
+    ApplyEngine(engine, &o);
+    o.stop.max_iterations = its;
+    cpu_stamps.clear();
+    const EstimateResult r =
+        EstimatePose(input, scene.target, prior, cls, o, [&](int, double) { cpu_stamps.push_back(ProcessCpuMs()); });
+    if (r.iterations != its || int(r.iteration_ms.size()) != its)
+      throw Error("engine '" + engine + "' stopped after " + std::to_string(r.iterations) + " of " +
+                  std::to_string(its) + " iterations");
+    return r;
+  };
+  for (std::size_t e = 0; e < engines.size(); ++e) {  // check runs (and warm-up)
+    runs[e].engine = engines[e];
+    const EstimateResult r = run_once(engines[e], 1);
+    runs[e].check_fragments = r.stats.fragments;
+    runs[e].check_weight = r.weight;
+  }
+  for (int rep = 0; rep < repeats; ++rep) {
+    for (std::size_t e = 0; e < engines.size(); ++e) {
+      const EstimateResult r = run_once(engines[e], iterations);
+      const double ms = std::accumulate(r.iteration_ms.begin(), r.iteration_ms.end(), 0.0);
+      runs[e].ms_per_iteration.push_back(ms / iterations);
+      if (iterations >= 2 && int(cpu_stamps.size()) == iterations)
+        runs[e].cpu_ms_per_iteration.push_back((cpu_stamps.back() - cpu_stamps.front()) / (iterations - 1));
+      runs[e].timed_ms += ms;
+      runs[e].stats += r.stats;
+      runs[e].fragments_per_repeat.push_back(r.stats.fragments);
+      runs[e].best_weight = r.weight;
+      if (!quiet)
+        std::fprintf(stderr, "repeat %d/%d %-12s %9.2f ms/iteration\n", rep + 1, repeats, engines[e].c_str(),
+                     ms / iterations);
     }
-    std::printf("%-12s %12s %12s %12s %12s %13s %10s %12s %9s\n", "engine", "ms/iter(med)", "ms/iter(min)",
-                "cpu-ms/iter", "particles/s", "Mfragments/s", "faces/wgh", "rendered/wgh", "speedup");
-    nlohmann::json rows = nlohmann::json::array();
-    for (const auto& r : runs) {
-      const double med = Median(r.ms_per_iteration);
-      const double mn = *std::min_element(r.ms_per_iteration.begin(), r.ms_per_iteration.end());
-      const double secs = r.timed_ms / 1000;
-      const double w = double(std::max<std::int64_t>(1, r.stats.weighings));
-      const double pps = secs > 0 ? double(r.stats.weighings) / secs : 0;
-      const double fps = secs > 0 ? double(r.stats.fragments) / secs : 0;
-      const double speedup = med > 0 ? base_ms / med : 0;
-      const bool deterministic = std::all_of(r.fragments_per_repeat.begin(), r.fragments_per_repeat.end(),
-                                             [&](std::int64_t f) { return f == r.fragments_per_repeat[0]; });
-      const double cpu_med = r.cpu_ms_per_iteration.empty() ? 0.0 : Median(r.cpu_ms_per_iteration);
-      char cpu_text[32] = "-";
-      if (!r.cpu_ms_per_iteration.empty()) std::snprintf(cpu_text, sizeof cpu_text, "%.2f", cpu_med);
-      std::printf("%-12s %12.2f %12.2f %12s %12.0f %13.2f %10.0f %12.1f %8.2fx\n", r.engine.c_str(), med, mn, cpu_text,
-                  pps, fps / 1e6, double(r.stats.faces_total) / w, double(r.stats.faces_front) / w, speedup);
-      rows.push_back({{"engine", r.engine},
-                      {"ms_per_iteration_median", med},
-                      {"ms_per_iteration_min", mn},
-                      {"ms_per_iteration_repeats", r.ms_per_iteration},
-                      {"cpu_ms_per_iteration_median", r.cpu_ms_per_iteration.empty() ? nlohmann::json() : nlohmann::json(cpu_med)},
-                      {"cpu_ms_per_iteration_repeats", r.cpu_ms_per_iteration},
-                      {"particles_per_s", pps},
-                      {"fragments_per_s", fps},
-                      {"weighings", r.stats.weighings},
-                      {"fragments", r.stats.fragments},
-                      {"faces_per_weighing", double(r.stats.faces_total) / w},
-                      {"rendered_faces_per_weighing", double(r.stats.faces_front) / w},
-                      {"speedup_vs_baseline", speedup},
-                      {"deterministic", deterministic},
-                      {"best_weight", r.best_weight},
-                      {"check_fragments", r.check_fragments},
-                      {"check_weight", r.check_weight}});
-    }
-    std::printf("speedup = median ms/iteration of %s / that of the engine, same run. check run (initial set, same "
-                "poses for all float engines; hw draws its own): fragments %s\n",
-                engines[0].c_str(), agree ? "agree" : "DIFFER");
-    if (!json_path.empty()) {
-      const nlohmann::json doc = {
-          {"workload",
-           {{"target", scene.target.name},
-            {"mesh_faces", scene.target.faces.size()},
-            {"rendered_faces", rendered.faces.size()},
-            {"lod_max_faces", lod},
-            {"distance_m", scene.distance_m},
-            {"image_width", scene.camera.width},
-            {"image_height", scene.camera.height},
-            {"particles", particles},
-            {"iterations", iterations},
-            {"repeats", repeats},
-            {"threads", threads},
-            {"hardware_threads", hw_threads},
-            {"cpu_isa", cpu_isa},
-            {"gpu_device", gpu_device},
-            {"load_average", load_average},
-            {"zbuffer", opt.render.zbuffer},
-            {"seed", seed},
-            {"anneal_subsample", opt.anneal.subsample},
-            {"fine_particle_fraction", opt.fine_particle_fraction},
-            {"timing", "median over repeats of the mean EstimateResult::iteration_ms (no early stop, 1 restart, "
-                       "no polish, every pixel and particle in each iteration); engines interleaved"}}},
-          {"baseline", engines[0]},
-          {"engines", rows},
-          {"engines_agree", agree}};
-      WriteFileAtomically(json_path, [&](std::ostream& out) { out << doc.dump(1) << "\n"; });
-    }
-    if (!agree) throw Error("engines disagree on the fragments of the check run (see the table)");
+  }
+  BenchWorkload wl{scene.target.name, scene.target.faces.size(), rendered.faces.size(), scene.distance_m,
+                   scene.camera.width, scene.camera.height, hw_threads, load_average, cpu_isa, gpu_device};
+  ReportBench(a, opt, wl, runs);
+}
+
+}  // namespace
+
+int RunBench(int argc, char** argv) {
+  CLI::App app{"Speed of the scoring engines on a fixed synthetic workload (ms per iteration, throughput)", "bench"};
+  BenchArgs a;
+  AddBenchOptions(app, a);
+  return RunApp(app, argc, argv, [&] {
+    const FilterOptions opt = CheckBenchArgs(a);
+    MeasureBench(a, opt);
   });
 }
 

@@ -21,11 +21,11 @@
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/mask_prior.h"
-#include "posefilter/auto_prior.h"
-#include "posefilter/scene_pass.h"
+#include "posefilter/estimate_scene.h"
 #include "posefilter/overlay.h"
 #include "posefilter/prior.h"
 #include "posefilter/scene_io.h"
+#include "posefilter/stage1.h"
 #include "view_cli.h"
 
 namespace posefilter::cli {
@@ -43,81 +43,79 @@ std::vector<std::string> ReadClassList(const std::string& path) {
   return classes;
 }
 
-// One estimate: an object's mesh, and with a mask its instance's pixels and prior.
-struct Job {
-  const Mesh* mesh;
-  std::vector<std::uint8_t> mask;
-  Prior prior;
-};
-
 struct PriorArgs {
   std::string prior_arg, mask_path, mask_classes_path, classes_path;
 };
 
-// The stage 1 of `estimate`: the shared prior (and with --prior auto each mesh's pose seeds) in
-// *prior and *seeds_of, or with --mask one job per instance of a class with a mesh.
-std::vector<Job> MakeJobs(const PriorArgs& in, const SceneInput& scene, const std::vector<Mesh>& meshes, bool quiet,
-                          Prior* prior_out, std::map<const Mesh*, std::vector<PoseSeed>>* seeds_out) {
-  const std::string &prior_arg = in.prior_arg, &mask_path = in.mask_path, &mask_classes_path = in.mask_classes_path,
-                    &classes_path = in.classes_path;
-  const bool json_prior = std::filesystem::path(prior_arg).extension() == ".json";
+// The stage-1 options of `estimate`'s --prior or --mask (posefilter/stage1.h).
+Stage1Options EstimateStage1Options(const PriorArgs& in, const SceneInput& scene) {
+  Stage1Options so;
   const int W = scene.camera.width, H = scene.camera.height;
-  std::vector<Job> jobs;
-  Prior& prior = *prior_out;
-  std::map<const Mesh*, std::vector<PoseSeed>>& seeds_of = *seeds_out;
-  if (!mask_path.empty()) {
-    const LabelImage labels = LoadLabelPng(mask_path);
+  if (!in.mask_path.empty()) {
+    const LabelImage labels = LoadLabelPng(in.mask_path);
     if (labels.width != W || labels.height != H)
-      throw Error(mask_path + ": mask image is " + std::to_string(labels.width) + "x" + std::to_string(labels.height) +
+      throw Error(in.mask_path + ": mask image is " + std::to_string(labels.width) + "x" + std::to_string(labels.height) +
                   " but the camera is " + std::to_string(W) + "x" + std::to_string(H));
-    const auto classes_of = mask_classes_path.empty() ? YcbVideoMaskClasses() : ReadMaskClasses(mask_classes_path);
-    const std::vector<InstanceMask> instances = MasksFromLabels(labels, classes_of, mask_path);
-    std::vector<std::string> classes;
-    for (const auto& m : meshes) classes.push_back(m.name);
-    const PyramidLayout layout = PyramidLayout::Thesis(W, H, int(classes.size()));
-    for (const Mesh& mesh : meshes) {
-      bool any = false;
-      for (const InstanceMask& m : instances) {
-        if (m.cls != mesh.name) continue;
-        jobs.push_back({&mesh, m.pixels, PriorFromDetections({MaskDetection(m)}, layout, classes)});
-        any = true;
-      }
-      if (!any) throw Error(mask_path + ": no instance of '" + mesh.name + "' (a --mesh class) in the mask");
-    }
-  } else if (prior_arg == "auto") {
-    std::vector<const Mesh*> ms;
-    std::vector<std::string> names;
-    for (const auto& m : meshes) ms.push_back(&m), names.push_back(m.name);
-    const std::string cache_dir = DefaultPpfCacheDir();
-    std::vector<std::string> cache_status;
-    const auto t_stage1 = std::chrono::steady_clock::now();
-    AutoStage1 stage1 =
-        AutoPriorForMeshes(scene.depth, scene.camera, ms, names, "--prior auto", cache_dir, {}, &cache_status);
-    if (!quiet) {
-      for (std::size_t k = 0; k < names.size(); ++k)
-        std::fprintf(stderr, "posefilter estimate: PPF model of '%s': %s%s\n", names[k].c_str(), cache_status[k].c_str(),
-                     cache_dir.empty() ? " (no cache folder: set POSEFILTER_CACHE_DIR)" : (" (cache " + cache_dir + ")").c_str());
-      std::fprintf(stderr, "posefilter estimate: --prior auto: stage 1 in %.0f ms\n",
-                   std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_stage1).count());
-    }
-    prior = std::move(stage1.prior);
-    for (std::size_t k = 0; k < meshes.size(); ++k) seeds_of[&meshes[k]] = std::move(stage1.seeds[k]);
-  } else if (prior_arg == "none") {
-    std::vector<std::string> classes;
-    for (const auto& m : meshes) classes.push_back(m.name);
-    prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
-  } else if (json_prior) {
-    const std::vector<Detection> dets = ReadDetectionsJson(prior_arg);
-    std::vector<std::string> names;
-    for (const auto& m : meshes) names.push_back(m.name);
-    for (const auto& w : CheckDetectionsForObjects(dets, names, W, H, prior_arg))
-      std::fprintf(stderr, "posefilter estimate: warning: %s\n", w.c_str());
-    const std::vector<std::string> classes = ClassesForObjects(names, dets);
-    prior = PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    const auto classes_of = in.mask_classes_path.empty() ? YcbVideoMaskClasses() : ReadMaskClasses(in.mask_classes_path);
+    so.kind = Stage1Kind::kMasks;
+    so.masks = MasksFromLabels(labels, classes_of, in.mask_path);
+    so.what = in.mask_path;
+  } else if (in.prior_arg == "auto") {
+    so.kind = Stage1Kind::kAuto;
+    so.what = "--prior auto";
+    so.cache_dir = DefaultPpfCacheDir();
+  } else if (in.prior_arg == "none") {
+    so.kind = Stage1Kind::kNone;
+  } else if (std::filesystem::path(in.prior_arg).extension() == ".json") {
+    so.kind = Stage1Kind::kDetections;
+    so.detections = ReadDetectionsJson(in.prior_arg);
+    so.check_detections = true;
+    so.what = in.prior_arg;
   } else {
-    const std::vector<std::string> classes = classes_path.empty() ? YcbVideoClassNames() : ReadClassList(classes_path);
-    const PyramidLayout layout = PyramidLayout::Thesis(W, H, int(classes.size()));
-    prior = PostProcessPyramid(ReadRawPyramid(prior_arg, layout), layout, classes);
+    so.kind = Stage1Kind::kPyramid;
+    so.classes = in.classes_path.empty() ? YcbVideoClassNames() : ReadClassList(in.classes_path);
+    so.pyramid_path = in.prior_arg;
+    so.what = in.prior_arg;
+  }
+  return so;
+}
+
+// The stage 1 of `estimate` into *stage1, and its estimates: one per mesh (with --prior auto,
+// with its pose seeds) on stage1->prior, or with --mask one per instance of a class with a
+// mesh, on the instance's prior (in *stage1).
+std::vector<SceneEstimateObject> MakeJobs(const PriorArgs& in, const SceneInput& scene, const std::vector<Mesh>& meshes,
+                                          bool quiet, Stage1* stage1) {
+  const Stage1Options so = EstimateStage1Options(in, scene);
+  std::vector<Stage1Object> objects;
+  for (const Mesh& m : meshes) objects.push_back({m.name, &m});
+  const auto t_stage1 = std::chrono::steady_clock::now();
+  *stage1 = BuildStage1(scene, objects, so);
+  for (const std::string& w : stage1->warnings) std::fprintf(stderr, "posefilter estimate: warning: %s\n", w.c_str());
+  if (so.kind == Stage1Kind::kAuto && !quiet) {
+    for (std::size_t k = 0; k < meshes.size(); ++k)
+      std::fprintf(stderr, "posefilter estimate: PPF model of '%s': %s%s\n", meshes[k].name.c_str(),
+                   stage1->cache_status[k].c_str(),
+                   so.cache_dir.empty() ? " (no cache folder: set POSEFILTER_CACHE_DIR)" : (" (cache " + so.cache_dir + ")").c_str());
+    std::fprintf(stderr, "posefilter estimate: --prior auto: stage 1 in %.0f ms\n",
+                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_stage1).count());
+  }
+  std::vector<SceneEstimateObject> jobs;
+  if (so.kind != Stage1Kind::kMasks) {
+    for (std::size_t k = 0; k < meshes.size(); ++k) {
+      jobs.emplace_back();
+      jobs.back().mesh = &meshes[k];
+      jobs.back().seeds = std::move(stage1->seeds[k]);
+    }
+    return jobs;
+  }
+  for (std::size_t k = 0; k < meshes.size(); ++k)
+    if (std::none_of(stage1->instances.begin(), stage1->instances.end(), [&](const Stage1Instance& i) { return i.object == k; }))
+      throw Error(in.mask_path + ": no instance of '" + meshes[k].name + "' (a --mesh class) in the mask");
+  for (Stage1Instance& instance : stage1->instances) {
+    jobs.emplace_back();
+    jobs.back().mesh = &meshes[instance.object];
+    jobs.back().own_prior = &instance.prior;
+    jobs.back().mask = std::move(instance.mask);
   }
   return jobs;
 }
@@ -130,6 +128,17 @@ struct Estimated {
   std::vector<std::vector<ParticleSet>> particles;
 };
 
+ObjectResult ToObjectResult(const EstimateResult& r) {
+  ObjectResult o;
+  o.obj = r.obj;
+  o.pose_base = r.pose_base;
+  o.T_cam_obj = r.T_cam_obj;
+  o.weight = r.weight;
+  o.iterations = r.iterations;
+  o.time_ms = r.time_ms;
+  return o;
+}
+
 void PrintRow(const ObjectResult& o, bool header) {
   if (header)  // with the first row: an error before it prints no table
     std::printf("%-20s %9s %9s %9s %8s %8s %8s %7s %5s %8s\n", "object", "x[m]", "y[m]", "z[m]", "roll", "pitch",
@@ -139,59 +148,45 @@ void PrintRow(const ObjectResult& o, bool header) {
               o.iterations, o.time_ms);
 }
 
-// Runs every job's filter, then (scene_pass, several objects) the joint scene pass.
-Estimated RunJobs(SceneInput& scene, std::vector<Job>& jobs, const Prior& prior,
-                  std::map<const Mesh*, std::vector<PoseSeed>>& seeds_of, const FilterOptions& opt, bool quiet,
-                  bool scene_pass) {
-  Estimated out;
-  std::vector<SceneObject> estimates;  // --scene-pass
-  for (Job& job : jobs) {
-    const Mesh& mesh = *job.mesh;
-    out.meshes.push_back(&mesh);
-    const int cls = job.prior.ClassIndex(mesh.name);
-    if (cls < 0) throw Error("object '" + mesh.name + "' is not a class of the prior (see --classes)");
-    if (!(job.prior.ClassMass(cls) > 0)) throw Error("the prior holds no probability for '" + mesh.name + "'");
-    scene.mask = std::move(job.mask);
-    scene.seeds = seeds_of.count(&mesh) ? seeds_of[&mesh] : std::vector<PoseSeed>{};
-    EstimateResult r = EstimatePose(scene, mesh, job.prior, cls, opt,
-                                    StderrProgress(mesh.name, opt.stop.max_iterations * opt.restarts, quiet));
-    out.particles.push_back(std::move(r.particle_history));
-    r.particle_history.clear();
-    estimates.push_back({&mesh, cls, r});
-    if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
-    ObjectResult o;
-    o.obj = mesh.name;
-    o.pose_base = r.pose_base;
-    o.T_cam_obj = r.T_cam_obj;
-    o.weight = r.weight;
-    o.iterations = r.iterations;
-    o.time_ms = r.time_ms;
-    out.results.push_back(o);
-    PrintRow(o, out.results.size() == 1);
+// The scene pass's table: the rows in the order the pass settles the objects (by their weight
+// alone, best first).
+void PrintScenePass(const std::vector<SceneEstimate>& est) {
+  std::printf("scene pass (best first; weight alone -> without the pixels better estimates explain):\n");
+  std::vector<std::size_t> order(est.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return est[a].pass.weight_alone > est[b].pass.weight_alone; });
+  for (std::size_t i : order) {
+    const ScenePassResult& p = est[i].pass;
+    std::printf("  %-20s %.3f -> %.3f  %s (%.0f ms)\n", est[i].alone.obj.c_str(), p.weight_alone, p.weight_masked,
+                p.replaced ? "re-estimated: new pose" : p.reestimated ? "re-estimated: pose kept" : "kept", p.time_ms);
   }
-  if (scene_pass && estimates.size() > 1) {
-    scene.mask.clear();
-    scene.seeds.clear();
-    const std::vector<ScenePassResult> passed = RunScenePass(scene, prior, estimates, opt);
-    std::printf("scene pass (best first; weight alone -> without the pixels better estimates explain):\n");
-    // The rows in the order the pass settles the objects: by their weight alone, best first.
-    std::vector<std::size_t> order(passed.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return passed[a].weight_alone > passed[b].weight_alone; });
-    for (std::size_t i : order) {
-      const ScenePassResult& p = passed[i];
-      ObjectResult& res = out.results[i];
-      std::printf("  %-20s %.3f -> %.3f  %s (%.0f ms)\n", res.obj.c_str(), p.weight_alone, p.weight_masked,
-                  p.replaced ? "re-estimated: new pose" : p.reestimated ? "re-estimated: pose kept" : "kept", p.time_ms);
-      if (p.replaced) {
-        res.pose_base = p.estimate.pose_base;
-        res.T_cam_obj = p.estimate.T_cam_obj;
-        res.weight = p.estimate.weight;
-        res.iterations += p.estimate.iterations;
-      }
-      res.time_ms += p.time_ms;
-    }
+}
+
+// Runs every job's filter, then (scene_pass, several objects on the shared prior) the joint
+// scene pass (posefilter/estimate_scene.h), printing each object's row as it is estimated.
+Estimated RunJobs(const SceneInput& scene, std::vector<SceneEstimateObject>& jobs, const Prior& prior,
+                  const FilterOptions& opt, bool quiet, bool scene_pass) {
+  // Each object's class, checked before any estimate.
+  for (SceneEstimateObject& job : jobs) {
+    const Prior& p = job.own_prior ? *job.own_prior : prior;
+    job.cls = p.ClassIndex(job.mesh->name);
+    if (job.cls < 0) throw Error("object '" + job.mesh->name + "' is not a class of the prior (see --classes)");
+    if (!(p.ClassMass(job.cls) > 0)) throw Error("the prior holds no probability for '" + job.mesh->name + "'");
+    job.progress = StderrProgress(job.mesh->name, opt.stop.max_iterations * opt.restarts, quiet);
+  }
+  Estimated out;
+  EstimateSceneOptions so;
+  so.scene_pass = scene_pass;
+  std::vector<SceneEstimate> est = EstimateScene(scene, prior, jobs, opt, so, [&](std::size_t i, const SceneEstimate& e) {
+    if (!quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\n");
+    PrintRow(ToObjectResult(e.alone), i == 0);
+  });
+  if (!est.empty() && est[0].passed) PrintScenePass(est);
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    out.meshes.push_back(jobs[i].mesh);
+    out.particles.push_back(std::move(est[i].particles));
+    out.results.push_back(ToObjectResult(est[i].result));
   }
   return out;
 }
@@ -352,17 +347,13 @@ int RunEstimateCommand(int argc, char** argv, bool view_command) {
     const RgbImage* rgb = paths.rgb.empty() ? nullptr : &background;
     if (!paths.results.empty()) return ViewResults(paths, scene, rgb, meshes, gt, opt.support.plane);
 
-    // The prior and its class list; with a mask, one job per instance.
-    Prior prior;
-    std::map<const Mesh*, std::vector<PoseSeed>> seeds_of;  // --prior auto: each mesh's pose seeds
-    std::vector<Job> jobs = MakeJobs(pa, scene, meshes, quiet, &prior, &seeds_of);
-    if (jobs.empty())
-      for (const Mesh& mesh : meshes) jobs.push_back({&mesh, {}, prior});
+    // The stage 1: the prior and, with a mask, one job per instance.
+    Stage1 stage1;
+    std::vector<SceneEstimateObject> jobs = MakeJobs(pa, scene, meshes, quiet, &stage1);
     opt.record_particles = opt.record_particles || view;
-    const Estimated est = RunJobs(scene, jobs, prior, seeds_of, opt, quiet, scene_pass);
+    const Estimated est = RunJobs(scene, jobs, stage1.prior, opt, quiet, scene_pass);
     if (!paths.out.empty()) WriteResultsJson(est.results, paths.out);
     if (view) {
-      scene.mask.clear();
       FrameView v{std::filesystem::path(paths.depth).parent_path().filename().string(), &scene, rgb, est.meshes,
                   est.results, est.particles, gt, opt.support.plane};
       WriteFrameView(v, paths.view);

@@ -219,13 +219,8 @@ void RunDatasetEval(const std::string& dataset_dir, const std::string& split, co
   WriteFileAtomically(json_path, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
 }
 
-}  // namespace
-
-int RunEval(int argc, char** argv) {
-  CLI::App app{"Compare a results JSON (posefilter estimate) with a gt.json: ADD, ADD-S, "
-               "rotation/translation errors and recall at threshold·diameter; or (--dataset) a BOP results "
-               "CSV with a dataset: ADD/ADD-S recall and AUC, VSD/MSSD/MSPD recall, AR.",
-               "eval"};
+// The parsed command line of `eval`.
+struct EvalArgs {
   std::string results_path, gt_path, json_path, dataset_dir, split = "test", targets_path;
   double vsd_delta_mm = 15;
   bool no_vsd = false, quiet = false;
@@ -233,11 +228,22 @@ int RunEval(int argc, char** argv) {
   std::vector<std::string> mesh_specs, point_specs;
   double threshold = 0.1;
   double unit_scale = 1.0;
+  CLI::Option *gt_opt = nullptr, *dataset_opt = nullptr;
+};
+
+// Every option of `eval` on `app`, into *a.
+void AddEvalOptions(CLI::App& app, EvalArgs* a) {
+  std::string &results_path = a->results_path, &gt_path = a->gt_path, &json_path = a->json_path,
+              &dataset_dir = a->dataset_dir, &split = a->split, &targets_path = a->targets_path;
+  double &vsd_delta_mm = a->vsd_delta_mm, &threshold = a->threshold, &unit_scale = a->unit_scale;
+  bool &no_vsd = a->no_vsd, &quiet = a->quiet;
+  int& limit = a->limit;
+  std::vector<std::string> &mesh_specs = a->mesh_specs, &point_specs = a->point_specs;
   app.add_option("--results", results_path,
                  "results.json written by posefilter estimate (with --dataset: a BOP results CSV)")
       ->required();
-  auto* gt_opt = app.add_option("--gt", gt_path, "gt.json: {objects: [{obj, R, t}]}, object → camera, metres");
-  auto* dataset_opt = app.add_option("--dataset", dataset_dir,
+  CLI::Option* gt_opt = a->gt_opt = app.add_option("--gt", gt_path, "gt.json: {objects: [{obj, R, t}]}, object → camera, metres");
+  CLI::Option* dataset_opt = a->dataset_opt = app.add_option("--dataset", dataset_dir,
                                      "dataset folder (BOP or YCB-Video): evaluate a results CSV on its targets");
   app.add_option("--split", split, "BOP split of --dataset")->capture_default_str();
   app.add_option("--targets", targets_path,
@@ -261,144 +267,176 @@ int RunEval(int argc, char** argv) {
   app.add_option("--unit-scale", unit_scale, "factor applied to mesh coordinates (0.001 for mm meshes)")
       ->capture_default_str();
   app.add_option("--json", json_path, "also write the per-object errors and recalls to this JSON file");
-  app.callback([&] {
+  app.callback([&app, gt_opt, dataset_opt] {
     if (gt_opt->count() == 0 && dataset_opt->count() == 0) throw CLI::RequiredError("--gt (or --dataset)");
     if (dataset_opt->count() > 0)
       for (const char* o : {"--mesh", "--points", "--unit-scale"})
         if (app.count(o) > 0)
           throw CLI::ValidationError(o, "not used with --dataset (the dataset has the models)");
   });
+}
 
+// Each gt object's model: the diameter of its --mesh, and its ADD points (--points, else the
+// mesh's).
+std::map<std::string, Model> LoadEvalModels(const std::vector<GtObject>& gt, const std::map<std::string, std::string>& mesh_paths,
+                                            const std::map<std::string, std::string>& point_paths, double unit_scale) {
+  std::map<std::string, Model> models;
+  for (const auto& g : gt) {
+    if (models.count(g.obj)) continue;
+    const Mesh mesh = LoadMesh(mesh_paths.at(g.obj), unit_scale);
+    Model m;
+    m.diameter = mesh.Diameter();
+    if (!std::isfinite(m.diameter) || m.diameter <= 0)
+      throw Error(mesh_paths.at(g.obj) + ": mesh of '" + g.obj + "' has zero diameter");
+    if (const auto it = point_paths.find(g.obj); it != point_paths.end()) {
+      m.points = ReadXyzPoints(it->second);
+      m.points_source = it->second;
+    } else {
+      m.points = SamplePoints(mesh, kMaxMeshPoints);
+      m.points_source = "mesh";
+    }
+    models.emplace(g.obj, std::move(m));
+  }
+  return models;
+}
+
+// The rows: the i-th gt instance of a name ↔ the i-th result of that name; *unmatched receives
+// the results without a gt object.
+std::vector<Row> MatchEvalRows(const std::vector<GtObject>& gt, const std::vector<ObjectResult>& results,
+                               const std::map<std::string, Model>& models, double threshold,
+                               const std::string& results_path, std::vector<std::string>* unmatched) {
+  std::vector<bool> used(results.size(), false);
+  std::vector<Row> rows;
+  for (const auto& g : gt) {
+    Row row{g.obj, std::nullopt};
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      if (used[i] || results[i].obj != g.obj) continue;
+      used[i] = true;
+      const Model& m = models.at(g.obj);
+      try {
+        row.err = ComputePoseErrors(m.points, m.diameter, results[i].T_cam_obj, g.T_cam_obj, threshold);
+      } catch (const Error& e) {
+        throw Error(results_path + ": object '" + g.obj + "': " + e.what());
+      }
+      break;
+    }
+    rows.push_back(std::move(row));
+  }
+  for (std::size_t i = 0; i < results.size(); ++i)
+    if (!used[i]) unmatched->push_back(results[i].obj);
+  return rows;
+}
+
+// --json of a results JSON's evaluation: the recalls and each object's errors.
+void WriteEvalJson(const EvalArgs& a, const std::vector<Row>& rows, const std::map<std::string, Model>& models,
+                   int n_missing, double recall_add, double recall_adds, const std::vector<std::string>& unmatched) {
+  nlohmann::json j;
+  j["results"] = a.results_path;
+  j["gt"] = a.gt_path;
+  j["threshold"] = a.threshold;
+  j["n_objects"] = static_cast<int>(rows.size());
+  j["n_missing"] = n_missing;
+  j["recall_add"] = recall_add;
+  j["recall_adds"] = recall_adds;
+  j["objects"] = nlohmann::json::array();
+  for (const auto& r : rows) {
+    const Model& m = models.at(r.obj);
+    nlohmann::json o;
+    o["obj"] = r.obj;
+    o["status"] = r.err ? "ok" : "missing";
+    o["diameter_mm"] = m.diameter * 1e3;
+    o["points"] = m.points_source;
+    o["n_points"] = m.points.size();
+    if (r.err) {
+      o["add_mm"] = r.err->add * 1e3;
+      o["adds_mm"] = r.err->adds * 1e3;
+      o["rot_deg"] = r.err->rot_deg;
+      o["trans_mm"] = r.err->trans_m * 1e3;
+      o["add_ok"] = r.err->add_ok;
+      o["adds_ok"] = r.err->adds_ok;
+    } else {
+      for (const char* k : {"add_mm", "adds_mm", "rot_deg", "trans_mm"}) o[k] = nullptr;
+      o["add_ok"] = false;
+      o["adds_ok"] = false;
+    }
+    j["objects"].push_back(std::move(o));
+  }
+  j["unmatched_results"] = unmatched;
+  WriteFileAtomically(a.json_path, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
+}
+
+// A results JSON against a gt.json (--gt): the table, the recalls, and --json.
+void EvalResultsJson(const EvalArgs& a) {
+  if (!std::isfinite(a.threshold) || a.threshold <= 0)
+    throw Error("--threshold must be a finite number > 0 (fraction of the diameter), got " +
+                std::to_string(a.threshold));
+  if (!std::isfinite(a.unit_scale) || a.unit_scale <= 0)
+    throw Error("--unit-scale must be a finite number > 0, got " + std::to_string(a.unit_scale));
+  const auto mesh_paths = ParseNamePaths(a.mesh_specs, "--mesh");
+  const auto point_paths = ParseNamePaths(a.point_specs, "--points");
+
+  const std::vector<GtObject> gt = ReadGtJson(a.gt_path);
+  if (gt.empty()) throw Error(a.gt_path + ": no objects to evaluate");
+  const std::vector<ObjectResult> results = ReadResultsJson(a.results_path);
+
+  // Check every gt object has a mesh before loading anything.
+  for (const auto& g : gt)
+    if (!mesh_paths.count(g.obj))
+      throw Error("no --mesh NAME=PATH for gt object '" + g.obj + "' (" + a.gt_path + ")");
+  const std::map<std::string, Model> models = LoadEvalModels(gt, mesh_paths, point_paths, a.unit_scale);
+  std::vector<std::string> unmatched;
+  const std::vector<Row> rows = MatchEvalRows(gt, results, models, a.threshold, a.results_path, &unmatched);
+
+  int n_add = 0, n_adds = 0, n_missing = 0;
+  for (const auto& r : rows) {
+    if (!r.err) ++n_missing;
+    if (r.err && r.err->add_ok) ++n_add;
+    if (r.err && r.err->adds_ok) ++n_adds;
+  }
+  const int n = static_cast<int>(rows.size());
+  const double recall_add = static_cast<double>(n_add) / n;
+  const double recall_adds = static_cast<double>(n_adds) / n;
+
+  PrintTable(std::cout, rows);
+  const std::string at = " @ " + Fixed(a.threshold, 3) + "·diameter: ";
+  std::cout << "ADD recall" << at << Fixed(recall_add, 3) << " (" << n_add << "/" << n << ")\n"
+            << "ADD-S recall" << at << Fixed(recall_adds, 3) << " (" << n_adds << "/" << n << ")\n";
+  if (n_missing > 0) std::cout << n_missing << " gt object(s) without a result (counted as failures)\n";
+  if (!unmatched.empty()) {
+    std::cout << "results without a gt object (ignored):";
+    for (const auto& u : unmatched) std::cout << " " << u;
+    std::cout << "\n";
+  }
+  if (!a.json_path.empty()) WriteEvalJson(a, rows, models, n_missing, recall_add, recall_adds, unmatched);
+}
+
+}  // namespace
+
+int RunEval(int argc, char** argv) {
+  CLI::App app{"Compare a results JSON (posefilter estimate) with a gt.json: ADD, ADD-S, "
+               "rotation/translation errors and recall at threshold·diameter; or (--dataset) a BOP results "
+               "CSV with a dataset: ADD/ADD-S recall and AUC, VSD/MSSD/MSPD recall, AR.",
+               "eval"};
+  EvalArgs a;
+  AddEvalOptions(app, &a);
   return RunApp(app, argc, argv, [&] {
     {
-      std::vector<NamedPath> inputs = {{results_path, "--results"}, {gt_path, "--gt"}, {targets_path, "--targets"},
-                                       {dataset_dir, "--dataset"}};
-      for (const auto& spec : mesh_specs) inputs.push_back({spec.substr(spec.find('=') + 1), "--mesh"});
-      for (const auto& spec : point_specs) inputs.push_back({spec.substr(spec.find('=') + 1), "--points"});
-      CheckOutputPaths({{json_path, "--json"}}, inputs);
+      std::vector<NamedPath> inputs = {{a.results_path, "--results"}, {a.gt_path, "--gt"}, {a.targets_path, "--targets"},
+                                       {a.dataset_dir, "--dataset"}};
+      for (const auto& spec : a.mesh_specs) inputs.push_back({spec.substr(spec.find('=') + 1), "--mesh"});
+      for (const auto& spec : a.point_specs) inputs.push_back({spec.substr(spec.find('=') + 1), "--points"});
+      CheckOutputPaths({{a.json_path, "--json"}}, inputs);
     }
-    if (dataset_opt->count() > 0) {
-      if (!std::isfinite(threshold) || threshold <= 0)
+    if (a.dataset_opt->count() > 0) {
+      if (!std::isfinite(a.threshold) || a.threshold <= 0)
         throw Error("--threshold must be a finite number > 0 (fraction of the diameter), got " +
-                    std::to_string(threshold));
-      if (app.count("--limit") && limit < 1) throw Error("--limit must be ≥ 1, got " + std::to_string(limit));
-      RunDatasetEval(dataset_dir, split, targets_path, results_path, json_path, threshold, vsd_delta_mm, no_vsd,
-                     quiet, limit);
+                    std::to_string(a.threshold));
+      if (app.count("--limit") && a.limit < 1) throw Error("--limit must be ≥ 1, got " + std::to_string(a.limit));
+      RunDatasetEval(a.dataset_dir, a.split, a.targets_path, a.results_path, a.json_path, a.threshold, a.vsd_delta_mm,
+                     a.no_vsd, a.quiet, a.limit);
       return;
     }
-    if (!std::isfinite(threshold) || threshold <= 0)
-      throw Error("--threshold must be a finite number > 0 (fraction of the diameter), got " +
-                  std::to_string(threshold));
-    if (!std::isfinite(unit_scale) || unit_scale <= 0)
-      throw Error("--unit-scale must be a finite number > 0, got " + std::to_string(unit_scale));
-    const auto mesh_paths = ParseNamePaths(mesh_specs, "--mesh");
-    const auto point_paths = ParseNamePaths(point_specs, "--points");
-
-    const std::vector<GtObject> gt = ReadGtJson(gt_path);
-    if (gt.empty()) throw Error(gt_path + ": no objects to evaluate");
-    const std::vector<ObjectResult> results = ReadResultsJson(results_path);
-
-    // Check every gt object has a mesh before loading anything.
-    for (const auto& g : gt)
-      if (!mesh_paths.count(g.obj))
-        throw Error("no --mesh NAME=PATH for gt object '" + g.obj + "' (" + gt_path + ")");
-
-    std::map<std::string, Model> models;
-    for (const auto& g : gt) {
-      if (models.count(g.obj)) continue;
-      const Mesh mesh = LoadMesh(mesh_paths.at(g.obj), unit_scale);
-      Model m;
-      m.diameter = mesh.Diameter();
-      if (!std::isfinite(m.diameter) || m.diameter <= 0)
-        throw Error(mesh_paths.at(g.obj) + ": mesh of '" + g.obj + "' has zero diameter");
-      if (const auto it = point_paths.find(g.obj); it != point_paths.end()) {
-        m.points = ReadXyzPoints(it->second);
-        m.points_source = it->second;
-      } else {
-        m.points = SamplePoints(mesh, kMaxMeshPoints);
-        m.points_source = "mesh";
-      }
-      models.emplace(g.obj, std::move(m));
-    }
-
-    // i-th gt instance of a name ↔ i-th result of that name.
-    std::vector<bool> used(results.size(), false);
-    std::vector<Row> rows;
-    for (const auto& g : gt) {
-      Row row{g.obj, std::nullopt};
-      for (std::size_t i = 0; i < results.size(); ++i) {
-        if (used[i] || results[i].obj != g.obj) continue;
-        used[i] = true;
-        const Model& m = models.at(g.obj);
-        try {
-          row.err = ComputePoseErrors(m.points, m.diameter, results[i].T_cam_obj, g.T_cam_obj, threshold);
-        } catch (const Error& e) {
-          throw Error(results_path + ": object '" + g.obj + "': " + e.what());
-        }
-        break;
-      }
-      rows.push_back(std::move(row));
-    }
-    std::vector<std::string> unmatched;
-    for (std::size_t i = 0; i < results.size(); ++i)
-      if (!used[i]) unmatched.push_back(results[i].obj);
-
-    int n_add = 0, n_adds = 0, n_missing = 0;
-    for (const auto& r : rows) {
-      if (!r.err) ++n_missing;
-      if (r.err && r.err->add_ok) ++n_add;
-      if (r.err && r.err->adds_ok) ++n_adds;
-    }
-    const int n = static_cast<int>(rows.size());
-    const double recall_add = static_cast<double>(n_add) / n;
-    const double recall_adds = static_cast<double>(n_adds) / n;
-
-    PrintTable(std::cout, rows);
-    const std::string at = " @ " + Fixed(threshold, 3) + "·diameter: ";
-    std::cout << "ADD recall" << at << Fixed(recall_add, 3) << " (" << n_add << "/" << n << ")\n"
-              << "ADD-S recall" << at << Fixed(recall_adds, 3) << " (" << n_adds << "/" << n << ")\n";
-    if (n_missing > 0) std::cout << n_missing << " gt object(s) without a result (counted as failures)\n";
-    if (!unmatched.empty()) {
-      std::cout << "results without a gt object (ignored):";
-      for (const auto& u : unmatched) std::cout << " " << u;
-      std::cout << "\n";
-    }
-
-    if (!json_path.empty()) {
-      nlohmann::json j;
-      j["results"] = results_path;
-      j["gt"] = gt_path;
-      j["threshold"] = threshold;
-      j["n_objects"] = n;
-      j["n_missing"] = n_missing;
-      j["recall_add"] = recall_add;
-      j["recall_adds"] = recall_adds;
-      j["objects"] = nlohmann::json::array();
-      for (const auto& r : rows) {
-        const Model& m = models.at(r.obj);
-        nlohmann::json o;
-        o["obj"] = r.obj;
-        o["status"] = r.err ? "ok" : "missing";
-        o["diameter_mm"] = m.diameter * 1e3;
-        o["points"] = m.points_source;
-        o["n_points"] = m.points.size();
-        if (r.err) {
-          o["add_mm"] = r.err->add * 1e3;
-          o["adds_mm"] = r.err->adds * 1e3;
-          o["rot_deg"] = r.err->rot_deg;
-          o["trans_mm"] = r.err->trans_m * 1e3;
-          o["add_ok"] = r.err->add_ok;
-          o["adds_ok"] = r.err->adds_ok;
-        } else {
-          for (const char* k : {"add_mm", "adds_mm", "rot_deg", "trans_mm"}) o[k] = nullptr;
-          o["add_ok"] = false;
-          o["adds_ok"] = false;
-        }
-        j["objects"].push_back(std::move(o));
-      }
-      j["unmatched_results"] = unmatched;
-      WriteFileAtomically(json_path, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
-    }
+    EvalResultsJson(a);
   });
 }
 

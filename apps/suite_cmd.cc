@@ -35,7 +35,8 @@
 #include "posefilter/mask_prior.h"
 #include "posefilter/metrics.h"
 #include "posefilter/room_world.h"
-#include "posefilter/scene_pass.h"
+#include "posefilter/estimate_scene.h"
+#include "posefilter/stage1.h"
 #include "posefilter/synth.h"
 #include "posefilter/table_world.h"
 
@@ -78,6 +79,265 @@ struct TableSuiteArgs {
   std::uint64_t first_seed = 1;
 };
 
+// The table suites' world: its models, classes, ADD-S points and (--prior auto) PPF models.
+struct TableSuiteWorld {
+  TableWorld world;
+  std::vector<std::string> classes;
+  // Model points for ADD-S, per model: the dataset's official point sets where present, else the mesh's.
+  std::vector<std::vector<Eigen::Vector3f>> points;
+  std::map<int, PpfModel> ppf_models;  // --prior auto: per model index, built (or loaded) once
+};
+
+// A scene's shared stage 1: its prior, "ok" or why no target is estimated, and the pose seeds
+// per class (--prior auto).
+struct TableStage1 {
+  Prior prior;
+  std::string status = "ok";
+  std::map<std::string, std::vector<PoseSeed>> seeds_of;
+};
+
+// The shared stage 1 of a scene (posefilter/stage1.h) on the world's classes: --prior boxes
+// (the scene's detections), none, or auto / auto-regions (regions of the depth, for every
+// target class, as `estimate --prior auto` does for its meshes). The auto priors' time goes
+// into *stage1_ms.
+TableStage1 TableSceneStage1(const TableSuiteArgs& a, TableSuiteWorld& w, const TableScene& scene,
+                             std::vector<double>* stage1_ms) {
+  Stage1Options so;
+  so.classes = w.classes;
+  so.what = "--prior " + a.prior_kind;
+  std::vector<Stage1Object> wanted;  // each target class once, in the scene's order
+  const bool automatic = a.prior_kind == "auto" || a.prior_kind == "auto-regions";
+  for (const TableObject& o : scene.objects)
+    if (o.target && std::none_of(wanted.begin(), wanted.end(), [&](const Stage1Object& x) { return x.name == o.cls; })) {
+      const TableModel& model = w.world.models()[std::size_t(o.model)];
+      const PpfModel* ppf = nullptr;
+      if (a.prior_kind == "auto") {
+        auto it = w.ppf_models.find(o.model);
+        if (it == w.ppf_models.end())
+          it = w.ppf_models.emplace(o.model, LoadOrBuildPpfModel(model.mesh, {}, DefaultPpfCacheDir())).first;
+        ppf = &it->second;
+      }
+      wanted.push_back({o.cls, &model.mesh, ppf, model.diameter});
+    }
+  if (automatic) {
+    so.kind = Stage1Kind::kAuto;
+    so.auto_ppf = a.prior_kind == "auto";
+    so.require_candidates = false;
+  } else if (a.prior_kind == "none") {
+    so.kind = Stage1Kind::kNone;
+  } else {
+    so.kind = Stage1Kind::kDetections;
+    so.detections = scene.detections;
+  }
+  const auto t_stage1 = std::chrono::steady_clock::now();
+  Stage1 s = BuildStage1(SceneInput{scene.depth, scene.camera}, wanted, so);
+  TableStage1 out;
+  if (automatic) {
+    stage1_ms->push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_stage1).count());
+    if (s.no_candidates) out.status = "no candidates";
+    for (std::size_t k = 0; k < wanted.size(); ++k) out.seeds_of[wanted[k].name] = std::move(s.seeds[k]);
+  }
+  out.prior = std::move(s.prior);
+  return out;
+}
+
+// One target of a table scene: its estimate's input and prior, and what became of it.
+struct TableJob {
+  std::size_t j = 0;  // index in scene.objects
+  SceneInput input;
+  Prior prior;
+  std::string status;
+  FilterOptions o;
+  EstimateResult r;
+  EstimateResult alone;  // before the scene pass
+  bool estimated = false;
+  double pass_ms = 0;
+  std::string pass_note;  // "re-estimated" / "replaced" by the scene pass
+};
+
+// Each target of scene `i` (seed `seed`) estimated on its own, then (--scene-pass) the scene
+// pass over all of them (posefilter/estimate_scene.h); --prior masks: each target on its own
+// mask (posefilter/stage1.h).
+std::vector<TableJob> EstimateTableScene(const TableSuiteArgs& a, const TableSuiteWorld& w, const TableScene& scene,
+                                         const TableStage1& stage1, const FilterOptions& opt, int i) {
+  std::vector<TableJob> jobs;
+  for (std::size_t j = 0; j < scene.objects.size(); ++j) {
+    const TableObject& obj = scene.objects[j];
+    if (!obj.target) continue;
+    if (!a.classes.empty() && std::find(a.classes.begin(), a.classes.end(), obj.cls) == a.classes.end()) continue;
+    TableJob job;
+    job.j = j;
+    job.input = SceneInput{scene.depth, scene.camera, {}};
+    if (auto it = stage1.seeds_of.find(obj.cls); it != stage1.seeds_of.end()) job.input.seeds = it->second;
+    job.prior = stage1.prior;
+    job.status = stage1.status;
+    if (a.prior_kind == "masks") {
+      LabelImage l{scene.camera.width, scene.camera.height, {}};
+      l.ids.resize(scene.masks.size());
+      for (std::size_t q = 0; q < l.ids.size(); ++q) l.ids[q] = scene.masks[q] == j + 1 ? 1 : 0;
+      if (std::count(l.ids.begin(), l.ids.end(), 1) == 0) {
+        job.status = "no mask";
+      } else {
+        Stage1Options so;
+        so.kind = Stage1Kind::kMasks;
+        so.classes = w.classes;
+        so.masks = MasksFromLabels(l, {{1, obj.cls}}, "mask");
+        Stage1 s = BuildStage1(job.input, {{obj.cls}}, so);
+        job.input.mask = std::move(s.instances.at(0).mask);
+        job.prior = std::move(s.instances.at(0).prior);
+      }
+    }
+    job.o = opt;
+    job.o.seed = opt.seed + std::uint64_t(i);  // as the scene's estimates below
+    jobs.push_back(std::move(job));
+  }
+  std::vector<SceneEstimateObject> objects;
+  std::vector<TableJob*> of;
+  for (TableJob& job : jobs) {
+    if (job.status != "ok") continue;
+    const TableObject& obj = scene.objects[job.j];
+    SceneEstimateObject x;
+    x.mesh = &w.world.models()[std::size_t(obj.model)].mesh;
+    x.cls = job.prior.ClassIndex(obj.cls);
+    if (a.prior_kind == "masks") x.own_prior = &job.prior, x.mask = job.input.mask;
+    x.seeds = job.input.seeds;
+    objects.push_back(std::move(x));
+    of.push_back(&job);
+  }
+  EstimateSceneOptions so;
+  so.scene_pass = a.scene_pass;
+  so.pass_min_objects = 1;
+  so.keep_going = true;
+  FilterOptions o = opt;
+  o.seed = opt.seed + std::uint64_t(i);
+  const std::vector<SceneEstimate> est = EstimateScene(SceneInput{scene.depth, scene.camera, {}}, stage1.prior, objects, o, so);
+  for (std::size_t k = 0; k < est.size(); ++k) {
+    TableJob& job = *of[k];
+    if (!est[k].estimated) {
+      job.status = est[k].error;  // counted as not found
+      continue;
+    }
+    job.estimated = true;
+    job.alone = est[k].alone;
+    job.r = est[k].passed ? est[k].pass.estimate : est[k].alone;
+    if (!est[k].passed) continue;
+    job.pass_ms = est[k].pass.time_ms;
+    job.pass_note = est[k].pass.replaced      ? "pass: replaced"
+                    : est[k].pass.reestimated ? "pass: re-estimated, kept"
+                                              : "";
+  }
+  return jobs;
+}
+
+// The running totals of a table suite.
+struct TableSuiteTotals {
+  struct ClassStats {
+    int n = 0, found = 0;
+    int found_alone = 0;  // before the scene pass
+    std::vector<double> adds, times;
+  };
+  std::map<std::string, ClassStats> per_class;
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<double> all_adds, all_times;
+  std::vector<double> stage1_ms;  // --prior auto: the stage 1's time per scene
+  int found = 0, total = 0, found_alone = 0;
+  // Recall by visible fraction: [0.5, 1], [0.3, 0.5), [0, 0.3).
+  static constexpr double kVisibBounds[3] = {0.5, 0.3, 0.0};
+  int visib_n[3] = {0, 0, 0}, visib_found[3] = {0, 0, 0};
+};
+
+// Scores one target against its ground truth, prints its row and adds it to the totals.
+void ReportTableJob(const TableSuiteWorld& w, const TableScene& scene, const TableJob& job, std::uint64_t seed,
+                    double stage1_share, TableSuiteTotals* t) {
+  const TableObject& obj = scene.objects[job.j];
+  const std::size_t j = job.j;
+  const TableModel& model = w.world.models()[std::size_t(obj.model)];
+  double adds = std::numeric_limits<double>::infinity(), weight = 0, gt_weight = 0, time_ms = 0;
+  int iterations = 0;
+  bool ok = false;
+  std::string status = job.status;
+  bool ok_alone = false;
+  if (job.estimated) {
+    const EstimateResult& r = job.r;
+    const PoseErrors e = ComputePoseErrors(w.points[std::size_t(obj.model)], model.diameter, r.T_cam_obj, obj.T_cam_obj);
+    ok_alone = ComputePoseErrors(w.points[std::size_t(obj.model)], model.diameter, job.alone.T_cam_obj, obj.T_cam_obj).adds_ok;
+    adds = e.adds;
+    ok = e.adds_ok;
+    weight = r.weight;
+    iterations = r.iterations;
+    time_ms = r.time_ms + job.pass_ms;
+    gt_weight = GroundTruthWeight(job.input, model.mesh, job.prior, job.prior.ClassIndex(obj.cls), job.o, obj.T_cam_obj, r.cell);
+  }
+  ++t->total;
+  t->found += ok;
+  for (int b = 0; b < 3; ++b)
+    if (obj.visible_fraction >= TableSuiteTotals::kVisibBounds[b]) {
+      ++t->visib_n[b];
+      t->visib_found[b] += ok;
+      break;
+    }
+  TableSuiteTotals::ClassStats& cs = t->per_class[obj.cls];
+  ++cs.n;
+  cs.found += ok;
+  cs.found_alone += ok_alone;
+  t->found_alone += ok_alone;
+  cs.adds.push_back(adds);
+  t->all_adds.push_back(adds);
+  if (time_ms > 0) cs.times.push_back(time_ms), t->all_times.push_back(time_ms);
+  const std::string note = status == "ok" ? job.pass_note : status;
+  std::printf("%6llu %-22s %5.2f %9.1f %6.1f %6s %7.3f %7.3f %5d %8.0f%s%s\n", (unsigned long long)seed, obj.cls.c_str(),
+              obj.visible_fraction, 1000 * adds, 100 * adds / model.diameter, ok ? "yes" : "NO", weight, gt_weight, iterations,
+              time_ms, note.empty() ? "" : "  ", note.c_str());
+  std::fflush(stdout);
+  t->rows.push_back({{"seed", seed}, {"obj", obj.cls}, {"instance", j + 1}, {"visible_fraction", obj.visible_fraction},
+                     {"adds_m", std::isfinite(adds) ? nlohmann::json(adds) : nlohmann::json(nullptr)},
+                     {"diameter_m", model.diameter}, {"found", ok}, {"weight", weight}, {"gt_weight", gt_weight}, {"iterations", iterations},
+                     {"time_ms", time_ms}, {"stage1_ms", stage1_share}, {"scene_pass_ms", job.pass_ms},
+                     {"scene_pass", job.pass_note}, {"found_before_pass", ok_alone}, {"status", status}});
+}
+
+// The table suite's summary: per class, recall, by visible fraction, the scene pass, the
+// stage 1's time; and the JSON (--json).
+void PrintTableSummary(const TableSuiteArgs& a, const TableSuiteTotals& t, bool room) {
+  const int found = t.found, total = t.total;
+  std::printf("\n%-22s %5s %6s %7s %10s %12s\n", "class", "n", "found", "recall", "AUC ADD-S", "median[ms]");
+  nlohmann::json class_rows = nlohmann::json::object();
+  for (const auto& [cls, cs] : t.per_class) {
+    const double auc = YcbvAuc(cs.adds, 0.1);
+    std::printf("%-22s %5d %6d %6.0f%% %10.1f %12.0f\n", cls.c_str(), cs.n, cs.found, 100.0 * cs.found / cs.n, 100 * auc,
+                Median(cs.times));
+    class_rows[cls] = {{"n", cs.n}, {"found", cs.found}, {"recall", double(cs.found) / cs.n}, {"auc_adds", auc},
+                       {"median_time_ms", Median(cs.times)}, {"found_before_pass", cs.found_alone}};
+  }
+  const double recall = double(found) / total, auc = YcbvAuc(t.all_adds, 0.1);
+  double mean_ms = 0;
+  for (double v : t.all_times) mean_ms += v;
+  mean_ms = t.all_times.empty() ? 0 : mean_ms / double(t.all_times.size());
+  std::printf("recall (ADD-S < 10%% of diameter): %d/%d = %.1f%%, AUC of ADD-S %.1f, median %.0f ms (mean %.0f ms) per object\n",
+              found, total, 100 * recall, 100 * auc, Median(t.all_times), mean_ms);
+  nlohmann::json by_visib = nlohmann::json::array();
+  std::printf("by visible fraction:");
+  for (int b = 0; b < 3; ++b) {
+    const char* name[3] = {">= 0.5", "0.3-0.5", "< 0.3"};
+    std::printf("  %s: %d/%d", name[b], t.visib_found[b], t.visib_n[b]);
+    by_visib.push_back({{"min_visible_fraction", TableSuiteTotals::kVisibBounds[b]}, {"n", t.visib_n[b]}, {"found", t.visib_found[b]}});
+  }
+  std::printf("\n");
+  if (a.scene_pass) {
+    std::printf("scene pass: %d/%d found after it, %d/%d before; by class (before -> after):", found, total, t.found_alone, total);
+    for (const auto& [cls, cs] : t.per_class)
+      if (cs.found != cs.found_alone) std::printf("  %s %d -> %d", cls.c_str(), cs.found_alone, cs.found);
+    std::printf("\n");
+  }
+  if (!t.stage1_ms.empty())
+    std::printf("stage 1 (--prior %s): median %.0f ms per scene, %.0f ms per object on average\n", a.prior_kind.c_str(),
+                Median(t.stage1_ms), std::accumulate(t.stage1_ms.begin(), t.stage1_ms.end(), 0.0) / total);
+  if (!a.json_path.empty())
+    WriteJson(a.json_path, {{"world", room ? "room" : "ycbv"}, {"by_visible_fraction", by_visib}, {"prior", a.prior_kind}, {"scene_pass", a.scene_pass}, {"objects", t.rows}, {"classes", class_rows},
+                            {"recall_adds", recall}, {"recall_adds_before_pass", double(t.found_alone) / total}, {"auc_adds", auc}, {"median_time_ms", Median(t.all_times)},
+                            {"mean_time_ms", mean_ms}, {"stage1_median_ms_per_scene", Median(t.stage1_ms)}});
+}
+
 // The YCB-Video table-top suite (--world ycbv), or with `room` the room suite (--world room).
 void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const RoomSceneOptions* room, const FilterOptions& opt) {
   namespace fs = std::filesystem;
@@ -87,234 +347,36 @@ void RunTableSuite(const TableSuiteArgs& a, const TableSceneOptions& topt, const
   if (a.models_dir.empty())
     throw Error(std::string(room ? "--world room" : "--world ycbv") + " needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA "
                 "(scripts/get_data.sh ycbv DIR fetches them; README \"Data\")");
-  const TableWorld world = TableWorld::LoadYcbVideo(a.models_dir);
-  const std::vector<std::string> classes = world.ClassNames();
-  // Model points for ADD-S: the dataset's official point sets where present, else the mesh's.
-  std::vector<std::vector<Eigen::Vector3f>> points;
-  for (const TableModel& m : world.models()) {
+  TableSuiteWorld w{TableWorld::LoadYcbVideo(a.models_dir), {}, {}, {}};
+  w.classes = w.world.ClassNames();
+  for (const TableModel& m : w.world.models()) {
     const fs::path xyz = fs::path(a.models_dir) / "points" / (m.mesh.name + ".xyz");
-    points.push_back(fs::exists(xyz) ? ReadXyzPoints(xyz.string()) : SamplePoints(m.mesh));
+    w.points.push_back(fs::exists(xyz) ? ReadXyzPoints(xyz.string()) : SamplePoints(m.mesh));
   }
-  struct ClassStats {
-    int n = 0, found = 0;
-    int found_alone = 0;  // before the scene pass
-    std::vector<double> adds, times;
-  };
-  std::map<std::string, ClassStats> per_class;
-  nlohmann::json rows = nlohmann::json::array();
-  std::vector<double> all_adds, all_times;
-  std::map<int, PpfModel> ppf_models;  // --prior auto: per model index, built (or loaded) once
-  std::vector<double> stage1_ms;       // --prior auto: the stage 1's time per scene
-  int found = 0, total = 0, found_alone = 0;
-  // Recall by visible fraction: [0.5, 1], [0.3, 0.5), [0, 0.3).
-  const double kVisibBounds[3] = {0.5, 0.3, 0.0};
-  int visib_n[3] = {0, 0, 0}, visib_found[3] = {0, 0, 0};
+  TableSuiteTotals t;
   std::printf("%6s %-22s %5s %9s %6s %6s %7s %7s %5s %8s\n", "seed", "object", "visib", "ADD-S[mm]", "%diam", "found",
               "weight", "gt_w", "iter", "time[ms]");
   for (int i = 0; i < a.count; ++i) {
     const std::uint64_t seed = a.first_seed + std::uint64_t(i);
-    const TableScene scene = room ? MakeRoomScene(world, *room, seed) : world.MakeScene(topt, seed);
+    const TableScene scene = room ? MakeRoomScene(w.world, *room, seed) : w.world.MakeScene(topt, seed);
     if (!a.write_dir.empty()) {
       char name[32];
       std::snprintf(name, sizeof(name), "scene_%06llu", (unsigned long long)seed);
       WriteTableScene(scene, (fs::path(a.write_dir) / name).string());
     }
-    const int W = scene.camera.width, H = scene.camera.height;
-    const PyramidLayout layout = PyramidLayout::Thesis(W, H, int(classes.size()));
-    Prior box_prior;
-    std::string scene_status = "ok";
-    std::map<std::string, std::vector<PoseSeed>> seeds_of;  // --prior auto: per class
-    if (a.prior_kind == "auto" || a.prior_kind == "auto-regions") {
-      // No detector: candidate regions in the depth, for every object class the scene is
-      // searched for (its targets), as `estimate --prior auto` does for its meshes.
-      std::vector<AutoObject> wanted;
-      for (const TableObject& o : scene.objects)
-        if (o.target && std::none_of(wanted.begin(), wanted.end(), [&](const AutoObject& w) { return w.name == o.cls; })) {
-          const PpfModel* ppf = nullptr;
-          if (a.prior_kind == "auto") {
-            auto model = ppf_models.find(o.model);
-            if (model == ppf_models.end())
-              model = ppf_models.emplace(o.model, LoadOrBuildPpfModel(world.models()[std::size_t(o.model)].mesh, {},
-                                                                      DefaultPpfCacheDir())).first;
-            ppf = &model->second;
-          }
-          wanted.push_back({o.cls, world.models()[std::size_t(o.model)].diameter, ppf});
-        }
-      const auto t_stage1 = std::chrono::steady_clock::now();
-      AutoProposals proposals = ProposeAuto(scene.depth, scene.camera, wanted);
-      stage1_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_stage1).count());
-      if (proposals.detections.empty()) scene_status = "no candidates";
-      box_prior = PriorFromDetections(proposals.detections, layout, classes);
-      for (std::size_t k = 0; k < wanted.size(); ++k) seeds_of[wanted[k].name] = std::move(proposals.seeds[k]);
-    } else if (a.prior_kind == "none") {
-      box_prior = UniformPrior(layout, classes);
-    } else {
-      box_prior = PriorFromDetections(scene.detections, layout, classes);
-    }
+    const TableStage1 stage1 = TableSceneStage1(a, w, scene, &t.stage1_ms);
     // --prior auto: the stage 1's time shared by the scene's targets (in each row's stage1_ms).
     const auto targets = std::count_if(scene.objects.begin(), scene.objects.end(), [](const TableObject& o) { return o.target; });
-    const double stage1_share = stage1_ms.size() == std::size_t(i) + 1 && targets > 0 ? stage1_ms.back() / double(targets) : 0.0;
-    // Each target estimated on its own, then (--scene-pass) the scene pass over all of them,
-    // then the rows.
-    struct Job {
-      std::size_t j = 0;  // index in scene.objects
-      SceneInput input;
-      Prior prior;
-      std::string status;
-      FilterOptions o;
-      EstimateResult r;
-      EstimateResult alone;  // before the scene pass
-      bool estimated = false;
-      double pass_ms = 0;
-      std::string pass_note;  // "re-estimated" / "replaced" by the scene pass
-    };
-    std::vector<Job> jobs;
-    for (std::size_t j = 0; j < scene.objects.size(); ++j) {
-      const TableObject& obj = scene.objects[j];
-      if (!obj.target) continue;
-      if (!a.classes.empty() && std::find(a.classes.begin(), a.classes.end(), obj.cls) == a.classes.end()) continue;
-      const TableModel& model = world.models()[std::size_t(obj.model)];
-      Job job;
-      job.j = j;
-      job.input = SceneInput{scene.depth, scene.camera, {}};
-      if (auto it = seeds_of.find(obj.cls); it != seeds_of.end()) job.input.seeds = it->second;
-      job.prior = box_prior;
-      job.status = scene_status;
-      if (a.prior_kind == "masks") {
-        LabelImage l{W, H, {}};
-        l.ids.resize(scene.masks.size());
-        for (std::size_t q = 0; q < l.ids.size(); ++q) l.ids[q] = scene.masks[q] == j + 1 ? 1 : 0;
-        if (std::count(l.ids.begin(), l.ids.end(), 1) == 0) {
-          job.status = "no mask";
-        } else {
-          const InstanceMask m = MasksFromLabels(l, {{1, obj.cls}}, "mask").front();
-          job.input.mask = m.pixels;
-          job.prior = PriorFromDetections({MaskDetection(m)}, layout, classes);
-        }
-      }
-      job.o = opt;
-      job.o.seed = opt.seed + std::uint64_t(i);
-      if (job.status == "ok") {
-        try {
-          job.r = EstimatePose(job.input, model.mesh, job.prior, job.prior.ClassIndex(obj.cls), job.o);
-          job.alone = job.r;
-          job.estimated = true;
-        } catch (const Error& e) {
-          job.status = e.what();  // counted as not found
-        }
-      }
-      jobs.push_back(std::move(job));
-    }
-    if (a.scene_pass) {
-      std::vector<SceneObject> objs;
-      std::vector<Job*> of;
-      for (Job& job : jobs)
-        if (job.estimated) {
-          const TableObject& obj = scene.objects[job.j];
-          objs.push_back({&world.models()[std::size_t(obj.model)].mesh, box_prior.ClassIndex(obj.cls), job.r});
-          of.push_back(&job);
-        }
-      FilterOptions o = opt;
-      o.seed = opt.seed + std::uint64_t(i);
-      const std::vector<ScenePassResult> passed = RunScenePass(SceneInput{scene.depth, scene.camera, {}}, box_prior, objs, o);
-      for (std::size_t k = 0; k < passed.size(); ++k) {
-        of[k]->r = passed[k].estimate;
-        of[k]->pass_ms = passed[k].time_ms;
-        of[k]->pass_note = passed[k].replaced ? "pass: replaced" : passed[k].reestimated ? "pass: re-estimated, kept" : "";
-      }
-    }
-    for (const Job& job : jobs) {
-      const TableObject& obj = scene.objects[job.j];
-      const std::size_t j = job.j;
-      const TableModel& model = world.models()[std::size_t(obj.model)];
-      double adds = std::numeric_limits<double>::infinity(), weight = 0, gt_weight = 0, time_ms = 0;
-      int iterations = 0;
-      bool ok = false;
-      std::string status = job.status;
-      bool ok_alone = false;
-      if (job.estimated) {
-        const EstimateResult& r = job.r;
-        const PoseErrors e = ComputePoseErrors(points[std::size_t(obj.model)], model.diameter, r.T_cam_obj, obj.T_cam_obj);
-        ok_alone = ComputePoseErrors(points[std::size_t(obj.model)], model.diameter, job.alone.T_cam_obj, obj.T_cam_obj).adds_ok;
-        adds = e.adds;
-        ok = e.adds_ok;
-        weight = r.weight;
-        iterations = r.iterations;
-        time_ms = r.time_ms + job.pass_ms;
-        gt_weight =
-            GroundTruthWeight(job.input, model.mesh, job.prior, job.prior.ClassIndex(obj.cls), job.o, obj.T_cam_obj, r.cell);
-      }
-      ++total;
-      found += ok;
-      for (int b = 0; b < 3; ++b)
-        if (obj.visible_fraction >= kVisibBounds[b]) {
-          ++visib_n[b];
-          visib_found[b] += ok;
-          break;
-        }
-      ClassStats& cs = per_class[obj.cls];
-      ++cs.n;
-      cs.found += ok;
-      cs.found_alone += ok_alone;
-      found_alone += ok_alone;
-      cs.adds.push_back(adds);
-      all_adds.push_back(adds);
-      if (time_ms > 0) cs.times.push_back(time_ms), all_times.push_back(time_ms);
-      const std::string note = status == "ok" ? job.pass_note : status;
-      std::printf("%6llu %-22s %5.2f %9.1f %6.1f %6s %7.3f %7.3f %5d %8.0f%s%s\n", (unsigned long long)seed, obj.cls.c_str(),
-                  obj.visible_fraction, 1000 * adds, 100 * adds / model.diameter, ok ? "yes" : "NO", weight, gt_weight, iterations,
-                  time_ms, note.empty() ? "" : "  ", note.c_str());
-      std::fflush(stdout);
-      rows.push_back({{"seed", seed}, {"obj", obj.cls}, {"instance", j + 1}, {"visible_fraction", obj.visible_fraction},
-                      {"adds_m", std::isfinite(adds) ? nlohmann::json(adds) : nlohmann::json(nullptr)},
-                      {"diameter_m", model.diameter}, {"found", ok}, {"weight", weight}, {"gt_weight", gt_weight}, {"iterations", iterations},
-                      {"time_ms", time_ms}, {"stage1_ms", stage1_share}, {"scene_pass_ms", job.pass_ms},
-                      {"scene_pass", job.pass_note}, {"found_before_pass", ok_alone}, {"status", status}});
-    }
+    const double stage1_share = t.stage1_ms.size() == std::size_t(i) + 1 && targets > 0 ? t.stage1_ms.back() / double(targets) : 0.0;
+    for (const TableJob& job : EstimateTableScene(a, w, scene, stage1, opt, i))
+      ReportTableJob(w, scene, job, seed, stage1_share, &t);
   }
-  if (total == 0) throw Error("the suite held no target (check --targets)");
-  std::printf("\n%-22s %5s %6s %7s %10s %12s\n", "class", "n", "found", "recall", "AUC ADD-S", "median[ms]");
-  nlohmann::json class_rows = nlohmann::json::object();
-  for (const auto& [cls, cs] : per_class) {
-    const double auc = YcbvAuc(cs.adds, 0.1);
-    std::printf("%-22s %5d %6d %6.0f%% %10.1f %12.0f\n", cls.c_str(), cs.n, cs.found, 100.0 * cs.found / cs.n, 100 * auc,
-                Median(cs.times));
-    class_rows[cls] = {{"n", cs.n}, {"found", cs.found}, {"recall", double(cs.found) / cs.n}, {"auc_adds", auc},
-                       {"median_time_ms", Median(cs.times)}, {"found_before_pass", cs.found_alone}};
-  }
-  const double recall = double(found) / total, auc = YcbvAuc(all_adds, 0.1);
-  double mean_ms = 0;
-  for (double t : all_times) mean_ms += t;
-  mean_ms = all_times.empty() ? 0 : mean_ms / double(all_times.size());
-  std::printf("recall (ADD-S < 10%% of diameter): %d/%d = %.1f%%, AUC of ADD-S %.1f, median %.0f ms (mean %.0f ms) per object\n",
-              found, total, 100 * recall, 100 * auc, Median(all_times), mean_ms);
-  nlohmann::json by_visib = nlohmann::json::array();
-  std::printf("by visible fraction:");
-  for (int b = 0; b < 3; ++b) {
-    const char* name[3] = {">= 0.5", "0.3-0.5", "< 0.3"};
-    std::printf("  %s: %d/%d", name[b], visib_found[b], visib_n[b]);
-    by_visib.push_back({{"min_visible_fraction", kVisibBounds[b]}, {"n", visib_n[b]}, {"found", visib_found[b]}});
-  }
-  std::printf("\n");
-  if (a.scene_pass) {
-    std::printf("scene pass: %d/%d found after it, %d/%d before; by class (before -> after):", found, total, found_alone, total);
-    for (const auto& [cls, cs] : per_class)
-      if (cs.found != cs.found_alone) std::printf("  %s %d -> %d", cls.c_str(), cs.found_alone, cs.found);
-    std::printf("\n");
-  }
-  if (!stage1_ms.empty())
-    std::printf("stage 1 (--prior %s): median %.0f ms per scene, %.0f ms per object on average\n", a.prior_kind.c_str(),
-                Median(stage1_ms), std::accumulate(stage1_ms.begin(), stage1_ms.end(), 0.0) / total);
-  if (!a.json_path.empty())
-    WriteJson(a.json_path, {{"world", room ? "room" : "ycbv"}, {"by_visible_fraction", by_visib}, {"prior", a.prior_kind}, {"scene_pass", a.scene_pass}, {"objects", rows}, {"classes", class_rows},
-                            {"recall_adds", recall}, {"recall_adds_before_pass", double(found_alone) / total}, {"auc_adds", auc}, {"median_time_ms", Median(all_times)},
-                            {"mean_time_ms", mean_ms}, {"stage1_median_ms_per_scene", Median(stage1_ms)}});
+  if (t.total == 0) throw Error("the suite held no target (check --targets)");
+  PrintTableSummary(a, t, room != nullptr);
 }
 
-}  // namespace
-
-int RunSuite(int argc, char** argv) {
-  CLI::App app{"Accuracy of the filter on synthetic scenes with ground truth", "suite"};
+// The parsed command line of `suite`.
+struct SuiteArgs {
   std::string world = "shapes";
   int count = 20;
   std::uint64_t first_seed = 1;
@@ -325,11 +387,26 @@ int RunSuite(int argc, char** argv) {
   TableSceneOptions table;
   RoomSceneOptions room;
   TableSuiteArgs ta;
+  FilterOptions opt;
+};
+
+// Every option of `suite` on `app`, into a.
+void AddSuiteOptions(CLI::App& app, SuiteArgs& a) {
+  std::string& world = a.world;
+  int& count = a.count;
+  std::uint64_t& first_seed = a.first_seed;
+  std::vector<std::string>& targets = a.targets;
+  std::vector<double>& occlusions = a.occlusions;
+  std::string& json_path = a.json_path;
+  SynthOptions& synth = a.synth;
+  TableSceneOptions& table = a.table;
+  RoomSceneOptions& room = a.room;
+  TableSuiteArgs& ta = a.ta;
+  FilterOptions& opt = a.opt;
   // $POSEFILTER_DATA/ycbv/models (README "Data"); without POSEFILTER_DATA, --models is needed.
   if (const char* data = std::getenv("POSEFILTER_DATA"); data != nullptr && *data != '\0')
     ta.models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
   ta.prior_kind = "boxes";
-  FilterOptions opt;
   app.add_option("--world", world,
                  "shapes: one procedural shape per scene; ycbv: several YCB-Video objects on a table; room: YCB-Video "
                  "objects on small raised surfaces and shelf boards in a room with furniture")
@@ -368,98 +445,141 @@ int RunSuite(int argc, char** argv) {
   app.add_option("--json", json_path, "also write the table as JSON");
   AddFilterOptions(app, &opt);
 
+}
+
+// --world ycbv or room: the scene options from the shared ones (the room world takes them
+// where given, else its own defaults), checked with the options' names as typed.
+void SetTableSuiteOptions(const CLI::App& app, SuiteArgs& a) {
+  std::string& world = a.world;
+  int& count = a.count;
+  std::uint64_t& first_seed = a.first_seed;
+  std::vector<std::string>& targets = a.targets;
+  std::vector<double>& occlusions = a.occlusions;
+  std::string& json_path = a.json_path;
+  SynthOptions& synth = a.synth;
+  TableSceneOptions& table = a.table;
+  RoomSceneOptions& room = a.room;
+  TableSuiteArgs& ta = a.ta;
+  FilterOptions& opt = a.opt;
+  table.box_jitter_px = synth.box_jitter_px;
+  table.false_positives = synth.false_positives;
+  if (app.count("--min-distance")) table.min_distance_m = synth.min_distance_m;
+  if (app.count("--max-distance")) table.max_distance_m = synth.max_distance_m;
+  // The room world takes the same options where given, else its own defaults.
+  room.box_jitter_px = table.box_jitter_px;
+  room.false_positives = table.false_positives;
+  room.box_scale_min = table.box_scale_min;
+  room.box_scale_max = table.box_scale_max;
+  if (app.count("--min-distance")) room.min_distance_m = synth.min_distance_m;
+  if (app.count("--max-distance")) room.max_distance_m = synth.max_distance_m;
+  if (app.count("--min-objects")) room.min_objects = table.min_objects;
+  if (app.count("--max-objects")) room.max_objects = table.max_objects;
+  std::string why;
+  const bool valid = world == "room" ? room.IsValid(&why) : table.IsValid(&why);
+  if (!valid) {
+    // The options' names in the message, as the user typed them.
+    const std::pair<const char*, const char*> names[] = {
+        {"min_objects", "--min-objects"},     {"max_objects", "--max-objects"},
+        {"min_distance_m", "--min-distance"}, {"max_distance_m", "--max-distance"},
+        {"box_jitter_px", "--box-jitter"},    {"false_positives", "--false-positives"},
+        {"box_scale_min", "--box-scale-min"}, {"box_scale_max", "--box-scale-max"}};
+    for (const auto& [field, option] : names)
+      for (std::size_t at; (at = why.find(field)) != std::string::npos;) why.replace(at, std::strlen(field), option);
+    throw Error("invalid scene option: " + why);
+  }
+}
+
+// --world shapes: one procedural shape per scene, the targets and occlusion levels in turn.
+void RunShapesSuite(SuiteArgs& a) {
+  std::string& world = a.world;
+  int& count = a.count;
+  std::uint64_t& first_seed = a.first_seed;
+  std::vector<std::string>& targets = a.targets;
+  std::vector<double>& occlusions = a.occlusions;
+  std::string& json_path = a.json_path;
+  SynthOptions& synth = a.synth;
+  TableSceneOptions& table = a.table;
+  RoomSceneOptions& room = a.room;
+  TableSuiteArgs& ta = a.ta;
+  FilterOptions& opt = a.opt;
+  if (targets.empty()) targets = SynthClassNames();
+  if (occlusions.empty()) throw Error("--occlusions must not be empty");
+  nlohmann::json rows = nlohmann::json::array();
+  int found = 0;
+  double total_ms = 0;
+  FilterStats rtl_stats;  // --engine rtl: the Verilated weighings' clocks, summed over scenes
+  std::printf("%5s %-9s %6s %9s %8s %6s %7s %7s %5s %8s\n", "seed", "target", "occl", "ADD-S[mm]", "%diam", "found",
+              "weight", "gt_w", "iter", "time[ms]");
+  for (int i = 0; i < count; ++i) {
+    SynthOptions so = synth;
+    so.target = targets[i % targets.size()];
+    so.occlusion = occlusions[(i / targets.size()) % occlusions.size()];
+    std::string why;
+    if (!so.IsValid(&why)) throw Error("invalid scene option " + NameSynthOption(why));
+    const std::uint64_t seed = first_seed + i;
+    const SynthScene scene = MakeSynthScene(so, seed);
+    const SceneInput input{scene.depth, scene.camera, {}};
+    Stage1Options stage1;  // the scene's noisy detections, as a raw pyramid
+    stage1.kind = Stage1Kind::kPyramid;
+    stage1.classes = scene.classes;
+    stage1.raw_pyramid = scene.raw_pyramid;
+    const Prior prior = BuildStage1(input, {{scene.target.name}}, stage1).prior;
+    FilterOptions o = opt;
+    o.seed = opt.seed + i;
+    const int cls = prior.ClassIndex(scene.target.name);
+    const EstimateResult r = EstimatePose(input, scene.target, prior, cls, o);
+    const double gt_weight = GroundTruthWeight(input, scene.target, prior, cls, o, scene.gt[0].T_cam_obj, r.cell);
+    const double diameter = scene.target.Diameter();
+    const PoseErrors e = ComputePoseErrors(SamplePoints(scene.target), diameter, r.T_cam_obj, scene.gt[0].T_cam_obj);
+    found += e.adds_ok;
+    total_ms += r.time_ms;
+    rtl_stats += r.stats;
+    std::printf("%5llu %-9s %6.2f %9.1f %8.1f %6s %7.3f %7.3f %5d %8.0f\n", (unsigned long long)seed, so.target.c_str(),
+                scene.occlusion_achieved, 1000 * e.adds, 100 * e.adds / diameter, e.adds_ok ? "yes" : "NO", r.weight,
+                gt_weight, r.iterations, r.time_ms);
+    std::fflush(stdout);
+    rows.push_back({{"seed", seed}, {"target", so.target}, {"occlusion", scene.occlusion_achieved},
+                    {"adds_m", e.adds}, {"add_m", e.add}, {"diameter_m", diameter}, {"found", e.adds_ok},
+                    {"rot_deg", e.rot_deg}, {"trans_m", e.trans_m}, {"weight", r.weight}, {"gt_weight", gt_weight},
+                    {"iterations", r.iterations}, {"time_ms", r.time_ms}});
+  }
+  const double recall = double(found) / count;
+  std::printf("recall (ADD-S < 10%% of diameter): %d/%d = %.0f%%, mean time %.0f ms per object\n", found, count,
+              100 * recall, total_ms / count);
+  if (rtl_stats.rtl_calls > 0)
+    std::printf("rtl: %.0f clocks per weighing simulated (weighing pipeline, AP_START to AP_DONE), cycle model %.0f "
+                "(ratio %.3f), over %lld weighings\n",
+                double(rtl_stats.rtl_cycles) / double(rtl_stats.rtl_calls),
+                double(rtl_stats.rtl_model_cycles) / double(rtl_stats.rtl_calls),
+                double(rtl_stats.rtl_cycles) / double(rtl_stats.rtl_model_cycles), (long long)rtl_stats.rtl_calls);
+  if (!json_path.empty()) WriteJson(json_path, {{"scenes", rows}, {"recall_adds", recall}});
+}
+
+}  // namespace
+
+int RunSuite(int argc, char** argv) {
+  CLI::App app{"Accuracy of the filter on synthetic scenes with ground truth", "suite"};
+  SuiteArgs a;
+  AddSuiteOptions(app, a);
   return RunApp(app, argc, argv, [&] {
-    CheckFilterOptions(opt);
-    if (count < 1) throw Error("--count must be >= 1");
-    if (first_seed > UINT64_MAX - std::uint64_t(count - 1))
+    TableSuiteArgs& ta = a.ta;
+    CheckFilterOptions(a.opt);
+    if (a.count < 1) throw Error("--count must be >= 1");
+    if (a.first_seed > UINT64_MAX - std::uint64_t(a.count - 1))
       throw Error("--first-seed + --count - 1 is above 2^64 - 1: the last scene's seed would wrap to 0");
-    CheckOutputPaths({{json_path, "--json"}}, {{ta.models_dir, "--models"}, {ta.write_dir, "--write-scenes"}});
+    CheckOutputPaths({{a.json_path, "--json"}}, {{ta.models_dir, "--models"}, {ta.write_dir, "--write-scenes"}});
     // The scene pass needs scenes of several objects sharing one prior (--prior masks gives each its own).
-    const bool ycb = world == "ycbv" || world == "room";
+    const bool ycb = a.world == "ycbv" || a.world == "room";
     if (app.count("--scene-pass") && ta.scene_pass && (!ycb || ta.prior_kind == "masks"))
       throw Error("--scene-pass needs --world ycbv or room and a prior the scene's objects share (not --prior masks)");
     if (ta.prior_kind == "masks") ta.scene_pass = false;
-    if (ycb) {
-      table.box_jitter_px = synth.box_jitter_px;
-      table.false_positives = synth.false_positives;
-      if (app.count("--min-distance")) table.min_distance_m = synth.min_distance_m;
-      if (app.count("--max-distance")) table.max_distance_m = synth.max_distance_m;
-      // The room world takes the same options where given, else its own defaults.
-      room.box_jitter_px = table.box_jitter_px;
-      room.false_positives = table.false_positives;
-      room.box_scale_min = table.box_scale_min;
-      room.box_scale_max = table.box_scale_max;
-      if (app.count("--min-distance")) room.min_distance_m = synth.min_distance_m;
-      if (app.count("--max-distance")) room.max_distance_m = synth.max_distance_m;
-      if (app.count("--min-objects")) room.min_objects = table.min_objects;
-      if (app.count("--max-objects")) room.max_objects = table.max_objects;
-      std::string why;
-      const bool valid = world == "room" ? room.IsValid(&why) : table.IsValid(&why);
-      if (!valid) {
-        // The options' names in the message, as the user typed them.
-        const std::pair<const char*, const char*> names[] = {
-            {"min_objects", "--min-objects"},     {"max_objects", "--max-objects"},
-            {"min_distance_m", "--min-distance"}, {"max_distance_m", "--max-distance"},
-            {"box_jitter_px", "--box-jitter"},    {"false_positives", "--false-positives"},
-            {"box_scale_min", "--box-scale-min"}, {"box_scale_max", "--box-scale-max"}};
-        for (const auto& [field, option] : names)
-          for (std::size_t at; (at = why.find(field)) != std::string::npos;) why.replace(at, std::strlen(field), option);
-        throw Error("invalid scene option: " + why);
-      }
-      ta.classes = targets;
-      ta.count = count;
-      ta.first_seed = first_seed;
-      ta.json_path = json_path;
-      RunTableSuite(ta, table, world == "room" ? &room : nullptr, opt);
-      return;
-    }
-    if (targets.empty()) targets = SynthClassNames();
-    if (occlusions.empty()) throw Error("--occlusions must not be empty");
-    nlohmann::json rows = nlohmann::json::array();
-    int found = 0;
-    double total_ms = 0;
-    FilterStats rtl_stats;  // --engine rtl: the Verilated weighings' clocks, summed over scenes
-    std::printf("%5s %-9s %6s %9s %8s %6s %7s %7s %5s %8s\n", "seed", "target", "occl", "ADD-S[mm]", "%diam", "found",
-                "weight", "gt_w", "iter", "time[ms]");
-    for (int i = 0; i < count; ++i) {
-      SynthOptions so = synth;
-      so.target = targets[i % targets.size()];
-      so.occlusion = occlusions[(i / targets.size()) % occlusions.size()];
-      std::string why;
-      if (!so.IsValid(&why)) throw Error("invalid scene option " + NameSynthOption(why));
-      const std::uint64_t seed = first_seed + i;
-      const SynthScene scene = MakeSynthScene(so, seed);
-      const Prior prior = PostProcessPyramid(scene.raw_pyramid, scene.layout, scene.classes);
-      FilterOptions o = opt;
-      o.seed = opt.seed + i;
-      const SceneInput input{scene.depth, scene.camera, {}};
-      const int cls = prior.ClassIndex(scene.target.name);
-      const EstimateResult r = EstimatePose(input, scene.target, prior, cls, o);
-      const double gt_weight = GroundTruthWeight(input, scene.target, prior, cls, o, scene.gt[0].T_cam_obj, r.cell);
-      const double diameter = scene.target.Diameter();
-      const PoseErrors e = ComputePoseErrors(SamplePoints(scene.target), diameter, r.T_cam_obj, scene.gt[0].T_cam_obj);
-      found += e.adds_ok;
-      total_ms += r.time_ms;
-      rtl_stats += r.stats;
-      std::printf("%5llu %-9s %6.2f %9.1f %8.1f %6s %7.3f %7.3f %5d %8.0f\n", (unsigned long long)seed, so.target.c_str(),
-                  scene.occlusion_achieved, 1000 * e.adds, 100 * e.adds / diameter, e.adds_ok ? "yes" : "NO", r.weight,
-                  gt_weight, r.iterations, r.time_ms);
-      std::fflush(stdout);
-      rows.push_back({{"seed", seed}, {"target", so.target}, {"occlusion", scene.occlusion_achieved},
-                      {"adds_m", e.adds}, {"add_m", e.add}, {"diameter_m", diameter}, {"found", e.adds_ok},
-                      {"rot_deg", e.rot_deg}, {"trans_m", e.trans_m}, {"weight", r.weight}, {"gt_weight", gt_weight},
-                      {"iterations", r.iterations}, {"time_ms", r.time_ms}});
-    }
-    const double recall = double(found) / count;
-    std::printf("recall (ADD-S < 10%% of diameter): %d/%d = %.0f%%, mean time %.0f ms per object\n", found, count,
-                100 * recall, total_ms / count);
-    if (rtl_stats.rtl_calls > 0)
-      std::printf("rtl: %.0f clocks per weighing simulated (weighing pipeline, AP_START to AP_DONE), cycle model %.0f "
-                  "(ratio %.3f), over %lld weighings\n",
-                  double(rtl_stats.rtl_cycles) / double(rtl_stats.rtl_calls),
-                  double(rtl_stats.rtl_model_cycles) / double(rtl_stats.rtl_calls),
-                  double(rtl_stats.rtl_cycles) / double(rtl_stats.rtl_model_cycles), (long long)rtl_stats.rtl_calls);
-    if (!json_path.empty()) WriteJson(json_path, {{"scenes", rows}, {"recall_adds", recall}});
+    if (!ycb) return RunShapesSuite(a);
+    SetTableSuiteOptions(app, a);
+    ta.classes = a.targets;
+    ta.count = a.count;
+    ta.first_seed = a.first_seed;
+    ta.json_path = a.json_path;
+    RunTableSuite(ta, a.table, a.world == "room" ? &a.room : nullptr, a.opt);
   });
 }
 

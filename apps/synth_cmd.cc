@@ -26,9 +26,10 @@
 #include "posefilter/table_world.h"
 
 namespace posefilter::cli {
+namespace {
 
-int RunSynth(int argc, char** argv) {
-  CLI::App app{"Make synthetic depth scenes with ground truth and a stage-1 prior", "synth"};
+// The parsed command line of `synth`.
+struct SynthArgs {
   std::string out_dir;
   int count = 1;
   std::uint64_t seed = 1;
@@ -38,11 +39,24 @@ int RunSynth(int argc, char** argv) {
   bool no_missing_edges = false;
   std::string world = "shapes";
   std::string models_dir;
-  if (const char* data = std::getenv("POSEFILTER_DATA"); data != nullptr && *data != '\0')
-    models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
   TableSceneOptions table;
   RoomSceneOptions room;
   int min_objects = 0, max_objects = 0;
+  SynthMotion motion;
+  int sequence = 0;
+};
+
+// Every option of `synth` on `app`, into a.
+void AddSynthOptions(CLI::App& app, SynthArgs& a) {
+  std::string &out_dir = a.out_dir, &mesh_path = a.mesh_path, &world = a.world, &models_dir = a.models_dir;
+  int &count = a.count, &min_objects = a.min_objects, &max_objects = a.max_objects, &sequence = a.sequence;
+  std::uint64_t& seed = a.seed;
+  SynthOptions& opt = a.opt;
+  double& unit_scale = a.unit_scale;
+  bool& no_missing_edges = a.no_missing_edges;
+  SynthMotion& motion = a.motion;
+  if (const char* data = std::getenv("POSEFILTER_DATA"); data != nullptr && *data != '\0')
+    models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
   app.add_option("--world", world,
                  "shapes: one procedural shape per scene; ycbv: YCB-Video objects on a table; room: YCB-Video objects "
                  "on small raised surfaces and shelf boards in a room (docs/SYNTHETIC.md)")
@@ -77,8 +91,6 @@ int RunSynth(int argc, char** argv) {
   app.add_option("--false-positives", opt.false_positives, "extra false detections per scene")
       ->capture_default_str();
   app.add_option("--depth-scale", opt.depth_scale, "metres per depth PNG unit")->capture_default_str();
-  SynthMotion motion;
-  int sequence = 0;
   app.add_option("--sequence", sequence,
                  "write one scene whose target moves over this many frames, as a dataset folder OUT/scenes/synth_0000_<frame>/ "
                  "+ OUT/models/ (for track and run-dataset)");
@@ -87,115 +99,161 @@ int RunSynth(int argc, char** argv) {
   app.add_option("--jump-frame", motion.jump_frame, "--sequence: from this frame on (1 or later; frames count from 0), the target is also displaced by --jump (-1 = never)")
       ->capture_default_str();
   app.add_option("--jump", motion.jump_m, "--sequence: the jump's length along the slide (m)")->capture_default_str();
+}
 
+// --world ycbv or room: the YCB worlds' scenes, with their own objects, sensor and prior.
+void WriteYcbWorldScenes(const CLI::App& app, SynthArgs& a) {
+  std::string &out_dir = a.out_dir, &world = a.world, &models_dir = a.models_dir;
+  int &count = a.count, &min_objects = a.min_objects, &max_objects = a.max_objects;
+  std::uint64_t& seed = a.seed;
+  SynthOptions& opt = a.opt;
+  TableSceneOptions& table = a.table;
+  RoomSceneOptions& room = a.room;
+  for (const char* o : {"--target", "--mesh", "--unit-scale", "--occlusion", "--clutter", "--noise", "--holes",
+                        "--no-missing-edges", "--miss-prob", "--depth-scale", "--sequence", "--speed", "--turn",
+                        "--jump-frame", "--jump"})
+    if (app.count(o)) throw Error(std::string(o) + " does not apply to --world " + world + " (shapes only)");
+  if (models_dir.empty())
+    throw Error("--world " + world + " needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA");
+  for (int i = 0; i < count; ++i) {  // the scene folders this run writes must not be the meshes'
+    char name[32];
+    std::snprintf(name, sizeof name, "scene_%03d", i);
+    if (SamePath(models_dir, (std::filesystem::path(out_dir) / name).string()))
+      throw Error("--models " + models_dir + ": is a folder this run writes (--out " + out_dir + "); give another --out");
+  }
+  std::string why;
+  const bool is_room = world == "room";
+  table.box_jitter_px = room.box_jitter_px = opt.box_jitter_px;
+  table.false_positives = room.false_positives = opt.false_positives;
+  if (app.count("--min-distance")) table.min_distance_m = room.min_distance_m = opt.min_distance_m;
+  if (app.count("--max-distance")) table.max_distance_m = room.max_distance_m = opt.max_distance_m;
+  if (app.count("--min-objects")) table.min_objects = room.min_objects = min_objects;
+  if (app.count("--max-objects")) table.max_objects = room.max_objects = max_objects;
+  if (!(is_room ? room.IsValid(&why) : table.IsValid(&why))) {
+    const std::pair<const char*, const char*> names[] = {
+        {"min_objects", "--min-objects"},     {"max_objects", "--max-objects"},
+        {"min_distance_m", "--min-distance"}, {"max_distance_m", "--max-distance"},
+        {"box_jitter_px", "--box-jitter"},    {"false_positives", "--false-positives"}};
+    for (const auto& [field, option] : names)
+      for (std::size_t at; (at = why.find(field)) != std::string::npos;) why.replace(at, std::strlen(field), option);
+    throw Error("invalid scene option: " + why);
+  }
+  const TableWorld ycb = TableWorld::LoadYcbVideo(models_dir);
+  CheckOutputFolder(out_dir, "--out");
+  for (int i = 0; i < count; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "scene_%03d", i);
+    const std::string dir = (std::filesystem::path(out_dir) / name).string();
+    const std::uint64_t s = seed + std::uint64_t(i);
+    const TableScene scene = is_room ? MakeRoomScene(ycb, room, s) : ycb.MakeScene(table, s);
+    WriteTableScene(scene, dir);
+    int targets = 0;
+    for (const TableObject& o : scene.objects) targets += o.target;
+    std::printf("%s  seed %llu  objects %zu  targets %d  distance %.3f m  elevation %.1f deg  surfaces %zu (%.0f%% of the view)\n",
+                dir.c_str(), (unsigned long long)s, scene.objects.size(), targets, scene.distance_m, scene.elevation_deg,
+                scene.supports.size(),
+                100 * std::accumulate(scene.support_view_fractions.begin(), scene.support_view_fractions.end(), 0.0));
+  }
+}
+
+// --mesh: refused when it lies in a folder this run writes; loaded (into *mesh) and made the
+// target otherwise.
+void LoadSynthMesh(const CLI::App& app, SynthArgs& a, std::unique_ptr<Mesh>* mesh) {
+  std::string &out_dir = a.out_dir, &mesh_path = a.mesh_path;
+  int& count = a.count;
+  SynthOptions& opt = a.opt;
+  double& unit_scale = a.unit_scale;
+  // The folders this run writes: OUT itself for --sequence, OUT/scene_NNN otherwise. A --mesh
+  // inside one of them could be replaced by the scene's copy of it, so it is refused.
+  const std::filesystem::path mesh_dir = std::filesystem::absolute(mesh_path).parent_path();
+  bool written = false;
+  if (app.count("--sequence")) {
+    for (auto d = mesh_dir; !written; d = d.parent_path()) {
+      written = SamePath(d.string(), out_dir);
+      if (d == d.parent_path()) break;  // the root
+    }
+  } else {
+    char name[32];
+    for (int i = 0; i < count && !written; ++i) {
+      std::snprintf(name, sizeof name, "scene_%03d", i);
+      written = SamePath(mesh_dir.string(), (std::filesystem::path(out_dir) / name).string());
+    }
+  }
+  if (written)
+    throw Error("--mesh " + mesh_path + ": lies in a folder this run writes (--out " + out_dir +
+                "), where it could be overwritten; copy it elsewhere or give another --out");
+  if (!std::isfinite(unit_scale) || unit_scale <= 0) throw Error("--unit-scale must be finite and > 0");
+  *mesh = std::make_unique<Mesh>(LoadMesh(mesh_path, unit_scale));
+  opt.target_mesh = mesh->get();
+}
+
+// --sequence N: one scene whose target moves, as a dataset folder.
+void WriteSynthSequenceFolder(const CLI::App& app, SynthArgs& a) {
+  std::string& out_dir = a.out_dir;
+  int& sequence = a.sequence;
+  std::uint64_t& seed = a.seed;
+  SynthOptions& opt = a.opt;
+  SynthMotion& motion = a.motion;
+  std::string why;
+  if (app.count("--count")) throw Error("--sequence writes one moving scene; --count does not apply");
+  motion.frames = sequence;
+  if (!motion.IsValid(&why)) throw Error("invalid --sequence motion: " + why);
+  CheckOutputFolder(out_dir, "--out");
+  const std::vector<SynthScene> frames = MakeSynthSequence(opt, motion, seed);
+  WriteSynthSequence(frames, out_dir);
+  std::printf("%s  target %s  %zu frames  distance %.3f m  slide %.3f m/frame  turn %.3f rad/frame%s\n", out_dir.c_str(),
+              frames.front().target.name.c_str(), frames.size(), frames.front().distance_m, motion.speed_m, motion.turn_rad,
+              motion.jump_frame >= 0 ? ("  jump " + std::to_string(motion.jump_m) + " m at frame " + std::to_string(motion.jump_frame)).c_str() : "");
+}
+
+// The shapes world's scenes, OUT/scene_NNN.
+void WriteShapeScenes(SynthArgs& a) {
+  std::string& out_dir = a.out_dir;
+  int& count = a.count;
+  std::uint64_t& seed = a.seed;
+  SynthOptions& opt = a.opt;
+  CheckOutputFolder(out_dir, "--out");
+  for (int i = 0; i < count; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "scene_%03d", i);
+    const std::string dir = (std::filesystem::path(out_dir) / name).string();
+    const SynthScene scene = MakeSynthScene(opt, seed + std::uint64_t(i));
+    WriteSynthScene(scene, dir);
+    std::printf("%s  target %s  distance %.3f m  occlusion %.2f  detections %zu%s\n", dir.c_str(),
+                scene.target.name.c_str(), scene.distance_m, scene.occlusion_achieved, scene.detections.size(),
+                scene.target_detected ? "" : " (target missed)");
+  }
+}
+
+}  // namespace
+
+int RunSynth(int argc, char** argv) {
+  CLI::App app{"Make synthetic depth scenes with ground truth and a stage-1 prior", "synth"};
+  SynthArgs a;
+  AddSynthOptions(app, a);
   return RunApp(app, argc, argv, [&] {
-    if (count < 1 || count > 100000) throw Error("--count must be in [1, 100000]");
-    if (seed > UINT64_MAX - std::uint64_t(count - 1))
+    if (a.count < 1 || a.count > 100000) throw Error("--count must be in [1, 100000]");
+    if (a.seed > UINT64_MAX - std::uint64_t(a.count - 1))
       throw Error("--seed + --count - 1 is above 2^64 - 1: the last scene's seed would wrap to 0");
-    if (world != "shapes") {
+    if (a.world != "shapes") {
       // The YCB worlds: their own objects, sensor and prior; the shapes' options do not apply.
-      for (const char* o : {"--target", "--mesh", "--unit-scale", "--occlusion", "--clutter", "--noise", "--holes",
-                            "--no-missing-edges", "--miss-prob", "--depth-scale", "--sequence", "--speed", "--turn",
-                            "--jump-frame", "--jump"})
-        if (app.count(o)) throw Error(std::string(o) + " does not apply to --world " + world + " (shapes only)");
-      if (models_dir.empty())
-        throw Error("--world " + world + " needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA");
-      for (int i = 0; i < count; ++i) {  // the scene folders this run writes must not be the meshes'
-        char name[32];
-        std::snprintf(name, sizeof name, "scene_%03d", i);
-        if (SamePath(models_dir, (std::filesystem::path(out_dir) / name).string()))
-          throw Error("--models " + models_dir + ": is a folder this run writes (--out " + out_dir + "); give another --out");
-      }
-      std::string why;
-      const bool is_room = world == "room";
-      table.box_jitter_px = room.box_jitter_px = opt.box_jitter_px;
-      table.false_positives = room.false_positives = opt.false_positives;
-      if (app.count("--min-distance")) table.min_distance_m = room.min_distance_m = opt.min_distance_m;
-      if (app.count("--max-distance")) table.max_distance_m = room.max_distance_m = opt.max_distance_m;
-      if (app.count("--min-objects")) table.min_objects = room.min_objects = min_objects;
-      if (app.count("--max-objects")) table.max_objects = room.max_objects = max_objects;
-      if (!(is_room ? room.IsValid(&why) : table.IsValid(&why))) {
-        const std::pair<const char*, const char*> names[] = {
-            {"min_objects", "--min-objects"},     {"max_objects", "--max-objects"},
-            {"min_distance_m", "--min-distance"}, {"max_distance_m", "--max-distance"},
-            {"box_jitter_px", "--box-jitter"},    {"false_positives", "--false-positives"}};
-        for (const auto& [field, option] : names)
-          for (std::size_t at; (at = why.find(field)) != std::string::npos;) why.replace(at, std::strlen(field), option);
-        throw Error("invalid scene option: " + why);
-      }
-      const TableWorld ycb = TableWorld::LoadYcbVideo(models_dir);
-      CheckOutputFolder(out_dir, "--out");
-      for (int i = 0; i < count; ++i) {
-        char name[32];
-        std::snprintf(name, sizeof name, "scene_%03d", i);
-        const std::string dir = (std::filesystem::path(out_dir) / name).string();
-        const std::uint64_t s = seed + std::uint64_t(i);
-        const TableScene scene = is_room ? MakeRoomScene(ycb, room, s) : ycb.MakeScene(table, s);
-        WriteTableScene(scene, dir);
-        int targets = 0;
-        for (const TableObject& o : scene.objects) targets += o.target;
-        std::printf("%s  seed %llu  objects %zu  targets %d  distance %.3f m  elevation %.1f deg  surfaces %zu (%.0f%% of the view)\n",
-                    dir.c_str(), (unsigned long long)s, scene.objects.size(), targets, scene.distance_m, scene.elevation_deg,
-                    scene.supports.size(),
-                    100 * std::accumulate(scene.support_view_fractions.begin(), scene.support_view_fractions.end(), 0.0));
-      }
+      WriteYcbWorldScenes(app, a);
       return;
     }
     if (app.count("--models") + app.count("--min-objects") + app.count("--max-objects"))
       throw Error("--models, --min-objects and --max-objects describe --world ycbv or room scenes");
-    opt.missing_edges = !no_missing_edges;
+    a.opt.missing_edges = !a.no_missing_edges;
     std::unique_ptr<Mesh> mesh;
-    if (!mesh_path.empty()) {
-      // The folders this run writes: OUT itself for --sequence, OUT/scene_NNN otherwise. A --mesh
-      // inside one of them could be replaced by the scene's copy of it, so it is refused.
-      const std::filesystem::path mesh_dir = std::filesystem::absolute(mesh_path).parent_path();
-      bool written = false;
-      if (app.count("--sequence")) {
-        for (auto d = mesh_dir; !written; d = d.parent_path()) {
-          written = SamePath(d.string(), out_dir);
-          if (d == d.parent_path()) break;  // the root
-        }
-      } else {
-        char name[32];
-        for (int i = 0; i < count && !written; ++i) {
-          std::snprintf(name, sizeof name, "scene_%03d", i);
-          written = SamePath(mesh_dir.string(), (std::filesystem::path(out_dir) / name).string());
-        }
-      }
-      if (written)
-        throw Error("--mesh " + mesh_path + ": lies in a folder this run writes (--out " + out_dir +
-                    "), where it could be overwritten; copy it elsewhere or give another --out");
-      if (!std::isfinite(unit_scale) || unit_scale <= 0) throw Error("--unit-scale must be finite and > 0");
-      mesh = std::make_unique<Mesh>(LoadMesh(mesh_path, unit_scale));
-      opt.target_mesh = mesh.get();
-    }
+    if (!a.mesh_path.empty()) LoadSynthMesh(app, a, &mesh);
     std::string why;
-    if (!opt.IsValid(&why)) throw Error("invalid option " + NameSynthOption(why));
+    if (!a.opt.IsValid(&why)) throw Error("invalid option " + NameSynthOption(why));
     if (app.count("--sequence")) {
-      if (app.count("--count")) throw Error("--sequence writes one moving scene; --count does not apply");
-      motion.frames = sequence;
-      if (!motion.IsValid(&why)) throw Error("invalid --sequence motion: " + why);
-      CheckOutputFolder(out_dir, "--out");
-      const std::vector<SynthScene> frames = MakeSynthSequence(opt, motion, seed);
-      WriteSynthSequence(frames, out_dir);
-      std::printf("%s  target %s  %zu frames  distance %.3f m  slide %.3f m/frame  turn %.3f rad/frame%s\n", out_dir.c_str(),
-                  frames.front().target.name.c_str(), frames.size(), frames.front().distance_m, motion.speed_m, motion.turn_rad,
-                  motion.jump_frame >= 0 ? ("  jump " + std::to_string(motion.jump_m) + " m at frame " + std::to_string(motion.jump_frame)).c_str() : "");
+      WriteSynthSequenceFolder(app, a);
       return;
     }
     if (app.count("--speed") + app.count("--turn") + app.count("--jump-frame") + app.count("--jump"))
       throw Error("--speed, --turn, --jump-frame and --jump describe a --sequence; give --sequence N");
-    CheckOutputFolder(out_dir, "--out");
-    for (int i = 0; i < count; ++i) {
-      char name[32];
-      std::snprintf(name, sizeof name, "scene_%03d", i);
-      const std::string dir = (std::filesystem::path(out_dir) / name).string();
-      const SynthScene scene = MakeSynthScene(opt, seed + std::uint64_t(i));
-      WriteSynthScene(scene, dir);
-      std::printf("%s  target %s  distance %.3f m  occlusion %.2f  detections %zu%s\n", dir.c_str(),
-                  scene.target.name.c_str(), scene.distance_m, scene.occlusion_achieved, scene.detections.size(),
-                  scene.target_detected ? "" : " (target missed)");
-    }
+    WriteShapeScenes(a);
   });
 }
 

@@ -179,12 +179,6 @@ std::vector<Detection> DetectionsFrom(py::handle h);
 void WarnAll(const std::vector<std::string>& messages);
 int ClassOf(const Prior& prior, py::handle cls);
 
-// The prior of a `prior=` argument other than None (estimator.cc): a Prior, 'auto' (no detector:
-// AutoPriorForMeshes over `meshes`, named objs; fills *seeds per object), a detections JSON path
-// or a list of detections (classes: objs, then the detections' others). TypeError otherwise.
-Prior PriorFromPython(py::handle prior_arg, const std::vector<std::string>& objs, const std::vector<const Mesh*>& meshes,
-                      const SceneInput& scene, std::vector<std::vector<PoseSeed>>* seeds);
-
 // ---------------------------------------------------------------- the module's parts
 
 // Camera, Mesh, shapes and poses (geometry.cc).
@@ -199,5 +193,7 @@ void BindEstimation(py::module_& m);
 void BindSynth(py::module_& m);
 // Tracker and TrackResult (tracker.cc).
 void BindTracking(py::module_& m);
+// Dataset targets and RunDataset (dataset.cc).
+void BindDataset(py::module_& m);
 
 }  // namespace posefilter::python

@@ -2,7 +2,9 @@
 #include <mutex>
 
 #include "bindings.h"
+#include "posefilter/estimate_scene.h"
 #include "posefilter/prepared_model.h"
+#include "posefilter/stage1.h"
 #include "posefilter/support_plane.h"
 #include "posefilter/view.h"
 
@@ -19,29 +21,28 @@ py::dict StatsDict(const FilterStats& s) {
                   "faces_front"_a = s.faces_front, "fragments"_a = s.fragments, "weighings"_a = s.weighings);
 }
 
-Prior PriorFromPython(py::handle prior_arg, const std::vector<std::string>& objs, const std::vector<const Mesh*>& meshes,
-                      const SceneInput& scene, std::vector<std::vector<PoseSeed>>* seeds) {
-  const int W = scene.camera.width, H = scene.camera.height;
-  if (py::isinstance<Prior>(prior_arg)) return prior_arg.cast<Prior>();
+// The stage-1 options (posefilter/stage1.h) of a prior argument that is not None, "none" or a
+// Prior: "auto", a detections JSON path or a list of detections.
+Stage1Options Stage1FromPython(py::handle prior_arg) {
+  Stage1Options so;
   if (py::isinstance<py::str>(prior_arg) && prior_arg.cast<std::string>() == "auto") {
     // No detector: candidate regions of the depth image for every mesh (posefilter/auto_prior.h).
-    AutoStage1 stage1 = AutoPriorForMeshes(scene.depth, scene.camera, meshes, objs, "prior 'auto'", DefaultPpfCacheDir());
-    *seeds = std::move(stage1.seeds);
-    return std::move(stage1.prior);
+    so.kind = Stage1Kind::kAuto;
+    so.what = "prior 'auto'";
+    so.cache_dir = DefaultPpfCacheDir();
+    return so;
   }
-  std::vector<Detection> dets;
-  std::string source = "prior";
+  so.kind = Stage1Kind::kDetections;
+  so.check_detections = true;
   if (py::isinstance<py::str>(prior_arg) || py::hasattr(prior_arg, "__fspath__")) {
-    source = py::str(py::module_::import("os").attr("fspath")(prior_arg));
-    dets = ReadDetectionsJson(source);
+    so.what = py::str(py::module_::import("os").attr("fspath")(prior_arg));
+    so.detections = ReadDetectionsJson(so.what);
   } else if (py::isinstance<py::sequence>(prior_arg)) {
-    dets = DetectionsFrom(prior_arg);
+    so.detections = DetectionsFrom(prior_arg);
   } else {
     throw py::type_error("prior: expected None (or 'none'), 'auto', a Prior, a detections JSON path or a list of detections");
   }
-  WarnAll(CheckDetectionsForObjects(dets, objs, W, H, source));
-  const auto classes = ClassesForObjects(objs, dets);
-  return PriorFromDetections(dets, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+  return so;
 }
 
 // The meshes an Estimator has prepared (PrepareModel with its options), most recent last: an
@@ -150,23 +151,29 @@ class Estimator {
 
     // The prior: None or "none" (uniform), "auto", a Prior, a detections JSON path, or a list of detections.
     const int W = camera.width, H = camera.height;
-    Prior prior;
-    std::vector<std::vector<PoseSeed>> seeds;  // prior 'auto': per object
-    // None or "none" (as the CLI's --prior none): no detector, a uniform prior.
+    // None or "none" (as the CLI's --prior none): no detector, a uniform prior (with a mask:
+    // the prior of its box).
     const bool no_prior =
         prior_arg.is_none() || (py::isinstance<py::str>(prior_arg) && prior_arg.cast<std::string>() == "none");
-    if (no_prior && !scene.mask.empty()) {
-      mask.cls = objs[0];
-      const auto classes = ClassesForObjects(objs, {});
-      prior = PriorFromDetections({MaskDetection(mask)}, PyramidLayout::Thesis(W, H, int(classes.size())), classes);
-    } else if (no_prior) {
-      const auto classes = ClassesForObjects(objs, {});
-      prior = UniformPrior(PyramidLayout::Thesis(W, H, int(classes.size())), classes);
+    Stage1 stage1;
+    if (py::isinstance<Prior>(prior_arg)) {
+      stage1.prior = prior_arg.cast<Prior>();
     } else {
-      std::vector<const Mesh*> ms;
-      for (const Mesh& m : meshes) ms.push_back(&m);
-      prior = PriorFromPython(prior_arg, objs, ms, scene, &seeds);
+      Stage1Options so;
+      if (no_prior && !scene.mask.empty()) {
+        mask.cls = objs[0];
+        so.kind = Stage1Kind::kMasks;
+        so.masks = {mask};
+      } else if (!no_prior) {
+        so = Stage1FromPython(prior_arg);
+      }
+      std::vector<Stage1Object> objects;
+      for (std::size_t i = 0; i < meshes.size(); ++i) objects.push_back({objs[i], &meshes[i]});
+      stage1 = BuildStage1(scene, objects, so);
+      WarnAll(stage1.warnings);
+      if (so.kind == Stage1Kind::kMasks) stage1.prior = std::move(stage1.instances.at(0).prior);
     }
+    const Prior& prior = stage1.prior;
     if (prior.layout.image_width != W || prior.layout.image_height != H)
       Fail("prior: made for a " + std::to_string(prior.layout.image_width) + "x" +
            std::to_string(prior.layout.image_height) + " image but the camera is " + std::to_string(W) + "x" +
@@ -186,34 +193,29 @@ class Estimator {
       // The filter runs without the GIL; between iterations it takes the GIL back briefly to
       // honour Ctrl-C and to call `progress(obj, iteration, best_weight)`.
       py::gil_scoped_release release;
-      std::vector<std::shared_ptr<const PreparedModel>> models(meshes.size());  // prepared once per mesh
+      std::vector<SceneEstimateObject> jobs(meshes.size());
       for (std::size_t i = 0; i < meshes.size(); ++i) {
-        const std::string& name = objs[i];
-        const ProgressFn fn = [&callback, &name](int it, double w) {
+        const std::string name = objs[i];
+        jobs[i].progress = [&callback, name](int it, double w) {
           py::gil_scoped_acquire acquire;
           if (PyErr_CheckSignals() != 0) throw py::error_already_set();
           if (!callback.is_none()) callback(name, it, w);
         };
-        scene.seeds = i < seeds.size() ? seeds[i] : std::vector<PoseSeed>{};
-        models[i] = models_->Get(meshes[i], options_);
-        out.items.push_back(EstimatePose(scene, *models[i], prior, cls[i], options_, fn));
-        out.items.back().obj = name;
+        jobs[i].mesh = &meshes[i];
+        jobs[i].model = models_->Get(meshes[i], options_);  // prepared once per mesh
+        jobs[i].cls = cls[i];
+        jobs[i].mask = scene.mask;
+        jobs[i].seeds = i < stage1.seeds.size() ? stage1.seeds[i] : std::vector<PoseSeed>{};
       }
-      // Several objects sharing the prior: the joint scene pass (posefilter/scene_pass.h).
-      if (scene_pass && meshes.size() > 1 && scene.mask.empty()) {
-        std::vector<SceneObject> objects;
-        for (std::size_t i = 0; i < meshes.size(); ++i) objects.push_back({&meshes[i], cls[i], out.items[i], models[i]});
-        scene.seeds.clear();
-        const std::vector<ScenePassResult> passed = RunScenePass(scene, prior, objects, options_);
-        for (std::size_t i = 0; i < passed.size(); ++i) {
-          if (passed[i].replaced) {
-            const int iterations = out.items[i].iterations;
-            out.items[i] = passed[i].estimate;
-            out.items[i].iterations += iterations;
-          }
-          out.items[i].time_ms += passed[i].time_ms;
-          out.items[i].obj = objs[i];
-        }
+      // Several objects sharing the prior, without a mask: the joint scene pass
+      // (posefilter/estimate_scene.h).
+      EstimateSceneOptions so;
+      so.scene_pass = scene_pass && scene.mask.empty();
+      std::vector<SceneEstimate> est = EstimateScene(scene, prior, jobs, options_, so);
+      for (std::size_t i = 0; i < est.size(); ++i) {
+        out.items.push_back(std::move(est[i].result));
+        if (!(est[i].passed && est[i].pass.replaced)) out.items.back().particle_history = std::move(est[i].particles);
+        out.items.back().obj = objs[i];
       }
     }
     if (!batch) return py::cast(std::move(out.items[0]));

@@ -18,4 +18,5 @@ PYBIND11_MODULE(_posefilter, m) {
   BindEstimation(m);
   BindSynth(m);
   BindTracking(m);
+  BindDataset(m);
 }

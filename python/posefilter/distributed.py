@@ -8,12 +8,13 @@ images), the rows appended to one BOP results CSV on the client as they arrive.
     summary = run_dataset(client, "/shared/bop/ycbv", "results.csv", prior=("gt-boxes", 8),
                           options={"particles": 200, "restarts": 1, "threads": 1})
 
-Each task runs the ``posefilter`` CLI on a worker (``run-dataset --targets`` holding only its
-images' targets) and returns the CSV rows; the workers need the CLI, the dataset at the same
+Each task runs the ``posefilter`` CLI on a worker (``run-dataset --images`` naming its images)
+and returns the CSV rows; the workers need the CLI, the dataset at the same
 path, and Dask, but not this Python package (the task functions travel by value). The CLI is
 ``cli=`` when given, else the worker's $POSEFILTER_CLI, else the CLI built with this module
 (``build/release/posefilter`` beside ``build/release/python``) where that path exists on the
-worker, else ``posefilter`` on the worker's PATH. The client reads the dataset's target list,
+worker, else ``posefilter`` on the worker's PATH. The client asks the library for the dataset's
+target list (the images run-dataset estimates, ``posefilter._posefilter.dataset_targets``),
 skips the images already in ``out`` (resume), holds an exclusive lock on ``out`` (flock, as the
 CLI does), and appends and fsyncs each image's rows when its task finishes, so an interrupted
 client loses no finished image; an error before the first row leaves no new file behind. Tasks of a worker that dies are rerun elsewhere by Dask. Rows do not depend on which
@@ -25,14 +26,12 @@ docs/DATASETS.md ("Many machines: Dask") has the cluster setup.
 
 from __future__ import annotations
 
-import json
 import os
-import re
 import stat
 import uuid
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 __all__ = ["RunDatasetError", "RunSummary", "built_cli", "list_targets", "run_dataset", "BOP_CSV_HEADER"]
 
@@ -48,6 +47,7 @@ _RESERVED = {
     "quiet": "(always set)",
     "no-time": "no_time=",
     "limit": "targets= (a subset of the targets)",
+    "images": "targets= (the tasks' images)",
     "detections": "prior=('detections', PATH)",
     "gt-boxes": "prior=('gt-boxes', SIGMA_PX)",
     "uniform-prior": "prior='uniform'",
@@ -120,9 +120,11 @@ def _probe_cli(cli, built=None):
     return path, names
 
 
-def _run_images(cli, built, dataset, split, flags, targets, where):
-    """Runs `posefilter run-dataset` on the targets of some images; returns {"rows": CSV rows
-    without the header (text), "stderr": the CLI's warnings}."""
+def _run_images(cli, built, dataset, split, flags, images, targets, where):
+    """Runs `posefilter run-dataset --images` on some images ((scene_id, im_id) pairs); `targets`
+    is None (the dataset's own targets), a targets JSON path, or a list of target entries
+    (written to a file here). Returns {"rows": CSV rows without the header (text), "stderr": the
+    CLI's warnings}."""
     import json
     import os
     import subprocess
@@ -130,13 +132,17 @@ def _run_images(cli, built, dataset, split, flags, targets, where):
 
     path = _resolve_cli(cli, built)
     with tempfile.TemporaryDirectory(prefix="posefilter-dask-") as tmp:
-        targets_path = os.path.join(tmp, "targets.json")
         csv_path = os.path.join(tmp, "rows.csv")
-        with open(targets_path, "w", encoding="utf-8") as f:
-            json.dump(targets, f)
-        cmd = [path, "run-dataset", "--dataset", dataset, "--split", split, "--targets", targets_path,
-               "--out", csv_path, "--quiet"] + list(flags)
-        p = subprocess.run(cmd, capture_output=True, text=True, stdin=subprocess.DEVNULL)
+        cmd = [path, "run-dataset", "--dataset", dataset, "--split", split,
+               "--images", ",".join(f"{s}:{i}" for s, i in images), "--out", csv_path, "--quiet"]
+        if isinstance(targets, str):
+            cmd += ["--targets", targets]
+        elif targets is not None:
+            targets_path = os.path.join(tmp, "targets.json")
+            with open(targets_path, "w", encoding="utf-8") as f:
+                json.dump(targets, f)
+            cmd += ["--targets", targets_path]
+        p = subprocess.run(cmd + list(flags), capture_output=True, text=True, stdin=subprocess.DEVNULL)
         if p.returncode != 0:
             err = p.stderr.strip()
             if len(err) > 4000:
@@ -197,16 +203,6 @@ def _image_key(row: str) -> str:
     return "" if b < 0 else row[:b]
 
 
-def _read_json(path: str) -> Any:
-    try:
-        with open(path, encoding="utf-8") as f:
-            return json.load(f)
-    except json.JSONDecodeError as e:
-        raise ValueError(f"{path}: malformed JSON: {e}") from None
-    except OSError as e:
-        raise FileNotFoundError(f"{path}: cannot read ({e.strerror})") from None
-
-
 def _int_field(entry: Mapping, key: str, where: str) -> int:
     if not isinstance(entry, Mapping) or key not in entry:
         raise ValueError(f"{where}: missing \"{key}\"")
@@ -229,102 +225,22 @@ def _targets_from_list(entries: Any, source: str) -> list[dict]:
     return out
 
 
-def _targets_from_counts(counts: Iterable[tuple[int, int, dict[int, int]]]) -> list[dict]:
-    return [{"scene_id": s, "im_id": i, "obj_id": o, "inst_count": n}
-            for s, i, per_obj in counts for o, n in sorted(per_obj.items())]
-
-
-def _bop_gt_targets(root: str, split: str) -> list[dict]:
-    split_dir = os.path.join(root, split)
-    if not split or not os.path.isdir(split_dir):
-        raise FileNotFoundError(f"{split_dir}: split folder not found")
-    counts = []
-    for name in sorted(os.listdir(split_dir)):
-        scene_dir = os.path.join(split_dir, name)
-        if not os.path.isdir(scene_dir) or not name.isdigit() or not name.isascii():
-            continue
-        gt_path = os.path.join(scene_dir, "scene_gt.json")
-        if not os.path.exists(gt_path):
-            continue  # a split without ground truth: no targets from it
-        gts = _read_json(gt_path)
-        if not isinstance(gts, dict):
-            raise ValueError(f"{gt_path}: must be a JSON object {{\"<im_id>\": [...]}}")
-        for key, entries in gts.items():
-            if not key.isdigit():
-                raise ValueError(f"{gt_path}: \"{key}\" is not an image id")
-            per_obj: dict[int, int] = {}
-            for e, g in enumerate(entries if isinstance(entries, list) else []):
-                obj = _int_field(g, "obj_id", f"{gt_path}: image {int(key)}, entry {e}")
-                per_obj[obj] = per_obj.get(obj, 0) + 1
-            counts.append((int(name), int(key), per_obj))
-    return _targets_from_counts(counts)
-
-
-def _ycbv_targets(root: str) -> list[dict]:
-    from . import ycbv_class_names
-
-    models_dir, scenes_dir = os.path.join(root, "models"), os.path.join(root, "scenes")
-    names = sorted(n[:-4] for n in os.listdir(models_dir)
-                   if n.endswith(".ply") and os.path.isfile(os.path.join(models_dir, n)))
-    ycbv = list(ycbv_class_names())
-    obj_id, next_id = {}, len(ycbv) + 1
-    for n in names:
-        if n in ycbv:
-            obj_id[n] = ycbv.index(n) + 1
-        else:
-            obj_id[n] = next_id
-            next_id += 1
-    counts = []
-    for k, name in enumerate(sorted(d for d in os.listdir(scenes_dir) if os.path.isdir(os.path.join(scenes_dir, d)))):
-        # "<anything>_<scene digits>_<image digits>" -> (scene, image); else (0, position).
-        m = re.fullmatch(r".*_([0-9]{1,8})_([0-9]{1,8})", name)
-        scene_id, im_id = (int(m.group(1)), int(m.group(2))) if m else (0, k + 1)
-        gt_path = os.path.join(scenes_dir, name, "gt.json")
-        if not os.path.exists(gt_path):
-            continue
-        gt = _read_json(gt_path)
-        objects = gt.get("objects") if isinstance(gt, dict) else None
-        if not isinstance(objects, list):
-            raise ValueError(f"{gt_path}: needs \"objects\": [{{\"obj\", \"R\", \"t\"}}, ...]")
-        per_obj: dict[int, int] = {}
-        for e, o in enumerate(objects):
-            obj = o.get("obj") if isinstance(o, dict) else None
-            if obj not in obj_id:
-                raise ValueError(f"{gt_path}: objects[{e}]: obj {obj!r} has no model "
-                                 f"{os.path.join(models_dir, str(obj) + '.ply')}")
-            per_obj[obj_id[obj]] = per_obj.get(obj_id[obj], 0) + 1
-        counts.append((scene_id, im_id, per_obj))
-    return _targets_from_counts(counts)
-
-
 def list_targets(dataset: str | os.PathLike, split: str = "test", targets: Any = None) -> list[dict]:
     """The targets `posefilter run-dataset` estimates, as [{scene_id, im_id, obj_id,
-    inst_count}] sorted by (scene_id, im_id, obj_id): `targets` (a test_targets_bop19-style
-    JSON file or list) when given; else, for a BOP dataset, <dataset>/test_targets_bop19.json
-    when present, else every object of <split>/*/scene_gt.json; for a YCB-Video folder (scenes/
-    + models/), every object of scenes/*/gt.json (ids as ReadYcbvFolder, bop.h). Image and
-    object ids are checked by the CLI, not here."""
+    inst_count}] sorted by (scene_id, im_id, obj_id), from the library's dataset reader (the
+    run-dataset's own, posefilter/bop.h): `targets` (a test_targets_bop19-style JSON file or
+    list) when given; else <dataset>/test_targets_bop19.json when present, else every
+    ground-truth object. A list's entries are checked here; its image and object ids, by the
+    CLI."""
     root = os.fspath(dataset)
     if not os.path.isdir(root):
         raise FileNotFoundError(f"{root}: dataset folder not found")
-    is_bop = os.path.exists(os.path.join(root, "models", "models_info.json"))
-    is_ycbv = os.path.isdir(os.path.join(root, "scenes")) and os.path.isdir(os.path.join(root, "models"))
-    if not is_bop and not is_ycbv:
-        raise ValueError(f"{root}: neither a BOP dataset (models/models_info.json + <split>/) nor a YCB-Video "
-                         "folder (scenes/ + models/)")
-    use_bop = is_bop and (bool(split) and os.path.isdir(os.path.join(root, split)) or not is_ycbv)
-    if targets is not None:
-        if isinstance(targets, (str, os.PathLike)):
-            out = _targets_from_list(_read_json(os.fspath(targets)), os.fspath(targets))
-        else:
-            out = _targets_from_list(targets, "targets")
-    elif use_bop and os.path.exists(os.path.join(root, "test_targets_bop19.json")):
-        path = os.path.join(root, "test_targets_bop19.json")
-        out = _targets_from_list(_read_json(path), path)
-    elif use_bop:
-        out = _bop_gt_targets(root, split)
+    if targets is not None and not isinstance(targets, (str, os.PathLike)):
+        out = _targets_from_list(targets, "targets")
     else:
-        out = _ycbv_targets(root)
+        from ._posefilter import dataset_targets
+
+        out = list(dataset_targets(root, split, "" if targets is None else os.fspath(targets)))
     out.sort(key=lambda t: (t["scene_id"], t["im_id"], t["obj_id"]))
     return out
 
@@ -494,6 +410,8 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
     if not os.path.isdir(out_dir):
         raise FileNotFoundError(f"{out}: the directory {out_dir} does not exist")
 
+    if isinstance(targets, (str, os.PathLike)):
+        targets = os.path.abspath(os.fspath(targets))
     all_targets = list_targets(root, split, targets)
     if not all_targets:
         raise ValueError(f"{root}: no targets (no test_targets_bop19.json and no ground truth)")
@@ -505,15 +423,15 @@ def run_dataset(client: Any, dataset: str | os.PathLike, out: str | os.PathLike,
     # lock is taken before the repair, so two clients never repair or append at once.
     lock_fd = _lock(out) if os.path.exists(out) else None
     try:
-        return _run_locked(client, root, out, split, by_image, prior_flags, options, cli, chunk, retries,
+        return _run_locked(client, root, out, split, by_image, targets, prior_flags, options, cli, chunk, retries,
                            no_time, progress, lock_fd)
     finally:
         if lock_fd is not None:
             os.close(lock_fd)
 
 
-def _run_locked(client, root, out, split, by_image, prior_flags, options, cli, chunk, retries, no_time, progress,
-                lock_fd):
+def _run_locked(client, root, out, split, by_image, targets, prior_flags, options, cli, chunk, retries, no_time,
+                progress, lock_fd):
     """run_dataset after its argument checks; `lock_fd` holds the lock on an existing `out`."""
     from distributed import as_completed
 
@@ -544,11 +462,13 @@ def _run_locked(client, root, out, split, by_image, prior_flags, options, cli, c
     futures = {}
     for k in range(0, len(todo), chunk):
         images = todo[k:k + chunk]
-        tasks = [t for key in images for t in by_image[key]]
+        # The images by id; a targets list travels with them (its entries of these images).
+        given = targets if targets is None or isinstance(targets, str) else \
+            [t for key in images for t in by_image[key]]
         where = _where(images)
         key = f"posefilter-run-dataset-{run_id}-{images[0][0]}_{images[0][1]}" + \
             (f"+{len(images) - 1}" if len(images) > 1 else "")
-        fut = client.submit(_run_images, cli, built, root, split, flags, tasks, where, key=key, pure=False,
+        fut = client.submit(_run_images, cli, built, root, split, flags, images, given, where, key=key, pure=False,
                             retries=retries)
         futures[fut] = images
     appended: set[tuple[int, int]] = set()
