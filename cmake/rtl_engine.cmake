@@ -2,25 +2,24 @@
 # weighing pipeline in Verilated SystemVerilog (src/hw/rtl/weigh_accel.sv, M = 5), driven by the
 # host driver src/hw/host/weigh_driver.cc over src/hw/host/verilator_transport.cc (the default)
 # or, on a board, src/hw/host/uio_transport.cc (POSEFILTER_RTL_DEVICE, src/filter/rtl_engine.h).
-# POSEFILTER_RTL_ENGINE is ON when Verilator is installed (Debian `verilator`; scripts/setup.sh)
-# and OFF in the sanitizer presets asan, tsan and debug (Verilated code is not built under ASan/TSan). OFF: the
-# engine reports that this build has no RTL (src/hw/host/verilator_transport_none.cc).
+# POSEFILTER_RTL_ENGINE (CMakeLists.txt) is ON when Verilator is installed (Debian `verilator`;
+# scripts/setup.sh) and OFF in the sanitizer presets asan, tsan and debug (Verilated code is not
+# built under ASan/TSan). OFF: the engine reports that this build has no RTL
+# (src/hw/host/verilator_transport_none.cc).
 #
-# The Verilated top is one object library, posefilter_rtl_model, built once; its objects go
-# into the posefilter library, so the CLI, the Python module and the tests link them from there
-# (an object library keeps the Verilator include paths out of posefilter's exported interface).
+# Included by src/hw/CMakeLists.txt: the host side goes into the hw layer, posefilter_hw. The
+# Verilated top is one object library, posefilter_rtl_model, built once; its objects go into
+# posefilter_hw, so the CLI, the Python module and the tests link them from there (an object
+# library keeps the Verilator include paths out of the library's exported interface).
 # Cheap to build: the generated model at -O1 (its slow-path code at -O0), assertions on.
-find_package(verilator HINTS $ENV{VERILATOR_ROOT} /usr/share/verilator QUIET)
-option(POSEFILTER_RTL_ENGINE "Build the rtl engine (the weighing pipeline's RTL in Verilator; needs verilator)"
-       ${verilator_FOUND})
-target_sources(posefilter PRIVATE ${PROJECT_SOURCE_DIR}/src/hw/host/weigh_driver.cc)
+target_sources(posefilter_hw PRIVATE ${PROJECT_SOURCE_DIR}/src/hw/host/weigh_driver.cc)
 # The board's transport (docs/HARDWARE.md §17: UIO registers and interrupt, a u-dma-buf; plain
 # POSIX, no Verilator), selected at run time with POSEFILTER_RTL_DEVICE=uio[:NAME[:UDMABUF]]:
 # in every Linux build, with or without the Verilated model.
 if(CMAKE_SYSTEM_NAME STREQUAL "Linux")
-  target_sources(posefilter PRIVATE ${PROJECT_SOURCE_DIR}/src/hw/host/uio_transport.cc)
+  target_sources(posefilter_hw PRIVATE ${PROJECT_SOURCE_DIR}/src/hw/host/uio_transport.cc)
 endif()
-set_source_files_properties(${PROJECT_SOURCE_DIR}/src/hw/host/weigh_driver.cc ${PROJECT_SOURCE_DIR}/src/filter/rtl_engine.cc
+set_source_files_properties(${PROJECT_SOURCE_DIR}/src/hw/host/weigh_driver.cc
   PROPERTIES COMPILE_OPTIONS "-Wno-unknown-pragmas;-Wno-unused-label")
 if(POSEFILTER_RTL_ENGINE)
   if(NOT verilator_FOUND)
@@ -44,8 +43,8 @@ if(POSEFILTER_RTL_ENGINE)
     OPT_FAST -O1
     OPT_SLOW -O0
     OPT_GLOBAL -O1)
-  target_sources(posefilter PRIVATE $<TARGET_OBJECTS:posefilter_rtl_model>)
-  add_dependencies(posefilter posefilter_rtl_model)
+  target_sources(posefilter_hw PRIVATE $<TARGET_OBJECTS:posefilter_rtl_model>)
+  add_dependencies(posefilter_hw posefilter_rtl_model)
 else()
-  target_sources(posefilter PRIVATE ${PROJECT_SOURCE_DIR}/src/hw/host/verilator_transport_none.cc)
+  target_sources(posefilter_hw PRIVATE ${PROJECT_SOURCE_DIR}/src/hw/host/verilator_transport_none.cc)
 endif()

@@ -18,6 +18,7 @@ PACKAGES=(
   python3 python3-dev python3-numpy python3-pytest pybind11-dev python3-matplotlib
   python3-pip python3-venv python3-setuptools python3-wheel python3-distributed
   libsystemc-dev libmeshoptimizer-dev libqhull-dev clang-tools clang libclang-rt-dev libomp-dev
+  clang-tidy clang-format  # scripts/tidy.sh, .clang-format
   libvulkan-dev glslang-tools mesa-vulkan-drivers vulkan-validationlayers
   verilator
   libjs-three chromium  # three.js of the viewer page (inlined at build time); its browser tests

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Install dependencies, build, and run the whole test suite: the tests of the release build
-# (ctest, Python included), then the unit and CLI tests under AddressSanitizer + UBSan
-# (scripts/sanitize.sh) and a bounded fuzz run of every file reader (scripts/fuzz.sh,
-# POSEFILTER_FUZZ_SECONDS per target, default 5). Arguments go to the release ctest.
+# Install dependencies, build, and run the whole test suite: clang-tidy on the C++ files of the
+# last commit (scripts/tidy.sh), the tests of the release build (ctest, Python included), then
+# the unit and CLI tests under AddressSanitizer + UBSan (scripts/sanitize.sh) and a bounded
+# fuzz run of every file reader (scripts/fuzz.sh, POSEFILTER_FUZZ_SECONDS per target, default 5).
+# Arguments go to the release ctest.
 # POSEFILTER_QUICK=1 stops after the release tests. Ends with the wall time of each phase.
 # docs/RELIABILITY.md.
 set -euo pipefail
@@ -33,6 +34,9 @@ run "setup (apt packages)" scripts/setup.sh
 # The CLI and the test binaries as unity builds (CMake option POSEFILTER_UNITY): half their compile time.
 # The SystemC differential test of the HLS types is labelled `long` and not built here.
 run "release build" env POSEFILTER_BUILD_BENCH=OFF POSEFILTER_UNITY=ON POSEFILTER_SYSTEMC_TESTS=OFF scripts/build.sh
+# clang-tidy (.clang-tidy) on the C++ sources the last commit changed, with the release build's
+# compile commands (scripts/tidy.sh; a clone without history has no last commit to compare with).
+run "clang-tidy (changed files)" scripts/tidy.sh
 # Tests labelled `long` (a few full-scale runs whose lighter versions are in the suite) run
 # outside CI's budget: ctest --preset release -L long. docs/RELIABILITY.md lists the labels.
 run "release tests (ctest)" ctest --preset release -LE long "$@"

@@ -35,7 +35,6 @@
 
 #include "posefilter/camera.h"
 #include "posefilter/depth_image.h"
-#include "posefilter/filter.h"
 #include "posefilter/option_rows.h"
 #include "posefilter/ppf.h"
 #include "posefilter/prior.h"

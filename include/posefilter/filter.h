@@ -97,14 +97,6 @@ struct EstimateResult {
 // not compare with the final ones). The final polish may raise the result's weight above it.
 using ProgressFn = std::function<void(int, double)>;
 
-// A pose hypothesis from a stage 1 that proposes poses (the PPF proposals of `--prior auto`,
-// posefilter/auto_prior.h): object → camera, and a score > 0 (relative: seeds are drawn in
-// proportion to it).
-struct PoseSeed {
-  Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();
-  double score = 1;
-};
-
 // The scene a filter runs on: depth (camera z, metres, 0 = missing) and the camera, and
 // optionally the instance mask and pose seeds of the object looked for.
 struct SceneInput {

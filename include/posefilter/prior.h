@@ -17,10 +17,20 @@
 // 4 strides (thesis layout: 128, 64, 32 px), so the three levels cover objects of ~40–200 px.
 #pragma once
 
+#include <Eigen/Geometry>
+
 #include <string>
 #include <vector>
 
 namespace posefilter {
+
+// A pose hypothesis from a stage 1 that proposes poses (the PPF proposals of `--prior auto`,
+// posefilter/auto_prior.h): object → camera, and a score > 0 (relative: seeds are drawn in
+// proportion to it).
+struct PoseSeed {
+  Eigen::Isometry3d T_cam_obj = Eigen::Isometry3d::Identity();
+  double score = 1;
+};
 
 // An axis-aligned box in pixels: centre (cx, cy) and size (w, h).
 struct Box {

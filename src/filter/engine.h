@@ -15,6 +15,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "filter/driver.h"
 #include "filter/model_lod.h"
@@ -49,5 +50,8 @@ std::unique_ptr<EngineRuns> MakeFloatEngine(std::shared_ptr<const PreparedScene>
                                             const FilterOptions& options);  // particle_filter.cc
 std::unique_ptr<EngineRuns> MakeHwEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                                          const FilterOptions& options);  // hw_driver.cc
+// Whether this build has the hw engine (CMake option POSEFILTER_HW; hw_driver.cc), else *why
+// (may be null) says why not (hw_engine_none.cc, where MakeHwEngine throws that reason).
+bool HwEngineBuilt(std::string* why);
 
 }  // namespace posefilter::filter

@@ -7,7 +7,6 @@
 
 #include "filter/model_lod.h"
 #include "filter/rtl_engine.h"
-#include "hw/host/verilator_transport.h"
 #include "posefilter/option_table.h"
 #include "render/cpu_kernel.h"
 #include "render/gpu_kernel.h"
@@ -34,7 +33,8 @@ bool GpuIsNotCpuDriver() {
   return render::GpuAvailable(nullptr) && render::GpuDeviceName().find("(cpu)") == std::string::npos;
 }
 bool GpuEngineAvailable(std::string* why) { return render::GpuAvailable(why); }
-bool RtlEngineAvailable(std::string* why) { return hw::host::VerilatorTransportBuilt(why); }
+bool HwEngineAvailable(std::string* why) { return HwEngineBuilt(why); }
+bool RtlEngineAvailable(std::string* why) { return RtlEngineBuilt(why); }
 
 std::string DescribeCpuEngine() {
   std::string s = "instruction sets built: portable";
@@ -45,9 +45,13 @@ std::string DescribeCpuEngine() {
 std::string DescribeGpuEngine() {
   return render::GpuBuilt() ? "Vulkan compute" : "not built (no Vulkan headers or glslang at build time)";
 }
+std::string DescribeHwEngine() {
+  std::string why;
+  return HwEngineBuilt(&why) ? "C simulation of the FPGA design (fixed point)" : "not built (" + why + ")";
+}
 std::string DescribeRtlEngine() {
   std::string why;
-  return hw::host::VerilatorTransportBuilt(&why) ? "Verilated RTL of the weighing pipeline (hw engine's results)"
+  return RtlEngineBuilt(&why) ? "Verilated RTL of the weighing pipeline (hw engine's results)"
                                                  : "not built (" + why + ")";
 }
 
@@ -58,7 +62,7 @@ constexpr EngineRow kEngineRows[] = {
      AlwaysAvailable, DescribeCpuEngine},
     // Runs of its own (hw_driver.cc); a float context with its options weighs with the reference.
     {"hw", kEngineHw, "C simulation of the FPGA design (fixed point)", false, ListedByDefault, HwModelRuns, MakeReferenceWeigher,
-     AlwaysAvailable, nullptr},
+     HwEngineAvailable, DescribeHwEngine},
     {"gpu", kEngineGpu, "Vulkan compute (the reference's counts)", true, GpuIsNotCpuDriver, FloatFilterRuns, MakeGpuWeigher,
      GpuEngineAvailable, DescribeGpuEngine},
     // The hw engine with its weighing in Verilated RTL (rtl_engine.cc).

@@ -492,6 +492,8 @@ class HwEngine final : public filter::EngineRuns {
 
 namespace filter {
 
+bool HwEngineBuilt(std::string*) { return true; }
+
 std::unique_ptr<EngineRuns> MakeHwEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,
                                          const FilterOptions& options) {
   return std::make_unique<HwEngine>(prep, mesh, prior, cls, options, std::make_unique<HwCModelWeigh>());

@@ -176,6 +176,8 @@ std::unique_ptr<host::Transport> SimulatedTransport(const host::VerilatorTranspo
 
 }  // namespace
 
+bool RtlEngineBuilt(std::string* why) { return hw::host::VerilatorTransportBuilt(why); }
+
 std::unique_ptr<hw::host::Transport> RtlDeviceTransport() {
   const char* env = std::getenv(kRtlDeviceEnv);
   const std::string dev = env != nullptr ? env : "";

@@ -21,6 +21,10 @@ namespace posefilter::filter {
 //                                UDMABUF (default udmabuf0); Linux builds only
 inline constexpr const char* kRtlDeviceEnv = "POSEFILTER_RTL_DEVICE";
 
+// Whether this build can run the rtl engine on the simulation (the hw engine and the Verilated
+// RTL are built), else *why (may be null) says why not.
+bool RtlEngineBuilt(std::string* why);
+
 // The transport POSEFILTER_RTL_DEVICE selects. Throws Error, one line naming the variable and
 // the device or sysfs path, when the value is not a device, the build lacks it or the device is
 // missing.

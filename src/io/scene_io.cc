@@ -1,4 +1,4 @@
-// core/scene_io.cc — camera / ground-truth / results JSON files (nlohmann-json).
+// io/scene_io.cc — camera / ground-truth / results JSON files (nlohmann-json).
 //
 // Readers are strict: every value they use must be present and of the right type; numbers must
 // be finite (nlohmann writes NaN/inf as null, and strings such as "nan" are not numbers, so both
