@@ -1,4 +1,4 @@
-// prior/stage1.cc — the stage 1 of an estimate: prior, pose seeds and instance masks from what
+// filter/stage1.cc — the stage 1 of an estimate: prior, pose seeds and instance masks from what
 // a front end gives (posefilter/stage1.h).
 #include "posefilter/stage1.h"
 

@@ -1,4 +1,4 @@
-// tests/prior/stage1_test.cc — the stage-1 builder (posefilter/stage1.h): each kind gives the
+// tests/filter/stage1_test.cc — the stage-1 builder (posefilter/stage1.h): each kind gives the
 // prior the functions it stands for give, on the classes it documents.
 #include <gtest/gtest.h>
 
