@@ -38,6 +38,7 @@
 #include "posefilter/heuristics.h"
 #include "posefilter/mesh.h"
 #include "posefilter/mask_prior.h"
+#include "posefilter/stage1.h"
 #include "posefilter/metrics.h"
 #include "posefilter/option_table.h"
 #include "posefilter/overlay.h"
@@ -178,6 +179,13 @@ std::vector<Detection> DetectionsFrom(py::handle h);
 // Each message as a Python UserWarning (an exception if the warnings filter makes it one).
 void WarnAll(const std::vector<std::string>& messages);
 int ClassOf(const Prior& prior, py::handle cls);
+
+// The stage 1 (posefilter/stage1.h) of a `prior=` argument other than None (estimator.cc): a
+// Prior as it is, or 'auto' (no detector, over `meshes`, named objs), a detections JSON path or a
+// list of detections (classes: objs, then the detections' others) for the objects; the
+// detections' warnings as Python warnings. TypeError for another argument.
+Stage1 Stage1OfPriorArg(py::handle prior_arg, const std::vector<std::string>& objs, const std::vector<const Mesh*>& meshes,
+                        const SceneInput& scene);
 
 // ---------------------------------------------------------------- the module's parts
 

@@ -45,6 +45,22 @@ Stage1Options Stage1FromPython(py::handle prior_arg) {
   return so;
 }
 
+Stage1 Stage1OfPriorArg(py::handle prior_arg, const std::vector<std::string>& objs, const std::vector<const Mesh*>& meshes,
+                        const SceneInput& scene) {
+  Stage1 stage1;
+  if (py::isinstance<Prior>(prior_arg)) {
+    stage1.prior = prior_arg.cast<Prior>();
+    stage1.seeds.resize(objs.size());
+    return stage1;
+  }
+  const Stage1Options so = Stage1FromPython(prior_arg);
+  std::vector<Stage1Object> objects;
+  for (std::size_t i = 0; i < objs.size(); ++i) objects.push_back({objs[i], meshes[i]});
+  stage1 = BuildStage1(scene, objects, so);
+  WarnAll(stage1.warnings);
+  return stage1;
+}
+
 // The meshes an Estimator has prepared (PrepareModel with its options), most recent last: an
 // estimate on a mesh equal to one of them (name, vertices and faces) reuses its model.
 // Shared by the Estimator's copies, behind one lock (estimates run without the GIL).
@@ -155,22 +171,21 @@ class Estimator {
     // the prior of its box).
     const bool no_prior =
         prior_arg.is_none() || (py::isinstance<py::str>(prior_arg) && prior_arg.cast<std::string>() == "none");
+    std::vector<const Mesh*> mesh_ptrs;
+    for (const Mesh& m : meshes) mesh_ptrs.push_back(&m);
     Stage1 stage1;
-    if (py::isinstance<Prior>(prior_arg)) {
-      stage1.prior = prior_arg.cast<Prior>();
+    if (!no_prior) {
+      stage1 = Stage1OfPriorArg(prior_arg, objs, mesh_ptrs, scene);
     } else {
       Stage1Options so;
-      if (no_prior && !scene.mask.empty()) {
+      if (!scene.mask.empty()) {
         mask.cls = objs[0];
         so.kind = Stage1Kind::kMasks;
         so.masks = {mask};
-      } else if (!no_prior) {
-        so = Stage1FromPython(prior_arg);
       }
       std::vector<Stage1Object> objects;
       for (std::size_t i = 0; i < meshes.size(); ++i) objects.push_back({objs[i], &meshes[i]});
       stage1 = BuildStage1(scene, objects, so);
-      WarnAll(stage1.warnings);
       if (so.kind == Stage1Kind::kMasks) stage1.prior = std::move(stage1.instances.at(0).prior);
     }
     const Prior& prior = stage1.prior;

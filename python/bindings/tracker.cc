@@ -77,10 +77,11 @@ class PyTracker {
     Stage1Fn stage1;
     const py::object arg = py::reinterpret_borrow<py::object>(prior_arg);
     auto to_stage1 = [&names, &meshes](py::handle p, const SceneInput& fr) {
-      std::vector<std::vector<PoseSeed>> seeds;
+      Stage1 made = Stage1OfPriorArg(p, names, meshes, fr);
       TrackStage1 s;
-      s.prior = PriorFromPython(p, names, meshes, fr, &seeds);
-      for (std::size_t k = 0; k < seeds.size() && k < names.size(); ++k) s.seeds[names[k]] = std::move(seeds[k]);
+      s.prior = std::move(made.prior);
+      for (std::size_t k = 0; k < made.seeds.size() && k < names.size(); ++k)
+        if (!made.seeds[k].empty()) s.seeds[names[k]] = std::move(made.seeds[k]);
       return s;
     };
     TrackStage1 fixed;
