@@ -92,7 +92,9 @@ std::vector<std::uint8_t> SupportPlanePixels(const DepthImage& depth, const Came
 //      share as its offset (a small patch's fit tilts by degrees under correlated noise).
 //   Before a plane's samples leave the pool it is refitted twice on those within its pixel
 //   band (Band below), so that the tops of thin objects on a small surface neither tilt it
-//   nor widen its band, and a surface a few centimetres from another is peeled on its own.
+//   nor widen its band, and a surface a few centimetres from another is peeled on its own;
+//   the RANSAC band's samples next to those (on the sample grid) leave with them, the
+//   surface's own noise, so that they do not make a plane grazing it.
 // Frames and units: camera frame, metres; each patch's plane as SupportPlane (normal towards
 // the camera). Deterministic (fixed RANSAC seed).
 struct SupportSurfaceOptions {

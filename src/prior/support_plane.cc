@@ -398,13 +398,29 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
     }
     plane.normal = best_n;
     plane.offset = best_d;
-    for (int i : members) used[std::size_t(i)] = 1;  // the rest stays in the pool: another surface
+    std::vector<std::uint8_t> member_cell(std::size_t(gw) * gh, 0);
+    for (int i : members) member_cell[std::size_t(cell_of[std::size_t(i)])] = 1;
+    // The members leave the pool, and with them the band's tails of the same surface: a sample
+    // within the RANSAC band next to a member (8-neighbourhood on the grid) is that surface's
+    // noise beyond the tight band. Left in the pool, a large table's tails make a plane of
+    // their own that grazes it, whose footprint area (1/cos of a grazing view) outvotes the
+    // table for up. The band's samples away from the members stay: another surface.
+    for (int i : pool) {
+      if (member_cell[std::size_t(cell_of[std::size_t(i)])] || !inlier_at(best_n, best_d, std::size_t(i))) continue;
+      const int cx = cell_of[std::size_t(i)] % gw, cy = cell_of[std::size_t(i)] / gw;
+      bool next_to_member = false;
+      for (int dy = -1; dy <= 1 && !next_to_member; ++dy)
+        for (int dx = -1; dx <= 1 && !next_to_member; ++dx) {
+          const int x = cx + dx, y = cy + dy;
+          next_to_member = x >= 0 && y >= 0 && x < gw && y < gh && member_cell[std::size_t(y) * gw + x];
+        }
+      if (next_to_member) used[std::size_t(i)] = 1;
+    }
+    for (int i : members) used[std::size_t(i)] = 1;
     plane.fraction = double(members.size()) / double(n);
     plane.found = true;
     // Patches: 8-connected members on the grid, bridging one missing sample.
     std::vector<int> comp(std::size_t(gw) * gh, -1);
-    std::vector<std::uint8_t> member_cell(std::size_t(gw) * gh, 0);
-    for (int i : members) member_cell[std::size_t(cell_of[std::size_t(i)])] = 1;
     const Eigen::Vector3d e1 = best_n.unitOrthogonal(), e2 = best_n.cross(e1);
     const Eigen::Vector3d origin = -best_d * best_n;
     struct Piece {
