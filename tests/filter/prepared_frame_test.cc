@@ -124,7 +124,7 @@ TEST(PreparedFrame, EstimatesAndWeighingsEqualThoseOnTheSceneInput) {
       ExpectSameFrameEstimate(plain, on_mesh, what + ", input " + std::to_string(k) + ", mesh");
       EXPECT_EQ(w, WeighPoses(scene, *model, c.prior, cls, o, hyp)) << what << ", input " << k;
       EXPECT_EQ(w, WeighPoses(*frame, in, mesh, c.prior, cls, o, hyp)) << what << ", input " << k;
-      EXPECT_GT(plain.weight, 0.3) << what << ", input " << k;
+      if (!in.seeds.empty()) EXPECT_GT(plain.weight, 0.3) << what << ", input " << k << ": seeded 1 cm from the truth";
     }
   }
 }
