@@ -91,7 +91,7 @@ struct TrackArgs {
   std::vector<std::string> mesh_args;
   int scene = -1;
   double unit_scale = 1.0, depth_scale = 0;
-  bool init_gt = false, quiet = false, no_velocity = false;
+  bool init_gt = false, quiet = false;
   TrackOptions topt;
   CLI::Option *ds_opt = nullptr, *fr_opt = nullptr, *depth_scale_opt = nullptr;
   bool named_prior = true;  // --prior is empty, none or auto (no file)
@@ -118,19 +118,7 @@ void AddTrackOptions(CLI::App& app, TrackArgs* a) {
                  "'none' (uniform), or a BOP detections JSON (with --dataset); without it, objects start from --init-gt "
                  "and a lost object stays lost");
   app.add_flag("--init-gt", a->init_gt, "start each object at the first frame's ground-truth pose (the stage 1 then only restarts lost ones)");
-  app.add_option("--lost-weight", topt.lost_weight, "an object whose best weight falls below this is lost, [0, 1]")->capture_default_str();
-  app.add_option("--refresh-weight", topt.refresh_weight,
-                 "a tracked object below this weight is also estimated from the frame's stage 1; the heavier pose wins "
-                 "(0 = only lost objects)")
-      ->capture_default_str();
-  app.add_option("--search-t", topt.search_t_m, "sigma of the initial particles' translation about the predicted pose (m)")->capture_default_str();
-  app.add_option("--search-r", topt.search_r_rad, "sigma of their rotation (rad)")->capture_default_str();
-  app.add_option("--window-margin", topt.window_margin, "search window: the poses' boxes grown by this fraction per side, (0, 2]")
-      ->capture_default_str();
-  app.add_flag("--scene-pass,!--no-scene-pass", topt.scene_pass,
-               "objects estimated from one frame's stage 1 go through the joint scene pass together")
-      ->default_str(topt.scene_pass ? "true" : "false");
-  app.add_flag("--no-velocity", a->no_velocity, "predict the last pose (default: the last pose moved by the last frame-to-frame motion)");
+  AddTrackOptions(app, &topt);
   app.add_option("--csv", a->csv_path, "write one row per frame and object here");
   app.add_option("--out-dir", a->out_dir, "write one results JSON per frame here (<frame>.json)");
   app.add_flag("--quiet", a->quiet, "print only the summary");
@@ -162,9 +150,7 @@ void CheckTrackOutDir(const std::string& out_dir, const std::vector<NamedPath>& 
 // Checks the parsed arguments before any work, the output paths included.
 void CheckTrackArgs(TrackArgs* a) {
   CheckFilterOptions(a->topt.filter);
-  a->topt.constant_velocity = !a->no_velocity;
-  std::string why;
-  if (!a->topt.IsValid(&why)) throw Error("invalid track option: " + why);
+  CheckTrackOptions(a->topt);
   const bool use_dataset = !a->dataset_dir.empty();
   const std::string& prior_arg = a->prior_arg;
   if (prior_arg.empty() && !a->init_gt) throw Error("nothing starts the objects: give --prior (auto, none or detections) or --init-gt");
