@@ -400,7 +400,6 @@ void AddSuiteOptions(CLI::App& app, SuiteArgs& a) {
   std::string& json_path = a.json_path;
   SynthOptions& synth = a.synth;
   TableSceneOptions& table = a.table;
-  RoomSceneOptions& room = a.room;
   TableSuiteArgs& ta = a.ta;
   FilterOptions& opt = a.opt;
   // $POSEFILTER_DATA/ycbv/models (README "Data"); without POSEFILTER_DATA, --models is needed.
@@ -444,23 +443,15 @@ void AddSuiteOptions(CLI::App& app, SuiteArgs& a) {
   app.add_option("--write-scenes", ta.write_dir, "ycbv, room: also write every scene to DIR/scene_<seed>/ (for peers)");
   app.add_option("--json", json_path, "also write the table as JSON");
   AddFilterOptions(app, &opt);
-
 }
 
 // --world ycbv or room: the scene options from the shared ones (the room world takes them
 // where given, else its own defaults), checked with the options' names as typed.
 void SetTableSuiteOptions(const CLI::App& app, SuiteArgs& a) {
   std::string& world = a.world;
-  int& count = a.count;
-  std::uint64_t& first_seed = a.first_seed;
-  std::vector<std::string>& targets = a.targets;
-  std::vector<double>& occlusions = a.occlusions;
-  std::string& json_path = a.json_path;
   SynthOptions& synth = a.synth;
   TableSceneOptions& table = a.table;
   RoomSceneOptions& room = a.room;
-  TableSuiteArgs& ta = a.ta;
-  FilterOptions& opt = a.opt;
   table.box_jitter_px = synth.box_jitter_px;
   table.false_positives = synth.false_positives;
   if (app.count("--min-distance")) table.min_distance_m = synth.min_distance_m;
@@ -491,16 +482,12 @@ void SetTableSuiteOptions(const CLI::App& app, SuiteArgs& a) {
 
 // --world shapes: one procedural shape per scene, the targets and occlusion levels in turn.
 void RunShapesSuite(SuiteArgs& a) {
-  std::string& world = a.world;
   int& count = a.count;
   std::uint64_t& first_seed = a.first_seed;
   std::vector<std::string>& targets = a.targets;
   std::vector<double>& occlusions = a.occlusions;
   std::string& json_path = a.json_path;
   SynthOptions& synth = a.synth;
-  TableSceneOptions& table = a.table;
-  RoomSceneOptions& room = a.room;
-  TableSuiteArgs& ta = a.ta;
   FilterOptions& opt = a.opt;
   if (targets.empty()) targets = SynthClassNames();
   if (occlusions.empty()) throw Error("--occlusions must not be empty");

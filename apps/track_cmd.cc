@@ -98,7 +98,7 @@ struct TrackArgs {
 };
 
 // Every option of `track` on `app`, into *a.
-void AddTrackOptions(CLI::App& app, TrackArgs* a) {
+void AddTrackArgs(CLI::App& app, TrackArgs* a) {
   TrackOptions& topt = a->topt;
   a->ds_opt = app.add_option("--dataset", a->dataset_dir,
                              "dataset folder (BOP: models/ + <split>/; YCB-Video style: scenes/ + models/, as synth "
@@ -373,7 +373,7 @@ int RunTrack(int argc, char** argv) {
   CLI::App app{"Track objects through a sequence of depth frames: each object's pose in one frame seeds the next",
                "track"};
   TrackArgs a;
-  AddTrackOptions(app, &a);
+  AddTrackArgs(app, &a);
   return RunApp(app, argc, argv, [&] {
     CheckTrackArgs(&a);
     Sequence s;
