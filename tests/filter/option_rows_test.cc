@@ -221,11 +221,12 @@ TEST(OptionRows, TheOtherSetsAreNamedThreeWaysAndReadBack) {
       EXPECT_GT(std::string(f.help).size(), 10u);
     }
   }
-  // The Python keywords the tracker has always taken.
+  // The Python keywords the tracker has always taken, then the confirmation's.
   std::vector<std::string> keywords;
   for (const OptionInfo& f : TrackOptionTable()) keywords.push_back(f.Name(OptionNaming::kPython));
   EXPECT_EQ(keywords, (std::vector<std::string>{"lost_weight", "refresh_weight", "search_t", "search_r",
-                                                "constant_velocity", "scene_pass", "window_margin"}));
+                                                "constant_velocity", "scene_pass", "window_margin", "confirm",
+                                                "confirm_margin"}));
   TrackOptions t;
   std::string why;
   const OptionInfo& margin = *FindOptionRow(TrackOptionTable(), "window-margin");
