@@ -20,8 +20,22 @@ double MedianValidDepth(const DepthImage& d) {
   return *mid;
 }
 
+bool MedianValidDepthWithin(const DepthImage& d, double lo, double hi) {
+  std::size_t valid = 0, below = 0, above = 0;
+  for (float v : d.data) {
+    if (!(v > 0)) continue;
+    ++valid;
+    below += double(v) < lo;
+    above += double(v) > hi;
+  }
+  return valid > 0 && below <= valid / 2 && above <= valid - 1 - valid / 2;
+}
+
 void CheckMeshScale(const std::string& mesh_name, double diameter, const DepthImage& support) {
   constexpr double kMinObjectToDepth = 1e-3, kMaxObjectToDepth = 10;
+  // Accepted: a median depth of diameter / 10 to diameter / 0.001 (the common case, decided in
+  // one pass); the median itself is found only for the message.
+  if (MedianValidDepthWithin(support, diameter / kMaxObjectToDepth, diameter / kMinObjectToDepth)) return;
   const double median_depth = MedianValidDepth(support);
   if (median_depth <= 0) return;
   if (diameter >= kMinObjectToDepth * median_depth && diameter <= kMaxObjectToDepth * median_depth) return;

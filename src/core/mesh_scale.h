@@ -11,6 +11,12 @@ namespace posefilter {
 // The median of the depth image's valid (> 0) pixels, metres; 0 when there is none.
 double MedianValidDepth(const DepthImage& d);
 
+// Whether MedianValidDepth(d) lies in [lo, hi] (metres), decided in one pass over the pixels
+// without copying or sorting them: the median (the valid depth at rank n/2 of n, as
+// MedianValidDepth picks it) is at least lo when at most n/2 valid depths are below lo, and at
+// most hi when at most n - 1 - n/2 are above hi. False when there is no valid pixel.
+bool MedianValidDepthWithin(const DepthImage& d, double lo, double hi);
+
 // Catches mesh unit mistakes (a millimetre mesh read as metres, or the reverse), for every
 // engine: throws Error naming the mesh and --unit-scale unless an object `diameter` metres
 // across is 0.001–10 times the median depth of `support` (PreparedScene::support). No check

@@ -357,8 +357,8 @@ void ValidateScene(const SceneInput& scene, const std::string& what) {
   if (valid == 0) throw Error(what + ": depth image has no valid pixel (all zero)");
   // A depth scale off by 1000 (millimetres read as metres, or the reverse) puts the scene
   // kilometres or millimetres away; no depth camera sees that.
-  const double median = MedianValidDepth(d);
-  if (!(median >= kMinPlausibleDepthM && median <= kMaxPlausibleDepthM)) {
+  if (!MedianValidDepthWithin(d, kMinPlausibleDepthM, kMaxPlausibleDepthM)) {
+    const double median = MedianValidDepth(d);
     std::ostringstream os;
     os << what << ": the median depth is " << median << " m, outside the [" << kMinPlausibleDepthM << ", "
        << kMaxPlausibleDepthM << "] m of a depth camera: wrong depth scale (metres per PNG unit)?";
