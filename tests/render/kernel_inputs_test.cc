@@ -28,10 +28,7 @@
 namespace posefilter {
 namespace {
 
-using kernel_test::ExpectSame;
-using kernel_test::SceneParams;
-using render::CpuTarget;
-using render::CpuWorkspace;
+using testing_util::At;
 using testing_util::PinholeCamera;
 
 // fn() must throw posefilter::Error whose message contains every word of `words`.
@@ -69,10 +66,10 @@ TEST(GpuKernelValidation, TheLayerCountsInvalidUsage) {
 TEST(CpuKernel, DispatchListsPortableFirstAndTheBestVariantIsSupported) {
   const auto targets = render::SupportedCpuTargets();
   ASSERT_FALSE(targets.empty());
-  EXPECT_EQ(targets.front(), CpuTarget::kPortable);
+  EXPECT_EQ(targets.front(), render::CpuTarget::kPortable);
   EXPECT_TRUE(render::CpuTargetSupported(render::BestCpuTarget()));
   EXPECT_EQ(targets.back(), render::BestCpuTarget());
-  EXPECT_STREQ(render::CpuTargetName(CpuTarget::kAvx512), "avx512");
+  EXPECT_STREQ(render::CpuTargetName(render::CpuTarget::kAvx512), "avx512");
 }
 
 TEST(CpuKernel, PreCullTurnsItselfOffOutsideItsProof) {
@@ -81,7 +78,7 @@ TEST(CpuKernel, PreCullTurnsItselfOffOutsideItsProof) {
   const Mesh torus = MakeTorus(0.06, 0.025, 16, 12);
   const Camera cam = PinholeCamera(525, 525);
   const DepthImage depth(640, 480, 0.8f);
-  ScoreKernelParams k = SceneParams(torus, testing_util::At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
+  ScoreKernelParams k = kernel_test::SceneParams(torus, At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
   const render::FacePlanes planes = render::BuildFacePlanes(k);
   float c[3], k1, k0;
   ASSERT_TRUE(render::PreCullConstants(k, planes, c, &k1, &k0));
@@ -91,9 +88,9 @@ TEST(CpuKernel, PreCullTurnsItselfOffOutsideItsProof) {
   auto declines = [&](ScoreKernelParams p, const char* what) {
     EXPECT_FALSE(render::PreCullConstants(p, planes, c, &k1, &k0)) << what;
     RenderWorkspace rws;
-    CpuWorkspace ws;
+    render::CpuWorkspace ws;
     const ScoreKernelResult ref = ScoreReference(p, &rws);
-    ExpectSame(ref, render::ScoreCpu(p, &ws, &planes), what);
+    kernel_test::ExpectSame(ref, render::ScoreCpu(p, &ws, &planes), what);
     EXPECT_EQ(ws.faces_preculled, 0) << what;
   };
   ScoreKernelParams p = k;
@@ -114,7 +111,7 @@ TEST(CpuKernel, PreCullTurnsItselfOffOutsideItsProof) {
   // A mesh with a non-finite vertex: the table's radius is infinite, the pre-cull off.
   Mesh bad = torus;
   bad.vertices[3].x() = std::numeric_limits<float>::infinity();
-  const ScoreKernelParams kb = SceneParams(bad, testing_util::At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
+  const ScoreKernelParams kb = kernel_test::SceneParams(bad, At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
   const render::FacePlanes pb = render::BuildFacePlanes(kb);
   EXPECT_FALSE(render::PreCullConstants(kb, pb, c, &k1, &k0));
 }
@@ -123,8 +120,8 @@ TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
   const Mesh box = MakeBox(0.1, 0.1, 0.1);
   const Camera cam = PinholeCamera(500, 500);
   DepthImage depth(640, 480, 1.0f);
-  CpuWorkspace ws;
-  auto params = [&] { return SceneParams(box, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480}); };
+  render::CpuWorkspace ws;
+  auto params = [&] { return kernel_test::SceneParams(box, At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480}); };
   ScoreKernelParams k = params();
   k.window = PixelRect{600, 0, 50, 10};  // sticks out of the image
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"window", "640x480"});
@@ -136,9 +133,9 @@ TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"depth"});
   Mesh broken = box;
   broken.faces[5][1] = 8;  // one past the last vertex
-  k = SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
+  k = kernel_test::SceneParams(broken, At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"face 5", "out of range"});
-  for (CpuTarget t : render::SupportedCpuTargets())
+  for (render::CpuTarget t : render::SupportedCpuTargets())
     ExpectThrowsWith([&] { render::ScoreCpuWith(t, k, &ws); }, {"face 5"});
   k.near_m = 0;  // the fallback path checks indices too
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"face 5"});
@@ -148,11 +145,11 @@ TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"faces"});
   // Face planes: built from another mesh, or from a mesh with a bad index.
   const Mesh other = MakeBox(0.1, 0.1, 0.1);
-  const ScoreKernelParams ko = MakeKernelParams(other, testing_util::At(0, 0, 1), cam);
+  const ScoreKernelParams ko = MakeKernelParams(other, At(0, 0, 1), cam);
   const render::FacePlanes planes = render::BuildFacePlanes(ko);
   k = params();
   ExpectThrowsWith([&] { render::ScoreCpu(k, &ws, &planes); }, {"face planes", "another mesh"});
-  const ScoreKernelParams kb = SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
+  const ScoreKernelParams kb = kernel_test::SceneParams(broken, At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
   ExpectThrowsWith([&] { render::BuildFacePlanes(kb); },
                    {"face 5", "out of range"});
 }
@@ -166,11 +163,12 @@ TEST(GpuKernel, BadInputsThrowNamingTheProblem) {
   const Mesh box = MakeBox(0.1, 0.1, 0.1);
   const Camera cam = PinholeCamera(500, 500);
   DepthImage depth(640, 480, 1.0f), other_depth(640, 480, 1.0f);
-  auto params = [&] { return SceneParams(box, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480}); };
+  auto params = [&] { return kernel_test::SceneParams(box, At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480}); };
   Mesh broken = box;
   broken.faces[5][1] = 8;  // one past the last vertex
-  ExpectThrowsWith([&] { render::GpuKernel(SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480})); },
-                   {"gpu engine", "face 5", "out of range"});
+  ExpectThrowsWith(
+      [&] { render::GpuKernel(kernel_test::SceneParams(broken, At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480})); },
+      {"gpu engine", "face 5", "out of range"});
   ScoreKernelParams k = params();
   k.depth = nullptr;
   ExpectThrowsWith([&] { render::GpuKernel kernel(k); }, {"gpu engine", "depth"});
