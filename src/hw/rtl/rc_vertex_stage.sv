@@ -28,7 +28,8 @@ module rc_vertex_stage (
     input  logic [12:0] vert_x,
     input  logic [12:0] vert_y,
     input  logic [12:0] vert_z,
-    // A face leaves the stage (its credit returns); with tri_push it is a triangle for the FIFO.
+    // face_v: a face leaves the stage (its credit returns); tri_push: that face is front-facing
+    // with a non-empty box, and tri_entry is its FIFO entry.
     output logic        face_v,
     output logic        tri_push,
     output logic [rc_pkg::TRI_W-1:0] tri_entry,
