@@ -31,11 +31,11 @@ if(POSEFILTER_RTL_ENGINE)
   target_compile_features(posefilter_rtl_model PRIVATE cxx_std_20)
   set_target_properties(posefilter_rtl_model PROPERTIES POSITION_INDEPENDENT_CODE ON)
   verilate(posefilter_rtl_model
-    SOURCES ${rtl_dir}/weigh_regs_pkg.sv ${rtl_dir}/rc_div.sv ${rtl_dir}/rc_delay.sv ${rtl_dir}/rc_fifo.sv
-            ${rtl_dir}/rc_compare.sv ${rtl_dir}/raster_core.sv ${rtl_dir}/ft_distributor.sv
-            ${rtl_dir}/vertex_multiplier.sv ${rtl_dir}/depth_distributor.sv ${rtl_dir}/weight_merger.sv
-            ${rtl_dir}/weigh_pipeline.sv ${rtl_dir}/axi_burst_reader.sv ${rtl_dir}/axi_record_writer.sv
-            ${rtl_dir}/weigh_accel.sv
+    SOURCES ${rtl_dir}/weigh_regs_pkg.sv ${rtl_dir}/rc_pkg.sv ${rtl_dir}/rc_div.sv ${rtl_dir}/rc_delay.sv
+            ${rtl_dir}/rc_fifo.sv ${rtl_dir}/rc_compare.sv ${rtl_dir}/rc_vertex_stage.sv ${rtl_dir}/raster_core.sv
+            ${rtl_dir}/ft_distributor.sv ${rtl_dir}/vertex_multiplier.sv ${rtl_dir}/depth_distributor.sv
+            ${rtl_dir}/weight_merger.sv ${rtl_dir}/weigh_pipeline.sv ${rtl_dir}/axi_burst_reader.sv
+            ${rtl_dir}/axi_record_writer.sv ${rtl_dir}/weigh_accel.sv
     TOP_MODULE weigh_accel
     PREFIX Vweigh_accel
     VERILATOR_ARGS -Wno-fatal -Wno-WIDTH -Wno-UNUSEDSIGNAL -Wno-SYMRSVDWORD -O3 --x-assign fast --x-initial fast

@@ -1,8 +1,8 @@
 // scripts/rtl/div_context.sv — the raster core's dividers with the constant inputs they have in
-// src/hw/rtl/raster_core.sv, for synthesising them one at a time (synth.sh): the
-// 1/W divider's dividend is the constant 2^58, and the depth divider's dividend is Σe'·2^46
-// (46 low bits zero). The snapping dividers have no constant input and are synthesised as
-// rc_div itself.
+// src/hw/rtl/rc_vertex_stage.sv (1/W) and raster_core.sv (depth), for synthesising them one at a
+// time (synth.sh): the 1/W divider's dividend is the constant 2^58, and the depth divider's
+// dividend is Σe'·2^46 (46 low bits zero). The snapping dividers have no constant input and are
+// synthesised as rc_div itself.
 module div_iz_context (
     input  logic        clk,
     input  logic [50:0] d,

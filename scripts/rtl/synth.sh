@@ -65,7 +65,7 @@ trap 'rm -rf "$work" ${reuse:+"$reuse"}' EXIT
 syn="synth_xilinx -family xcup -flatten -noiopad"
 # name|count in one core|top|yosys script (read + synth)
 parts=(
-  "raster_core_shell|1|raster_core|read_verilog -sv -lib $rtl/rc_div.sv; read_verilog -sv $rtl/rc_delay.sv $rtl/rc_fifo.sv $rtl/rc_compare.sv $rtl/raster_core.sv; $syn -top raster_core"
+  "raster_core_shell|1|raster_core|read_verilog -sv -lib $rtl/rc_div.sv; read_verilog -sv $rtl/rc_pkg.sv $rtl/rc_delay.sv $rtl/rc_fifo.sv $rtl/rc_compare.sv $rtl/rc_vertex_stage.sv $rtl/raster_core.sv; $syn -top raster_core"
   "rc_div_iz|1|div_iz_context|read_verilog -sv $rtl/rc_div.sv $here/div_context.sv; $syn -top div_iz_context"
   "rc_div_snap|2|rc_div|read_verilog -sv $rtl/rc_div.sv; chparam -set QW 21 -set NW 61 -set DW 51 -set PAD 9 rc_div; $syn -top rc_div"
   "rc_div_z|1|div_z_context|read_verilog -sv $rtl/rc_div.sv $here/div_context.sv; $syn -top div_z_context"

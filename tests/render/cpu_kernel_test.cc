@@ -4,73 +4,34 @@
 // near plane, far off-screen vertices), meshes, windows and both z-buffer modes — counts,
 // inlier and depth-difference sums exactly equal, ICP sums within 1e-4 relative (the gpu
 // kernel leaves the ICP sums to the cpu kernel: its cases are compared without scene
-// normals). Plus the cpu kernel's input errors and the valid-depth summed-area table.
+// normals). The kernels' set-up and input errors: kernel_inputs_test.cc.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
-#include <limits>
+#include <cstdint>
+#include <initializer_list>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "posefilter/error.h"
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
 #include "posefilter/synth.h"
 #include "render/cpu_kernel.h"
 #include "render/gpu_kernel.h"
-#ifdef POSEFILTER_HAS_VULKAN
-#include "render/gpu/vulkan_device.h"
-#endif
+#include "render/kernel_test_util.h"
 #include "test_util.h"
 
 namespace posefilter {
 namespace {
 
+using kernel_test::ExpectSame;
+using kernel_test::SceneParams;
 using render::CpuTarget;
 using render::CpuWorkspace;
 using testing_util::PinholeCamera;
-
-// fn() must throw posefilter::Error whose message contains every word of `words`.
-template <class Fn>
-void ExpectThrowsWith(Fn&& fn, std::initializer_list<const char*> words) {
-  try {
-    fn();
-    ADD_FAILURE() << "no posefilter::Error thrown";
-  } catch (const Error& e) {
-    for (const char* w : words) EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << e.what();
-  }
-}
-
-// |a − b| within 1e-4 of |reference| (1e-6 absolute floor).
-::testing::AssertionResult Close(double ref, double got, const char* what) {
-  const double tol = std::max(1e-6, 1e-4 * std::fabs(ref));
-  if (std::fabs(ref - got) <= tol) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << what << ": reference " << ref << ", cpu " << got;
-}
-
-// Exact equality of the counts and of the inlier and depth-difference sums, tolerance on the
-// ICP sums; `ctx` names the case. Every χ is a multiple of 2^-23 in [0, 1] and every d a float
-// difference of depths ≥ near_m (multiples of 2^-29 for the default 0.05 m) below align_band_m:
-// their sums are exact in double whatever the order, so equal depths give equal sums and any
-// depth that differs from the reference's shows. The ICP terms are products (rounded).
-void ExpectSame(const ScoreKernelResult& ref, const ScoreKernelResult& got, const std::string& ctx) {
-  EXPECT_EQ(ref.n_raster, got.n_raster) << ctx;
-  EXPECT_EQ(ref.n_occluded, got.n_occluded) << ctx;
-  EXPECT_EQ(ref.faces_front, got.faces_front) << ctx;
-  EXPECT_EQ(ref.faces_total, got.faces_total) << ctx;
-  EXPECT_EQ(ref.depth_diff_count, got.depth_diff_count) << ctx;
-  EXPECT_EQ(ref.n_edge, got.n_edge) << ctx;
-  EXPECT_EQ(ref.n_edge_continued, got.n_edge_continued) << ctx;
-  EXPECT_EQ(ref.icp_count, got.icp_count) << ctx;
-  EXPECT_EQ(ref.inlier_sum, got.inlier_sum) << ctx;
-  EXPECT_EQ(ref.depth_diff_sum, got.depth_diff_sum) << ctx;
-  for (int i = 0; i < 21; ++i) EXPECT_TRUE(Close(ref.icp_A[i], got.icp_A[i], "icp_A")) << ctx << " i=" << i;
-  for (int i = 0; i < 6; ++i) EXPECT_TRUE(Close(ref.icp_b[i], got.icp_b[i], "icp_b")) << ctx << " i=" << i;
-}
 
 // Random rotation (uniform axis, angle in ±π) and the given translation.
 Eigen::Isometry3d RandomPose(Rng& rng, double x, double y, double z) {
@@ -144,19 +105,6 @@ std::vector<PixelRect> Windows(const Camera& cam, Rng& rng, const Eigen::Vector2
           clip(cu - 80, 0, 160, 23),                 // top border
           clip(cu - 80, H - 31, 160, 31),            // bottom border
           clip(W - 200, H - 200, 200, 200)};         // bottom-right corner
-}
-
-// Kernel parameters for `mesh` at pose T (object → camera) in `window`, scored against
-// `depth` and, when given, its scene normals.
-ScoreKernelParams SceneParams(const Mesh& mesh, const Eigen::Isometry3d& T, const Camera& cam, const DepthImage& depth,
-                              const PixelRect& window, const std::vector<float>* normals = nullptr) {
-  ScoreKernelParams k = MakeKernelParams(mesh, T, cam);
-  k.window = window;
-  k.depth = depth.data.data();
-  k.depth_width = depth.width;
-  k.depth_height = depth.height;
-  k.scene_normals = normals ? normals->data() : nullptr;
-  return k;
 }
 
 // Appends to m a vertex that the pose At(0, 0, 1) (object frame = camera frame shifted 1 m
@@ -630,179 +578,6 @@ INSTANTIATE_TEST_SUITE_P(CpuKernel, KernelBackend,
                                            Backend{false, CpuTarget::kAvx512}),
                          BackendName);
 INSTANTIATE_TEST_SUITE_P(GpuKernel, KernelBackend, ::testing::Values(Backend{true}), BackendName);
-
-#ifdef POSEFILTER_HAS_VULKAN
-// The validation check can fail: with POSEFILTER_VULKAN_VALIDATION=1 (ctest gpu_validation), a
-// buffer of size 0 — invalid usage — raises the count the gpu tests compare before and after.
-TEST(GpuKernelValidation, TheLayerCountsInvalidUsage) {
-  if (!render::GpuBuilt() || std::getenv("POSEFILTER_VULKAN_VALIDATION") == nullptr)
-    GTEST_SKIP() << "validation off (the ctest gpu_validation runs this with it on)";
-  std::string why;
-  ASSERT_TRUE(render::GpuAvailable(&why)) << why;
-  const auto dev = render::gpu::VulkanDevice::Shared();
-  ASSERT_TRUE(dev->validation());
-  const int before = dev->ValidationErrors();
-  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-  bci.size = 0;  // VUID-VkBufferCreateInfo-size-00912
-  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  VkBuffer b = VK_NULL_HANDLE;
-  if (vkCreateBuffer(dev->device(), &bci, nullptr, &b) == VK_SUCCESS && b != VK_NULL_HANDLE)
-    vkDestroyBuffer(dev->device(), b, nullptr);
-  EXPECT_GT(dev->ValidationErrors(), before);
-}
-#endif
-
-TEST(CpuKernel, DispatchListsPortableFirstAndTheBestVariantIsSupported) {
-  const auto targets = render::SupportedCpuTargets();
-  ASSERT_FALSE(targets.empty());
-  EXPECT_EQ(targets.front(), CpuTarget::kPortable);
-  EXPECT_TRUE(render::CpuTargetSupported(render::BestCpuTarget()));
-  EXPECT_EQ(targets.back(), render::BestCpuTarget());
-  EXPECT_STREQ(render::CpuTargetName(CpuTarget::kAvx512), "avx512");
-}
-
-TEST(CpuKernel, PreCullTurnsItselfOffOutsideItsProof) {
-  // PreCullConstants must decline (the kernel then sends every face to the face pass) whenever
-  // an assumption of its margin fails, and the kernel's result must not change either way.
-  const Mesh torus = MakeTorus(0.06, 0.025, 16, 12);
-  const Camera cam = PinholeCamera(525, 525);
-  const DepthImage depth(640, 480, 0.8f);
-  ScoreKernelParams k = SceneParams(torus, testing_util::At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
-  const render::FacePlanes planes = render::BuildFacePlanes(k);
-  float c[3], k1, k0;
-  ASSERT_TRUE(render::PreCullConstants(k, planes, c, &k1, &k0));
-  EXPECT_GT(k1, 0.f);
-  EXPECT_GT(k0, 0.f);
-  EXPECT_NEAR(c[2], -0.7f, 1e-6f);  // the camera centre in the object frame (R = I)
-  auto declines = [&](ScoreKernelParams p, const char* what) {
-    EXPECT_FALSE(render::PreCullConstants(p, planes, c, &k1, &k0)) << what;
-    RenderWorkspace rws;
-    CpuWorkspace ws;
-    const ScoreKernelResult ref = ScoreReference(p, &rws);
-    ExpectSame(ref, render::ScoreCpu(p, &ws, &planes), what);
-    EXPECT_EQ(ws.faces_preculled, 0) << what;
-  };
-  ScoreKernelParams p = k;
-  p.t[2] = 0.05f;  // the object reaches behind the camera
-  declines(p, "object around the camera");
-  p = k;
-  p.R[0] = 1.05f;  // not a rotation
-  declines(p, "R scaled");
-  p = k;
-  p.R[0] = -1;  // a reflection (det < 0)
-  declines(p, "R reflects");
-  p = k;
-  p.fx = -525;
-  declines(p, "negative focal length");
-  p = k;
-  p.t[0] = std::nanf("");
-  declines(p, "NaN translation");
-  // A mesh with a non-finite vertex: the table's radius is infinite, the pre-cull off.
-  Mesh bad = torus;
-  bad.vertices[3].x() = std::numeric_limits<float>::infinity();
-  const ScoreKernelParams kb = SceneParams(bad, testing_util::At(0.01, 0, 0.7), cam, depth, PixelRect{0, 0, 640, 480});
-  const render::FacePlanes pb = render::BuildFacePlanes(kb);
-  EXPECT_FALSE(render::PreCullConstants(kb, pb, c, &k1, &k0));
-}
-
-TEST(CpuKernel, BadInputsThrowNamingTheProblem) {
-  const Mesh box = MakeBox(0.1, 0.1, 0.1);
-  const Camera cam = PinholeCamera(500, 500);
-  DepthImage depth(640, 480, 1.0f);
-  CpuWorkspace ws;
-  auto params = [&] { return SceneParams(box, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480}); };
-  ScoreKernelParams k = params();
-  k.window = PixelRect{600, 0, 50, 10};  // sticks out of the image
-  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"window", "640x480"});
-  k = params();
-  k.window = PixelRect{-1, 0, 10, 10};
-  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"window"});
-  k = params();
-  k.depth = nullptr;
-  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"depth"});
-  Mesh broken = box;
-  broken.faces[5][1] = 8;  // one past the last vertex
-  k = SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
-  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"face 5", "out of range"});
-  for (CpuTarget t : render::SupportedCpuTargets())
-    ExpectThrowsWith([&] { render::ScoreCpuWith(t, k, &ws); }, {"face 5"});
-  k.near_m = 0;  // the fallback path checks indices too
-  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"face 5"});
-  k = params();
-  k.num_faces = 3;
-  k.faces = nullptr;
-  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws); }, {"faces"});
-  // Face planes: built from another mesh, or from a mesh with a bad index.
-  const Mesh other = MakeBox(0.1, 0.1, 0.1);
-  const ScoreKernelParams ko = MakeKernelParams(other, testing_util::At(0, 0, 1), cam);
-  const render::FacePlanes planes = render::BuildFacePlanes(ko);
-  k = params();
-  ExpectThrowsWith([&] { render::ScoreCpu(k, &ws, &planes); }, {"face planes", "another mesh"});
-  const ScoreKernelParams kb = SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480});
-  ExpectThrowsWith([&] { render::BuildFacePlanes(kb); },
-                   {"face 5", "out of range"});
-}
-
-// The gpu kernel's inputs: every misuse is an Error naming it (a build without the engine
-// has none to test: its error is tested by the CLI and filter tests).
-TEST(GpuKernel, BadInputsThrowNamingTheProblem) {
-  if (!render::GpuBuilt()) GTEST_SKIP() << "this build has no gpu engine";
-  std::string why;
-  ASSERT_TRUE(render::GpuAvailable(&why)) << why;
-  const Mesh box = MakeBox(0.1, 0.1, 0.1);
-  const Camera cam = PinholeCamera(500, 500);
-  DepthImage depth(640, 480, 1.0f), other_depth(640, 480, 1.0f);
-  auto params = [&] { return SceneParams(box, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480}); };
-  Mesh broken = box;
-  broken.faces[5][1] = 8;  // one past the last vertex
-  ExpectThrowsWith([&] { render::GpuKernel(SceneParams(broken, testing_util::At(0, 0, 1), cam, depth, PixelRect{0, 0, 640, 480})); },
-                   {"gpu engine", "face 5", "out of range"});
-  ScoreKernelParams k = params();
-  k.depth = nullptr;
-  ExpectThrowsWith([&] { render::GpuKernel kernel(k); }, {"gpu engine", "depth"});
-  render::GpuKernel kernel(params());
-  std::vector<ScoreKernelResult> out;
-  k = params();
-  k.window = PixelRect{600, 0, 50, 10};  // sticks out of the image
-  ExpectThrowsWith([&] { kernel.Score({params(), k}, &out); }, {"gpu engine", "window of particle 1"});
-  k = params();
-  k.depth = other_depth.data.data();
-  ExpectThrowsWith([&] { kernel.Score({k}, &out); }, {"gpu engine", "another model or image"});
-  k = params();
-  k.inlier.thr1_m = 0.01f;
-  ExpectThrowsWith([&] { kernel.Score({params(), k}, &out); }, {"gpu engine", "mixes", "particle 1"});
-  const std::vector<float> normals = ComputeSceneNormals(depth, cam);
-  k = params();
-  k.scene_normals = normals.data();
-  ExpectThrowsWith([&] { kernel.Score({k}, &out); }, {"gpu engine", "ICP"});
-  // An empty window renders nothing, as the reference: only faces_total is set.
-  k = params();
-  k.window = PixelRect{10, 10, 0, 5};
-  kernel.Score({k}, &out);
-  ASSERT_EQ(out.size(), 1u);
-  EXPECT_EQ(out[0].faces_total, 12);
-  EXPECT_EQ(out[0].faces_front, 0);
-  EXPECT_EQ(out[0].n_raster, 0);
-}
-
-TEST(CpuKernel, ValidDepthSatCountsAnyRectangle) {
-  Rng rng(3);
-  const int W = 37, H = 23;
-  std::vector<float> d(W * H);
-  for (float& z : d) z = rng.Uniform() < 0.3 ? 0.f : float(rng.Uniform(0.5, 2));
-  const render::ValidDepthSat sat(d.data(), W, H);
-  for (int i = 0; i < 300; ++i) {
-    const PixelRect r{int(rng.UniformInt(50)) - 5, int(rng.UniformInt(35)) - 5, int(rng.UniformInt(45)),
-                      int(rng.UniformInt(30))};
-    std::int64_t brute = 0;
-    for (int v = std::max(0, r.v0); v < std::min(H, r.v0 + r.height); ++v)
-      for (int u = std::max(0, r.u0); u < std::min(W, r.u0 + r.width); ++u) brute += d[v * W + u] > 0;
-    EXPECT_EQ(sat.Count(r), brute) << r.u0 << "," << r.v0 << " " << r.width << "x" << r.height;
-  }
-  EXPECT_EQ(sat.Count(PixelRect{0, 0, W, H}), std::int64_t(std::count_if(d.begin(), d.end(), [](float z) { return z > 0; })));
-  ExpectThrowsWith([] { render::ValidDepthSat(nullptr, 4, 4); }, {"ValidDepthSat"});
-  ExpectThrowsWith([] { render::ValidDepthSat(nullptr, -1, 4); }, {"negative"});
-}
 
 }  // namespace
 }  // namespace posefilter
