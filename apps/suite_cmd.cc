@@ -392,81 +392,76 @@ struct SuiteArgs {
 
 // Every option of `suite` on `app`, into a.
 void AddSuiteOptions(CLI::App& app, SuiteArgs& a) {
-  std::string& world = a.world;
-  int& count = a.count;
-  std::uint64_t& first_seed = a.first_seed;
-  std::vector<std::string>& targets = a.targets;
-  std::vector<double>& occlusions = a.occlusions;
-  std::string& json_path = a.json_path;
-  SynthOptions& synth = a.synth;
-  TableSceneOptions& table = a.table;
-  TableSuiteArgs& ta = a.ta;
-  FilterOptions& opt = a.opt;
   // $POSEFILTER_DATA/ycbv/models (README "Data"); without POSEFILTER_DATA, --models is needed.
   if (const char* data = std::getenv("POSEFILTER_DATA"); data != nullptr && *data != '\0')
-    ta.models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
-  ta.prior_kind = "boxes";
-  app.add_option("--world", world,
+    a.ta.models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
+  a.ta.prior_kind = "boxes";
+  app.add_option("--world", a.world,
                  "shapes: one procedural shape per scene; ycbv: several YCB-Video objects on a table; room: YCB-Video "
                  "objects on small raised surfaces and shelf boards in a room with furniture")
       ->check(CLI::IsMember({"shapes", "ycbv", "room"}))
       ->capture_default_str();
-  app.add_option("--count", count, "number of scenes")->capture_default_str();
-  app.add_option("--first-seed", first_seed, "scene i uses seed first_seed + i")->capture_default_str()->transform(SeedValidator());
-  app.add_option("--targets", targets, "shapes: object kinds, used in turn; ycbv, room: the classes estimated (default all)")
+  app.add_option("--count", a.count, "number of scenes")->capture_default_str();
+  app.add_option("--first-seed", a.first_seed, "scene i uses seed first_seed + i")
+      ->capture_default_str()
+      ->transform(SeedValidator());
+  app.add_option("--targets", a.targets,
+                 "shapes: object kinds, used in turn; ycbv, room: the classes estimated (default all)")
       ->delimiter(',');
-  app.add_option("--occlusions", occlusions, "shapes: occlusion levels, used in turn")->delimiter(',');
-  app.add_option("--box-jitter", synth.box_jitter_px, "detection box noise sigma (px)")->capture_default_str();
-  app.add_option("--false-positives", synth.false_positives, "false detections per scene")->capture_default_str();
-  app.add_option("--min-distance", synth.min_distance_m, "min camera→target distance, m (ycbv: 0.6, room: 0.5)")->capture_default_str();
-  app.add_option("--max-distance", synth.max_distance_m, "max camera→target distance, m (ycbv: 1.3, room: 1.5)")->capture_default_str();
-  app.add_option("--models", ta.models_dir,
+  app.add_option("--occlusions", a.occlusions, "shapes: occlusion levels, used in turn")->delimiter(',');
+  app.add_option("--box-jitter", a.synth.box_jitter_px, "detection box noise sigma (px)")->capture_default_str();
+  app.add_option("--false-positives", a.synth.false_positives, "false detections per scene")->capture_default_str();
+  app.add_option("--min-distance", a.synth.min_distance_m, "min camera→target distance, m (ycbv: 0.6, room: 0.5)")
+      ->capture_default_str();
+  app.add_option("--max-distance", a.synth.max_distance_m, "max camera→target distance, m (ycbv: 1.3, room: 1.5)")
+      ->capture_default_str();
+  app.add_option("--models", a.ta.models_dir,
                  "ycbv, room: folder of the 21 YCB-Video meshes, <class>.ply in metres (and points/<class>.xyz) or a BOP "
                  "ycbv models folder (default: $POSEFILTER_DATA/ycbv/models)")
       ->capture_default_str();
-  app.add_option("--prior", ta.prior_kind,
+  app.add_option("--prior", a.ta.prior_kind,
                  "ycbv, room: boxes (jittered, with false boxes), masks (noisy instance masks), auto (no detector: regions "
                  "found in the depth and PPF pose proposals), auto-regions (auto without the PPF proposals) or none "
                  "(uniform)")
       ->check(CLI::IsMember({"boxes", "masks", "auto", "auto-regions", "none"}))
       ->capture_default_str();
-  app.add_option("--min-objects", table.min_objects, "ycbv, room: objects per scene, at least (room: 2)")->capture_default_str();
-  app.add_option("--max-objects", table.max_objects, "ycbv, room: objects per scene, at most (room: 4)")->capture_default_str();
-  app.add_option("--box-scale-min", table.box_scale_min, "ycbv, room: detection boxes scaled by a factor from this ...")
+  app.add_option("--min-objects", a.table.min_objects, "ycbv, room: objects per scene, at least (room: 2)")
       ->capture_default_str();
-  app.add_option("--box-scale-max", table.box_scale_max, "ycbv, room: ... to this")->capture_default_str();
-  app.add_flag("--scene-pass,!--no-scene-pass", ta.scene_pass,
+  app.add_option("--max-objects", a.table.max_objects, "ycbv, room: objects per scene, at most (room: 4)")
+      ->capture_default_str();
+  app.add_option("--box-scale-min", a.table.box_scale_min,
+                 "ycbv, room: detection boxes scaled by a factor from this ...")
+      ->capture_default_str();
+  app.add_option("--box-scale-max", a.table.box_scale_max, "ycbv, room: ... to this")->capture_default_str();
+  app.add_flag("--scene-pass,!--no-scene-pass", a.ta.scene_pass,
                "ycbv (not --prior masks): after the per-object estimates, the joint scene pass (posefilter/scene_pass.h) "
                "re-weighs each object against the pixels better estimates leave it and re-estimates one whose pixels "
                "another claims")
-      ->default_str(ta.scene_pass ? "true" : "false");
-  app.add_option("--write-scenes", ta.write_dir, "ycbv, room: also write every scene to DIR/scene_<seed>/ (for peers)");
-  app.add_option("--json", json_path, "also write the table as JSON");
-  AddFilterOptions(app, &opt);
+      ->default_str(a.ta.scene_pass ? "true" : "false");
+  app.add_option("--write-scenes", a.ta.write_dir,
+                 "ycbv, room: also write every scene to DIR/scene_<seed>/ (for peers)");
+  app.add_option("--json", a.json_path, "also write the table as JSON");
+  AddFilterOptions(app, &a.opt);
 }
 
 // --world ycbv or room: the scene options from the shared ones (the room world takes them
 // where given, else its own defaults), checked with the options' names as typed.
 void SetTableSuiteOptions(const CLI::App& app, SuiteArgs& a) {
-  std::string& world = a.world;
-  SynthOptions& synth = a.synth;
-  TableSceneOptions& table = a.table;
-  RoomSceneOptions& room = a.room;
-  table.box_jitter_px = synth.box_jitter_px;
-  table.false_positives = synth.false_positives;
-  if (app.count("--min-distance")) table.min_distance_m = synth.min_distance_m;
-  if (app.count("--max-distance")) table.max_distance_m = synth.max_distance_m;
+  a.table.box_jitter_px = a.synth.box_jitter_px;
+  a.table.false_positives = a.synth.false_positives;
+  if (app.count("--min-distance")) a.table.min_distance_m = a.synth.min_distance_m;
+  if (app.count("--max-distance")) a.table.max_distance_m = a.synth.max_distance_m;
   // The room world takes the same options where given, else its own defaults.
-  room.box_jitter_px = table.box_jitter_px;
-  room.false_positives = table.false_positives;
-  room.box_scale_min = table.box_scale_min;
-  room.box_scale_max = table.box_scale_max;
-  if (app.count("--min-distance")) room.min_distance_m = synth.min_distance_m;
-  if (app.count("--max-distance")) room.max_distance_m = synth.max_distance_m;
-  if (app.count("--min-objects")) room.min_objects = table.min_objects;
-  if (app.count("--max-objects")) room.max_objects = table.max_objects;
+  a.room.box_jitter_px = a.table.box_jitter_px;
+  a.room.false_positives = a.table.false_positives;
+  a.room.box_scale_min = a.table.box_scale_min;
+  a.room.box_scale_max = a.table.box_scale_max;
+  if (app.count("--min-distance")) a.room.min_distance_m = a.synth.min_distance_m;
+  if (app.count("--max-distance")) a.room.max_distance_m = a.synth.max_distance_m;
+  if (app.count("--min-objects")) a.room.min_objects = a.table.min_objects;
+  if (app.count("--max-objects")) a.room.max_objects = a.table.max_objects;
   std::string why;
-  const bool valid = world == "room" ? room.IsValid(&why) : table.IsValid(&why);
+  const bool valid = a.world == "room" ? a.room.IsValid(&why) : a.table.IsValid(&why);
   if (!valid) {
     // The options' names in the message, as the user typed them.
     const std::pair<const char*, const char*> names[] = {
@@ -482,28 +477,21 @@ void SetTableSuiteOptions(const CLI::App& app, SuiteArgs& a) {
 
 // --world shapes: one procedural shape per scene, the targets and occlusion levels in turn.
 void RunShapesSuite(SuiteArgs& a) {
-  int& count = a.count;
-  std::uint64_t& first_seed = a.first_seed;
-  std::vector<std::string>& targets = a.targets;
-  std::vector<double>& occlusions = a.occlusions;
-  std::string& json_path = a.json_path;
-  SynthOptions& synth = a.synth;
-  FilterOptions& opt = a.opt;
-  if (targets.empty()) targets = SynthClassNames();
-  if (occlusions.empty()) throw Error("--occlusions must not be empty");
+  if (a.targets.empty()) a.targets = SynthClassNames();
+  if (a.occlusions.empty()) throw Error("--occlusions must not be empty");
   nlohmann::json rows = nlohmann::json::array();
   int found = 0;
   double total_ms = 0;
   FilterStats rtl_stats;  // --engine rtl: the Verilated weighings' clocks, summed over scenes
   std::printf("%5s %-9s %6s %9s %8s %6s %7s %7s %5s %8s\n", "seed", "target", "occl", "ADD-S[mm]", "%diam", "found",
               "weight", "gt_w", "iter", "time[ms]");
-  for (int i = 0; i < count; ++i) {
-    SynthOptions so = synth;
-    so.target = targets[i % targets.size()];
-    so.occlusion = occlusions[(i / targets.size()) % occlusions.size()];
+  for (int i = 0; i < a.count; ++i) {
+    SynthOptions so = a.synth;
+    so.target = a.targets[i % a.targets.size()];
+    so.occlusion = a.occlusions[(i / a.targets.size()) % a.occlusions.size()];
     std::string why;
     if (!so.IsValid(&why)) throw Error("invalid scene option " + NameSynthOption(why));
-    const std::uint64_t seed = first_seed + i;
+    const std::uint64_t seed = a.first_seed + i;
     const SynthScene scene = MakeSynthScene(so, seed);
     const SceneInput input{scene.depth, scene.camera, {}};
     Stage1Options stage1;  // the scene's noisy detections, as a raw pyramid
@@ -511,8 +499,8 @@ void RunShapesSuite(SuiteArgs& a) {
     stage1.classes = scene.classes;
     stage1.raw_pyramid = scene.raw_pyramid;
     const Prior prior = BuildStage1(input, {{scene.target.name}}, stage1).prior;
-    FilterOptions o = opt;
-    o.seed = opt.seed + i;
+    FilterOptions o = a.opt;
+    o.seed = a.opt.seed + i;
     const int cls = prior.ClassIndex(scene.target.name);
     const EstimateResult r = EstimatePose(input, scene.target, prior, cls, o);
     const double gt_weight = GroundTruthWeight(input, scene.target, prior, cls, o, scene.gt[0].T_cam_obj, r.cell);
@@ -530,16 +518,16 @@ void RunShapesSuite(SuiteArgs& a) {
                     {"rot_deg", e.rot_deg}, {"trans_m", e.trans_m}, {"weight", r.weight}, {"gt_weight", gt_weight},
                     {"iterations", r.iterations}, {"time_ms", r.time_ms}});
   }
-  const double recall = double(found) / count;
-  std::printf("recall (ADD-S < 10%% of diameter): %d/%d = %.0f%%, mean time %.0f ms per object\n", found, count,
-              100 * recall, total_ms / count);
+  const double recall = double(found) / a.count;
+  std::printf("recall (ADD-S < 10%% of diameter): %d/%d = %.0f%%, mean time %.0f ms per object\n", found, a.count,
+              100 * recall, total_ms / a.count);
   if (rtl_stats.rtl_calls > 0)
     std::printf("rtl: %.0f clocks per weighing simulated (weighing pipeline, AP_START to AP_DONE), cycle model %.0f "
                 "(ratio %.3f), over %lld weighings\n",
                 double(rtl_stats.rtl_cycles) / double(rtl_stats.rtl_calls),
                 double(rtl_stats.rtl_model_cycles) / double(rtl_stats.rtl_calls),
                 double(rtl_stats.rtl_cycles) / double(rtl_stats.rtl_model_cycles), (long long)rtl_stats.rtl_calls);
-  if (!json_path.empty()) WriteJson(json_path, {{"scenes", rows}, {"recall_adds", recall}});
+  if (!a.json_path.empty()) WriteJson(a.json_path, {{"scenes", rows}, {"recall_adds", recall}});
 }
 
 }  // namespace
@@ -549,24 +537,23 @@ int RunSuite(int argc, char** argv) {
   SuiteArgs a;
   AddSuiteOptions(app, a);
   return RunApp(app, argc, argv, [&] {
-    TableSuiteArgs& ta = a.ta;
     CheckFilterOptions(a.opt);
     if (a.count < 1) throw Error("--count must be >= 1");
     if (a.first_seed > UINT64_MAX - std::uint64_t(a.count - 1))
       throw Error("--first-seed + --count - 1 is above 2^64 - 1: the last scene's seed would wrap to 0");
-    CheckOutputPaths({{a.json_path, "--json"}}, {{ta.models_dir, "--models"}, {ta.write_dir, "--write-scenes"}});
+    CheckOutputPaths({{a.json_path, "--json"}}, {{a.ta.models_dir, "--models"}, {a.ta.write_dir, "--write-scenes"}});
     // The scene pass needs scenes of several objects sharing one prior (--prior masks gives each its own).
     const bool ycb = a.world == "ycbv" || a.world == "room";
-    if (app.count("--scene-pass") && ta.scene_pass && (!ycb || ta.prior_kind == "masks"))
+    if (app.count("--scene-pass") && a.ta.scene_pass && (!ycb || a.ta.prior_kind == "masks"))
       throw Error("--scene-pass needs --world ycbv or room and a prior the scene's objects share (not --prior masks)");
-    if (ta.prior_kind == "masks") ta.scene_pass = false;
+    if (a.ta.prior_kind == "masks") a.ta.scene_pass = false;
     if (!ycb) return RunShapesSuite(a);
     SetTableSuiteOptions(app, a);
-    ta.classes = a.targets;
-    ta.count = a.count;
-    ta.first_seed = a.first_seed;
-    ta.json_path = a.json_path;
-    RunTableSuite(ta, a.table, a.world == "room" ? &a.room : nullptr, a.opt);
+    a.ta.classes = a.targets;
+    a.ta.count = a.count;
+    a.ta.first_seed = a.first_seed;
+    a.ta.json_path = a.json_path;
+    RunTableSuite(a.ta, a.table, a.world == "room" ? &a.room : nullptr, a.opt);
   });
 }
 

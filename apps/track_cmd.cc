@@ -61,27 +61,22 @@ std::string CsvField(const std::string& s) {
   return q + "\"";
 }
 
-// The stage 1 of one frame for the tracker (posefilter/stage1.h): --prior auto, none, or the
-// frame's detections (dets_by_image), as a TrackStage1 with the seeds by object name.
+// The stage 1 of one frame for the tracker: --prior auto (AutoTrackStage1, with the seeds by
+// object name), or none or the frame's detections (dets_by_image) through BuildStage1
+// (posefilter/stage1.h).
 TrackStage1 TrackFrameStage1(const SceneInput& frame, const std::vector<Mesh>& meshes, const std::string& prior_arg,
                              const Frame& f, const std::map<std::pair<int, int>, std::vector<Detection>>& dets_by_image,
                              const std::string& cache_dir) {
+  if (prior_arg == "auto") return AutoTrackStage1(frame, meshes, cache_dir, f.name + ": --prior auto");
   Stage1Options so;
-  if (prior_arg == "auto") {
-    so.kind = Stage1Kind::kAuto;
-    so.what = f.name + ": --prior auto";
-    so.cache_dir = cache_dir;
-  } else if (prior_arg != "none") {
+  if (prior_arg != "none") {
     so.kind = Stage1Kind::kDetections;
     if (const auto it = dets_by_image.find({f.scene_id, f.im_id}); it != dets_by_image.end()) so.detections = it->second;
   }
   std::vector<Stage1Object> objects;
   for (const Mesh& m : meshes) objects.push_back({m.name, &m});
-  Stage1 made = BuildStage1(frame, objects, so);
   TrackStage1 s;
-  s.prior = std::move(made.prior);
-  if (so.kind == Stage1Kind::kAuto)
-    for (std::size_t k = 0; k < meshes.size(); ++k) s.seeds[meshes[k].name] = std::move(made.seeds[k]);
+  s.prior = BuildStage1(frame, objects, so).prior;
   return s;
 }
 

@@ -27,6 +27,8 @@
 //      sees only as a tile of the larger region, gets its own box and starting poses.
 // The detections go into PriorFromDetections like a detector's; the filter's niches keep the
 // hypotheses apart until the fine threshold ranks them. Deterministic; metres, pixels.
+// BuildStage1 (posefilter/stage1.h, Stage1Kind::kAuto) makes the stage 1 of `--prior auto`
+// from ProposeAuto: each object's PPF model, the prior of the detections, the pose seeds.
 #pragma once
 
 #include <string>
@@ -110,26 +112,5 @@ struct AutoProposals {
 };
 AutoProposals ProposeAuto(const DepthImage& depth, const Camera& camera, const std::vector<AutoObject>& objects,
                           const AutoPriorOptions& opt = {});
-
-// The stage 1 of `--prior auto` for the objects: ProposeAuto's detections made into a
-// detections prior (PriorFromDetections on the thesis pyramid, the objects' names, each once,
-// as its classes) and the objects' pose seeds (put seeds[k] into the SceneInput of objects[k]).
-// Throws Error "<what>: no candidates: …" when no region stands above the support plane.
-struct AutoStage1 {
-  Prior prior;
-  std::vector<std::vector<PoseSeed>> seeds;
-};
-AutoStage1 AutoPrior(const DepthImage& depth, const Camera& camera, const std::vector<AutoObject>& objects,
-                     const std::string& what, const AutoPriorOptions& opt = {});
-
-// AutoPrior for meshes, named names[k]: each mesh's diameter (Mesh::Diameter) and PPF model
-// (LoadOrBuildPpfModel with opt.ppf and `cache_dir`, "" = no cache). `cache_status`
-// (optional) receives LoadOrBuildPpfModel's status per mesh. A mesh whose size is implausible
-// for the scene's depth (wrong units, as EstimatePose checks) throws Error naming it before
-// any table is built.
-AutoStage1 AutoPriorForMeshes(const DepthImage& depth, const Camera& camera, const std::vector<const Mesh*>& meshes,
-                              const std::vector<std::string>& names, const std::string& what,
-                              const std::string& cache_dir, const AutoPriorOptions& opt = {},
-                              std::vector<std::string>* cache_status = nullptr);
 
 }  // namespace posefilter

@@ -18,7 +18,8 @@
 //
 // A model may also hold the mesh's PPF model (posefilter/ppf.h), the table of `--prior auto`'s
 // pose proposals (PrepareModel with a PpfPreparation): AutoPriorForModels then proposes poses
-// with it, where AutoPriorForMeshes loads (or builds) it again on every call.
+// with it, where BuildStage1 on the mesh alone (posefilter/stage1.h) loads (or builds) it again
+// on every call.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +31,7 @@
 #include "posefilter/filter_options.h"
 #include "posefilter/mesh.h"
 #include "posefilter/ppf.h"
+#include "posefilter/prior.h"
 
 namespace posefilter {
 
@@ -91,10 +93,19 @@ std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const FilterOptions
 std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const std::vector<FilterOptions>& options,
                                                   const PpfPreparation& ppf);
 
-// AutoPriorForMeshes (posefilter/auto_prior.h) on prepared models, named names[k]: each model's
-// PPF model where it holds the one opt.ppf builds (HasPpf), else one built for this call
-// (without a cache). The same stage 1, bit for bit, as AutoPriorForMeshes on the models'
-// meshes; throws Error as it does.
+// The stage 1 of `--prior auto` on prepared models: the prior (PriorFromDetections of
+// ProposeAuto's detections on the thesis pyramid, the objects' names, each once, as its
+// classes) and per object (in the models' order) its pose seeds.
+struct AutoStage1 {
+  Prior prior;
+  std::vector<std::vector<PoseSeed>> seeds;
+};
+// BuildStage1 with Stage1Kind::kAuto and `opt` (posefilter/stage1.h) on prepared models, named
+// names[k]: each model's PPF model where it holds the one opt.ppf builds (HasPpf), else one
+// built for this call (without a cache). The same stage 1, bit for bit, as BuildStage1 on the
+// models' meshes; throws Error as it does ("<what>: no candidates: …" when no region stands
+// above the support plane, a mesh in the wrong units naming it), and when names and models
+// differ in number.
 AutoStage1 AutoPriorForModels(const DepthImage& depth, const Camera& camera, const std::vector<const PreparedModel*>& models,
                               const std::vector<std::string>& names, const std::string& what,
                               const AutoPriorOptions& opt = {});

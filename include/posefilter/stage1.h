@@ -36,8 +36,9 @@ enum class Stage1Kind { kNone, kDetections, kPyramid, kAuto, kMasks };
 // One object the stage 1 is made for.
 struct Stage1Object {
   std::string name;               // its class in the prior (and the class of its masks)
-  // kAuto: the mesh (metres) whose PPF model is loaded or built when `ppf` is null, and whose
-  // size is checked against the scene's depth first (a unit mistake names the object).
+  // kAuto: the mesh (metres) whose PPF model is loaded or built when `ppf` is null; its size
+  // (with `ppf`: the model's diameter) is checked against the scene's depth first (a unit
+  // mistake names the object).
   const Mesh* mesh = nullptr;
   // kAuto: the object's PPF model, made by the caller (LoadOrBuildPpfModel; kept across
   // frames); null: loaded from Stage1Options::cache_dir or built.

@@ -127,9 +127,9 @@ struct TrackStage1 {
 // every object is tracked.
 using Stage1Fn = std::function<TrackStage1(const SceneInput& frame)>;
 
-// The no-detector stage 1 of `--prior auto` for `frame` and the tracker's meshes:
-// AutoPriorForMeshes (PPF models cached in cache_dir, "" = no cache) as a TrackStage1, the
-// seeds by mesh name. Throws Error naming `what` as AutoPriorForMeshes does.
+// The no-detector stage 1 of `--prior auto` for `frame` and the tracker's meshes: BuildStage1
+// with Stage1Kind::kAuto (posefilter/stage1.h; PPF models cached in cache_dir, "" = no cache)
+// as a TrackStage1, the seeds by mesh name. Throws Error naming `what` as BuildStage1 does.
 TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<Mesh>& meshes, const std::string& cache_dir,
                             const std::string& what);
 // The same on models prepared once with their PPF models (PrepareModel with a PpfPreparation,

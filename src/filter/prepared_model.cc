@@ -8,13 +8,13 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "core/mesh_scale.h"
 #include "filter/driver.h"
 #include "filter/model_lod.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
 #include "posefilter/render.h"
+#include "posefilter/stage1.h"
 
 namespace posefilter {
 namespace {
@@ -239,17 +239,15 @@ AutoStage1 AutoPriorForModels(const DepthImage& depth, const Camera& camera, con
                               const std::vector<std::string>& names, const std::string& what,
                               const AutoPriorOptions& opt) {
   if (names.size() != models.size()) throw Error(what + ": one name per model needed");
-  for (std::size_t k = 0; k < models.size(); ++k)  // wrong units fail here, as AutoPriorForMeshes does
-    CheckMeshScale(names[k], models[k]->mesh().Diameter(), depth);
-  std::vector<PpfModel> built;  // the tables the models do not hold (reserved: pointers stay valid)
-  built.reserve(models.size());
-  std::vector<AutoObject> objects;
-  for (std::size_t k = 0; k < models.size(); ++k) {
-    const PpfModel* table = models[k]->HasPpf(opt.ppf) ? models[k]->ppf() : nullptr;
-    if (!table) table = &built.emplace_back(BuildPpfModel(models[k]->mesh(), opt.ppf));
-    objects.push_back({names[k], table->diameter, table});
-  }
-  return AutoPrior(depth, camera, objects, what, opt);
+  Stage1Options so;
+  so.kind = Stage1Kind::kAuto;
+  so.what = what;
+  so.auto_prior = opt;
+  std::vector<Stage1Object> objects;
+  for (std::size_t k = 0; k < models.size(); ++k)  // the model's table, else one built for the call
+    objects.push_back({names[k], &models[k]->mesh(), models[k]->HasPpf(opt.ppf) ? models[k]->ppf() : nullptr});
+  Stage1 s = BuildStage1(SceneInput{depth, camera}, objects, so);
+  return {std::move(s.prior), std::move(s.seeds)};
 }
 
 std::shared_ptr<const PreparedModel> PrepareModel(Mesh mesh, const FilterOptions& options) {

@@ -41,11 +41,13 @@ PyramidLayout Stage1Layout(const Camera& camera, const std::vector<std::string>&
 void BuildAutoStage1(const SceneInput& scene, const std::vector<Stage1Object>& objects,
                      const std::vector<std::string>& names, const Stage1Options& opt, Stage1* out) {
   const bool load = opt.auto_ppf;  // models to load for the objects without one
-  for (const Stage1Object& o : objects)
-    if (load && !o.ppf) {
-      if (!o.mesh) throw Error(opt.what + ": object '" + o.name + "' has neither a mesh nor a PPF model");
-      CheckMeshScale(o.name, o.mesh->Diameter(), scene.depth);  // wrong units fail before any table is built
-    }
+  for (const Stage1Object& o : objects) {
+    if (load && !o.ppf && !o.mesh)
+      throw Error(opt.what + ": object '" + o.name + "' has neither a mesh nor a PPF model");
+    // Wrong units fail before any table is built, and with the caller's model of such a mesh
+    // (its diameter is the mesh's).
+    if (load && o.mesh) CheckMeshScale(o.name, o.ppf ? o.ppf->diameter : o.mesh->Diameter(), scene.depth);
+  }
   std::vector<PpfModel> loaded;
   loaded.reserve(objects.size());
   std::vector<const PpfModel*> ppf(objects.size(), nullptr);

@@ -10,13 +10,13 @@
 
 #include "core/threads.h"
 #include "filter/engine_registry.h"
-#include "posefilter/auto_prior.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
 #include "posefilter/prepared_frame.h"
 #include "posefilter/rng.h"
 #include "posefilter/scene_pass.h"
+#include "posefilter/stage1.h"
 #include "posefilter/support_plane.h"
 
 namespace posefilter {
@@ -109,18 +109,28 @@ PyramidLayout CropLayout(int w, int h) {
   return L;
 }
 
+// A stage 1 of the objects names[k] (its prior, seeds[k] the pose seeds of names[k]) as a
+// TrackStage1, the seeds by name.
+TrackStage1 SeedsByName(Prior prior, std::vector<std::vector<PoseSeed>> seeds, const std::vector<std::string>& names) {
+  TrackStage1 s;
+  s.prior = std::move(prior);
+  for (std::size_t k = 0; k < names.size(); ++k) s.seeds[names[k]] = std::move(seeds[k]);
+  return s;
+}
+
 }  // namespace
 
 TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<Mesh>& meshes, const std::string& cache_dir,
                             const std::string& what) {
-  std::vector<const Mesh*> ms;
+  Stage1Options so;
+  so.kind = Stage1Kind::kAuto;
+  so.what = what;
+  so.cache_dir = cache_dir;
+  std::vector<Stage1Object> objects;
   std::vector<std::string> names;
-  for (const Mesh& m : meshes) ms.push_back(&m), names.push_back(m.name);
-  AutoStage1 a = AutoPriorForMeshes(frame.depth, frame.camera, ms, names, what, cache_dir);
-  TrackStage1 s;
-  s.prior = std::move(a.prior);
-  for (std::size_t k = 0; k < names.size(); ++k) s.seeds[names[k]] = std::move(a.seeds[k]);
-  return s;
+  for (const Mesh& m : meshes) objects.push_back({m.name, &m}), names.push_back(m.name);
+  Stage1 s = BuildStage1(frame, objects, so);
+  return SeedsByName(std::move(s.prior), std::move(s.seeds), names);
 }
 
 TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<std::shared_ptr<const PreparedModel>>& models,
@@ -132,10 +142,7 @@ TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<std::shar
     ms.push_back(m.get()), names.push_back(m->mesh().name);
   }
   AutoStage1 a = AutoPriorForModels(frame.depth, frame.camera, ms, names, what);
-  TrackStage1 s;
-  s.prior = std::move(a.prior);
-  for (std::size_t k = 0; k < names.size(); ++k) s.seeds[names[k]] = std::move(a.seeds[k]);
-  return s;
+  return SeedsByName(std::move(a.prior), std::move(a.seeds), names);
 }
 
 FilterOptions TrackingFilterOptions() {

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <string>
 
-#include "core/mesh_scale.h"
 #include "posefilter/error.h"
 #include "posefilter/render.h"
 
@@ -221,39 +220,6 @@ AutoProposals ProposeAuto(const DepthImage& depth, const Camera& camera, const s
     }
   }
   return out;
-}
-
-AutoStage1 AutoPrior(const DepthImage& depth, const Camera& camera, const std::vector<AutoObject>& objects,
-                     const std::string& what, const AutoPriorOptions& opt) {
-  AutoProposals p = ProposeAuto(depth, camera, objects, opt);
-  if (p.detections.empty())
-    throw Error(what + ": no candidates: no region of the depth image stands above the support plane");
-  std::vector<std::string> names;
-  for (const AutoObject& o : objects) names.push_back(o.name);
-  const std::vector<std::string> classes = ClassesForObjects(names, {});  // each name once
-  return {PriorFromDetections(p.detections, PyramidLayout::Thesis(camera.width, camera.height, int(classes.size())),
-                              classes),
-          std::move(p.seeds)};
-}
-
-AutoStage1 AutoPriorForMeshes(const DepthImage& depth, const Camera& camera, const std::vector<const Mesh*>& meshes,
-                              const std::vector<std::string>& names, const std::string& what,
-                              const std::string& cache_dir, const AutoPriorOptions& opt,
-                              std::vector<std::string>* cache_status) {
-  if (names.size() != meshes.size()) throw Error(what + ": one name per mesh needed");
-  std::vector<PpfModel> models;
-  models.reserve(meshes.size());
-  if (cache_status) cache_status->clear();
-  for (std::size_t k = 0; k < meshes.size(); ++k)  // wrong units fail here, before any table is built
-    CheckMeshScale(names[k], meshes[k]->Diameter(), depth);
-  for (const Mesh* mesh : meshes) {
-    std::string status;
-    models.push_back(LoadOrBuildPpfModel(*mesh, opt.ppf, cache_dir, &status));
-    if (cache_status) cache_status->push_back(status);
-  }
-  std::vector<AutoObject> objects;
-  for (std::size_t k = 0; k < meshes.size(); ++k) objects.push_back({names[k], models[k].diameter, &models[k]});
-  return AutoPrior(depth, camera, objects, what, opt);
 }
 
 }  // namespace posefilter

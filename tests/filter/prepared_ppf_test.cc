@@ -1,8 +1,8 @@
 // A mesh prepared with its PPF model (PrepareModel with a PpfPreparation,
 // posefilter/prepared_model.h): the table equals BuildPpfModel's and is read from the cache
 // folder the second time; AutoPriorForModels and AutoTrackStage1 on such models give the stage 1
-// of AutoPriorForMeshes bit for bit, without loading or building a table per call; a model
-// prepared with other PPF options is not used for these.
+// of BuildStage1 on the meshes bit for bit, without loading or building a table per call; a
+// model prepared with other PPF options is not used for these.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -13,6 +13,7 @@
 #include "posefilter/error.h"
 #include "posefilter/ppf.h"
 #include "posefilter/prepared_model.h"
+#include "posefilter/stage1.h"
 #include "posefilter/synth.h"
 #include "posefilter/table_world.h"
 #include "posefilter/tracker.h"
@@ -95,13 +96,14 @@ TEST(PreparedPpf, TheTableEqualsBuildPpfModelsAndComesFromTheCacheTheSecondTime)
   ExpectError([&] { PrepareModel(mesh, {FilterOptions{}}, PpfPreparation{bad, ""}); }, {"PPF option", "angle_bins"});
 }
 
-TEST(PreparedPpf, AutoPriorForModelsEqualsAutoPriorForMeshes) {
+TEST(PreparedPpf, AutoPriorForModelsEqualsBuildStage1OnTheMeshes) {
   const TableScene& s = PpfScene();
   std::vector<std::shared_ptr<const PreparedModel>> models;
   std::vector<const PreparedModel*> with_ppf, without_ppf;
   std::vector<std::shared_ptr<const PreparedModel>> plain;
   std::vector<const Mesh*> meshes;
   std::vector<std::string> names;
+  std::vector<Stage1Object> objects;
   for (const auto& m : PpfWorld().models()) {
     models.push_back(PrepareModel(m.mesh, {FilterOptions{}}, PpfPreparation{{}, ""}));
     plain.push_back(PrepareModel(m.mesh, FilterOptions{}));
@@ -109,8 +111,13 @@ TEST(PreparedPpf, AutoPriorForModelsEqualsAutoPriorForMeshes) {
     without_ppf.push_back(plain.back().get());
     meshes.push_back(&m.mesh);
     names.push_back(m.mesh.name);
+    objects.push_back({m.mesh.name, &m.mesh});
   }
-  const AutoStage1 expected = AutoPriorForMeshes(s.depth, s.camera, meshes, names, "test", "");
+  Stage1Options so;
+  so.kind = Stage1Kind::kAuto;
+  so.what = "test";
+  Stage1 built = BuildStage1(SceneInput{s.depth, s.camera}, objects, so);
+  const AutoStage1 expected{std::move(built.prior), std::move(built.seeds)};
   ASSERT_FALSE(expected.prior.classes.empty());
   EXPECT_FALSE(expected.seeds[0].empty() && expected.seeds[1].empty()) << "the PPF voting proposes poses here";
   ExpectSameStage1(expected, AutoPriorForModels(s.depth, s.camera, with_ppf, names, "test"));

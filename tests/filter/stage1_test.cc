@@ -2,7 +2,10 @@
 // prior the functions it stands for give, on the classes it documents.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "posefilter/auto_prior.h"
+#include "posefilter/ppf.h"
 #include "posefilter/stage1.h"
 #include "posefilter/synth.h"
 #include "test_util.h"
@@ -110,6 +113,30 @@ TEST(Stage1, AutoRegionsAreProposeAutosDetectionsAndAnEmptySceneHasNoCandidates)
   ExpectError([&] { BuildStage1(flat, {{"box", &box}}, so); }, {"--prior auto", "no candidates"});
   so.require_candidates = false;
   EXPECT_TRUE(BuildStage1(flat, {{"box", &box}}, so).no_candidates);
+}
+
+// --prior auto on a mesh in the wrong units: an Error naming it before any PPF table is built
+// or cached, and also when the caller gives the object's PPF model.
+TEST(Stage1, AutoRejectsAMeshInTheWrongUnitsBeforeAnyTableIsBuilt) {
+  SynthOptions so;
+  so.target = "box";
+  so.clutter = 0;
+  const SynthScene sc = MakeSynthScene(so, 3);
+  const SceneInput scene{sc.depth, sc.camera};
+  Mesh millimetres = sc.target;
+  for (Eigen::Vector3f& v : millimetres.vertices) v *= 1000.f;
+  const std::filesystem::path dir = testing_util::FreshTempPath("stage1_units");
+  Stage1Options opt;
+  opt.kind = Stage1Kind::kAuto;
+  opt.what = "--prior auto";
+  opt.cache_dir = dir.string();
+  ExpectError([&] { BuildStage1(scene, {{"box", &millimetres}}, opt); }, {"mesh 'box'", "units"});
+  EXPECT_FALSE(std::filesystem::exists(dir));
+  const PpfModel model = BuildPpfModel(millimetres);
+  ExpectError([&] { BuildStage1(scene, {{"box", &millimetres, &model}}, opt); }, {"mesh 'box'", "units"});
+  const PpfModel metres = BuildPpfModel(sc.target);
+  opt.require_candidates = false;
+  EXPECT_NO_THROW(BuildStage1(scene, {{"box", &sc.target, &metres}}, opt)) << "the mesh in metres";
 }
 
 }  // namespace

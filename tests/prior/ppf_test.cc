@@ -225,21 +225,6 @@ TEST(PpfTest, BadInputsAreErrors) {
   EXPECT_TRUE(MatchPpf(model, {}).empty());
 }
 
-// A mesh in the wrong units is an error naming it before any table is built or cached.
-TEST(PpfTest, AMeshInTheWrongUnitsFailsBeforeAnyTableIsBuilt) {
-  SynthOptions so;
-  so.target = "box";
-  so.clutter = 0;
-  const SynthScene sc = MakeSynthScene(so, 3);
-  Mesh millimetres = sc.target;
-  for (Eigen::Vector3f& v : millimetres.vertices) v *= 1000.f;
-  const fs::path dir = FreshTempPath("ppf_units");
-  testing_util::ExpectError(
-      [&] { AutoPriorForMeshes(sc.depth, sc.camera, {&millimetres}, {"box"}, "--prior auto", dir.string()); },
-      {"mesh 'box'", "units"});
-  EXPECT_FALSE(fs::exists(dir));
-}
-
 // The auto stage 1 with PPF: the object's seeds include its pose, and its detections a box
 // on it; without a model (regions only) there are no seeds.
 TEST(PpfTest, TheAutoStageProposesTheObjectsPose) {
