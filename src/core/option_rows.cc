@@ -231,4 +231,9 @@ std::string OptionRowsMarkdown(std::span<const OptionInfo> rows, const void* def
   return md;
 }
 
+std::string OptionSetMarkdown(const std::string& title, const std::string& intro, std::span<const OptionInfo> rows,
+                              const void* defaults) {
+  return "\n## " + title + "\n\n" + intro + "\n\n" + OptionRowsMarkdown(rows, defaults);
+}
+
 }  // namespace posefilter
