@@ -5,7 +5,9 @@
 #include <iostream>
 #include <memory>
 
+#include "filter_cli.h"
 #include "posefilter/error.h"
+#include "posefilter/synth.h"
 
 namespace posefilter::cli {
 
@@ -72,18 +74,7 @@ int RunApp(CLI::App& app, int argc, char** argv, const std::function<void()>& bo
   return 0;
 }
 
-std::string NameSynthOption(const std::string& why) {
-  static const std::pair<const char*, const char*> kNames[] = {
-      {"target_mesh", "--mesh"},          {"target", "--target"},
-      {"min_distance_m", "--min-distance"}, {"max_distance_m", "--max-distance"},
-      {"occlusion", "--occlusion"},       {"clutter", "--clutter"},
-      {"noise_sigma_m", "--noise"},       {"hole_fraction", "--holes"},
-      {"box_jitter_px", "--box-jitter"},  {"miss_probability", "--miss-prob"},
-      {"false_positives", "--false-positives"}, {"depth_scale", "--depth-scale"}};
-  for (const auto& [field, option] : kNames)
-    if (why.rfind(field, 0) == 0) return std::string(option) + " (" + field + "): " + why.substr(why.find(' ') + 1);
-  return why;
-}
+std::string NameSynthOption(const std::string& why) { return NameOptionRow(SynthOptionTable(), why); }
 
 std::vector<std::pair<std::string, std::string>> ParseNamedPaths(const std::vector<std::string>& args,
                                                                  const std::string& option, bool require_name) {

@@ -18,9 +18,9 @@ int RunApp(CLI::App& app, int argc, char** argv, const std::function<void()>& bo
 // 0 for none. The tables of track, suite and bench print it.
 double Median(std::vector<double> v);
 
-// SynthOptions::IsValid's message `why` ("<field> must ...") with the field replaced by the
-// CLI option that sets it ("--min-distance (min_distance_m): must ..."); unchanged when no
-// option sets the field. Used by the commands that make synthetic scenes (synth, suite).
+// SynthOptions::IsValid's message `why` ("<field> must ...") with the field named by the CLI
+// option that sets it too ("--min-distance (min_distance_m): must ..."; NameOptionRow of
+// SynthOptionTable); unchanged when no row sets the field. `suite` names its scene options so.
 std::string NameSynthOption(const std::string& why);
 
 // Arguments "NAME=PATH" (or, unless require_name, "PATH" with name = the file's stem) of a

@@ -5,6 +5,8 @@
 // 2 on a usage error (unknown or malformed option, printed by CLI11).
 #pragma once
 
+#include <string>
+
 namespace posefilter::cli {
 
 int RunEstimate(int argc, char** argv);  // apps/estimate_cmd.cc
@@ -19,6 +21,11 @@ int RunBench(int argc, char** argv);     // apps/bench_cmd.cc
 int RunHwReport(int argc, char** argv);  // apps/hw_report_cmd.cc
 int RunOptions(int argc, char** argv);   // apps/options_cmd.cc
 int RunView(int argc, char** argv);      // apps/view_cmd.cc
+
+// docs/OPTIONS.md, as `options --markdown` prints it: OptionTableMarkdown
+// (posefilter/option_table.h), then the synthetic scenes' section (SynthOptionTable,
+// posefilter/synth.h); apps/options_cmd.cc.
+std::string OptionsMarkdown();
 
 // `estimate` (view_command false) or `view` (true): one parser and body, apps/estimate_cmd.cc.
 int RunEstimateCommand(int argc, char** argv, bool view_command);

@@ -73,21 +73,24 @@ void AddOptionRowFlags(CLI::App& app, std::span<const OptionInfo> rows, Options*
   }
 }
 
-// Throws Error("<what>: " + IsValid's message) unless `o` is valid; a message that starts with
-// a row's field names its flag too ("--lost-weight (lost_weight): must be in [0, 1] (got 3)").
+// Throws Error("<what>: " + IsValid's message, its leading field named by NameOptionRow) unless
+// `o` is valid.
 template <class Options>
 void CheckOptionRows(std::span<const OptionInfo> rows, const Options& o, const std::string& what) {
   std::string why;
-  if (o.IsValid(&why)) return;
-  for (const OptionInfo& f : rows) {
-    const std::string field = f.field;
-    if (why.rfind(field + " ", 0) == 0)
-      throw Error(what + ": " + f.Name(OptionNaming::kCli) + " (" + field + "): " + why.substr(field.size() + 1));
-  }
-  throw Error(what + ": " + why);
+  if (!o.IsValid(&why)) throw Error(what + ": " + NameOptionRow(rows, why));
 }
 
 }  // namespace
+
+std::string NameOptionRow(std::span<const OptionInfo> rows, const std::string& why) {
+  for (const OptionInfo& f : rows) {
+    const std::string field = f.field;
+    if (why.rfind(field + " ", 0) == 0)
+      return f.Name(OptionNaming::kCli) + " (" + field + "): " + why.substr(field.size() + 1);
+  }
+  return why;
+}
 
 void AddFilterOptions(CLI::App& app, FilterOptions* o) {
   AddOptionRowFlags(app, FilterOptionTable(), o, "Filter options", true);
@@ -105,6 +108,10 @@ void AddAutoPriorOptions(CLI::App& app, AutoPriorOptions* o) {
   AddOptionRowFlags(app, AutoPriorOptionTable(), o, "Auto prior options", false);
 }
 
+void AddSynthOptions(CLI::App& app, SynthOptions* o) {
+  AddOptionRowFlags(app, SynthOptionTable(), o, "Synthetic scene options", false);
+}
+
 void CheckTrackOptions(const TrackOptions& o) { CheckOptionRows(TrackOptionTable(), o, "invalid track option"); }
 
 void CheckScenePassOptions(const ScenePassOptions& o) {
@@ -114,6 +121,8 @@ void CheckScenePassOptions(const ScenePassOptions& o) {
 void CheckAutoPriorOptions(const AutoPriorOptions& o) {
   CheckOptionRows(AutoPriorOptionTable(), o, "invalid auto prior option");
 }
+
+void CheckSynthOptions(const SynthOptions& o) { CheckOptionRows(SynthOptionTable(), o, "invalid synth option"); }
 
 void CheckFilterOptions(const FilterOptions& opt) {
   ThrowIfInvalid(opt, OptionNaming::kCli);

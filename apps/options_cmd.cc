@@ -1,6 +1,6 @@
 // apps/options_cmd.cc — `posefilter options`: every filter option (posefilter/option_table.h)
 // with its default, range, engines, thesis value and meaning, then the other option sets'
-// tables (tracker, scene pass, auto prior); --markdown prints docs/OPTIONS.md.
+// tables (tracker, scene pass, auto prior, synthetic scenes); --markdown prints docs/OPTIONS.md.
 #include <cstdio>
 #include <span>
 #include <string>
@@ -12,6 +12,7 @@
 #include "posefilter/filter_options.h"
 #include "posefilter/option_table.h"
 #include "posefilter/scene_pass.h"
+#include "posefilter/synth.h"
 #include "posefilter/tracker.h"
 
 namespace posefilter::cli {
@@ -36,6 +37,17 @@ void PrintOptionRows(std::span<const OptionInfo> rows, const Options& defaults, 
 
 }  // namespace
 
+std::string OptionsMarkdown() {
+  const SynthOptions synth;
+  return OptionTableMarkdown() +
+         OptionSetMarkdown("Synthetic scenes",
+                           "`posefilter synth` and `posefilter.make_synth_scene` (the keyword is the C++ field); C++: "
+                           "`posefilter::SynthOptions` (posefilter/synth.h), whose camera and target mesh (`--mesh`,\n"
+                           "`target_mesh=`) are set outside this table. `synth --world ycbv` and `room` read only the "
+                           "distances,\n`--box-jitter` and `--false-positives`.",
+                           SynthOptionTable(), &synth);
+}
+
 int RunOptions(int argc, char** argv) {
   CLI::App app{"Every option: name, default, range, engines that read it, the thesis's value, meaning", "options"};
   bool markdown = false;
@@ -46,7 +58,7 @@ int RunOptions(int argc, char** argv) {
     return app.exit(e);
   }
   if (markdown) {
-    std::fputs(OptionTableMarkdown().c_str(), stdout);
+    std::fputs(OptionsMarkdown().c_str(), stdout);
     return 0;
   }
   std::printf("%-30s %-18s %-26s %-15s %-12s %s\n\n", "option", "default", "range", "engines", "thesis", "meaning");
@@ -54,6 +66,7 @@ int RunOptions(int argc, char** argv) {
   PrintOptionRows(TrackOptionTable(), TrackOptions{}, false, false);
   PrintOptionRows(ScenePassOptionTable(), ScenePassOptions{}, false, false);
   PrintOptionRows(AutoPriorOptionTable(), AutoPriorOptions{}, false, false);
+  PrintOptionRows(SynthOptionTable(), SynthOptions{}, false, false);
   return 0;
 }
 

@@ -5,15 +5,17 @@
 // YCB-Video-style dataset folder (WriteSynthSequence) that `track` and `run-dataset` read.
 // With --world ycbv or room: scenes of the YCB-Video meshes on a table (table_world.h) or in a
 // room (room_world.h), written by WriteTableScene, as `suite --write-scenes` writes them.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 #include <numeric>
 #include <string>
+#include <vector>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -36,7 +38,6 @@ struct SynthArgs {
   SynthOptions opt;
   std::string mesh_path;
   double unit_scale = 1.0;
-  bool no_missing_edges = false;
   std::string world = "shapes";
   std::string models_dir;
   TableSceneOptions table;
@@ -46,89 +47,80 @@ struct SynthArgs {
   int sequence = 0;
 };
 
-// Every option of `synth` on `app`, into a.
-void AddSynthOptions(CLI::App& app, SynthArgs& a) {
-  std::string &out_dir = a.out_dir, &mesh_path = a.mesh_path, &world = a.world, &models_dir = a.models_dir;
-  int &count = a.count, &min_objects = a.min_objects, &max_objects = a.max_objects, &sequence = a.sequence;
-  std::uint64_t& seed = a.seed;
-  SynthOptions& opt = a.opt;
-  double& unit_scale = a.unit_scale;
-  bool& no_missing_edges = a.no_missing_edges;
-  SynthMotion& motion = a.motion;
+// Every option of `synth` on `app`, into a: the command's own, then SynthOptionTable's rows
+// (AddSynthOptions), then the motion of --sequence.
+void AddSynthArgs(CLI::App& app, SynthArgs& a) {
   if (const char* data = std::getenv("POSEFILTER_DATA"); data != nullptr && *data != '\0')
-    models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
-  app.add_option("--world", world,
+    a.models_dir = (std::filesystem::path(data) / "ycbv" / "models").string();
+  app.add_option("--world", a.world,
                  "shapes: one procedural shape per scene; ycbv: YCB-Video objects on a table; room: YCB-Video objects "
                  "on small raised surfaces and shelf boards in a room (docs/SYNTHETIC.md)")
       ->check(CLI::IsMember({"shapes", "ycbv", "room"}))
       ->capture_default_str();
-  app.add_option("--models", models_dir,
+  app.add_option("--models", a.models_dir,
                  "ycbv, room: folder of the 21 YCB-Video meshes (default: $POSEFILTER_DATA/ycbv/models)")
       ->capture_default_str();
-  app.add_option("--min-objects", min_objects, "ycbv, room: objects per scene, at least (ycbv 3, room 2)");
-  app.add_option("--max-objects", max_objects, "ycbv, room: objects per scene, at most (ycbv 6, room 4)");
-  app.add_option("--out", out_dir, "output folder (scenes go to OUT/scene_000, ...)")->required();
-  app.add_option("--count", count, "number of scenes")->capture_default_str();
-  app.add_option("--seed", seed, "seed of the first scene (scene i uses seed + i)")->capture_default_str()->transform(SeedValidator());
-  auto* target_opt =
-      app.add_option("--target", opt.target, "object kind: box, cylinder, lshape or torus")->capture_default_str();
-  auto* mesh_opt = app.add_option("--mesh", mesh_path, "a user mesh (.ply/.obj/.stl) as the target; class = file stem");
-  target_opt->excludes(mesh_opt);
-  app.add_option("--unit-scale", unit_scale, "--mesh coordinates × this = metres (0.001 for mm)")
+  app.add_option("--min-objects", a.min_objects, "ycbv, room: objects per scene, at least (ycbv 3, room 2)");
+  app.add_option("--max-objects", a.max_objects, "ycbv, room: objects per scene, at most (ycbv 6, room 4)");
+  app.add_option("--out", a.out_dir, "output folder (scenes go to OUT/scene_000, ...)")->required();
+  app.add_option("--count", a.count, "number of scenes")->capture_default_str();
+  app.add_option("--seed", a.seed, "seed of the first scene (scene i uses seed + i)")
+      ->capture_default_str()
+      ->transform(SeedValidator());
+  auto* mesh_opt =
+      app.add_option("--mesh", a.mesh_path, "a user mesh (.ply/.obj/.stl) as the target; class = file stem");
+  app.add_option("--unit-scale", a.unit_scale, "--mesh coordinates × this = metres (0.001 for mm)")
       ->capture_default_str();
-  app.add_option("--min-distance", opt.min_distance_m, "min camera→target distance, m")->capture_default_str();
-  app.add_option("--max-distance", opt.max_distance_m, "max camera→target distance, m")->capture_default_str();
-  app.add_option("--occlusion", opt.occlusion, "fraction of the target hidden by an occluder, [0, 0.9]")
+  AddSynthOptions(app, &a.opt);
+  app.get_option("--target")->excludes(mesh_opt);
+  app.add_option(
+      "--sequence", a.sequence,
+      "write one scene whose target moves over this many frames, as a dataset folder OUT/scenes/synth_0000_<frame>/ "
+      "+ OUT/models/ (for track and run-dataset)");
+  app.add_option("--speed", a.motion.speed_m, "--sequence: the target's slide per frame along the table (m)")
       ->capture_default_str();
-  app.add_option("--clutter", opt.clutter, "clutter objects on the table, [0, 20]")->capture_default_str();
-  app.add_option("--noise", opt.noise_sigma_m, "depth noise σ at 1 m, metres (σ grows with z²)")
+  app.add_option("--turn", a.motion.turn_rad, "--sequence: its turn per frame about the table's normal (rad)")
       ->capture_default_str();
-  app.add_option("--holes", opt.hole_fraction, "fraction of pixels dropped in blobs, [0, 0.5]")->capture_default_str();
-  app.add_flag("--no-missing-edges", no_missing_edges, "keep pixels at depth discontinuities");
-  app.add_option("--box-jitter", opt.box_jitter_px, "σ of the detection box noise, pixels")->capture_default_str();
-  app.add_option("--miss-prob", opt.miss_probability, "probability that the target is not detected")
+  app.add_option("--jump-frame", a.motion.jump_frame,
+                 "--sequence: from this frame on (1 or later; frames count from 0), the target is also displaced by "
+                 "--jump (-1 = never)")
       ->capture_default_str();
-  app.add_option("--false-positives", opt.false_positives, "extra false detections per scene")
-      ->capture_default_str();
-  app.add_option("--depth-scale", opt.depth_scale, "metres per depth PNG unit")->capture_default_str();
-  app.add_option("--sequence", sequence,
-                 "write one scene whose target moves over this many frames, as a dataset folder OUT/scenes/synth_0000_<frame>/ "
-                 "+ OUT/models/ (for track and run-dataset)");
-  app.add_option("--speed", motion.speed_m, "--sequence: the target's slide per frame along the table (m)")->capture_default_str();
-  app.add_option("--turn", motion.turn_rad, "--sequence: its turn per frame about the table's normal (rad)")->capture_default_str();
-  app.add_option("--jump-frame", motion.jump_frame, "--sequence: from this frame on (1 or later; frames count from 0), the target is also displaced by --jump (-1 = never)")
-      ->capture_default_str();
-  app.add_option("--jump", motion.jump_m, "--sequence: the jump's length along the slide (m)")->capture_default_str();
+  app.add_option("--jump", a.motion.jump_m, "--sequence: the jump's length along the slide (m)")->capture_default_str();
 }
 
-// --world ycbv or room: the YCB worlds' scenes, with their own objects, sensor and prior.
+// --world ycbv or room: the YCB worlds' scenes, with their own objects, sensor and prior. Of
+// SynthOptionTable's rows they read the distances and the detections' noise; the other rows,
+// the mesh and the motion are refused.
 void WriteYcbWorldScenes(const CLI::App& app, SynthArgs& a) {
-  std::string &out_dir = a.out_dir, &world = a.world, &models_dir = a.models_dir;
-  int &count = a.count, &min_objects = a.min_objects, &max_objects = a.max_objects;
-  std::uint64_t& seed = a.seed;
-  SynthOptions& opt = a.opt;
-  TableSceneOptions& table = a.table;
-  RoomSceneOptions& room = a.room;
-  for (const char* o : {"--target", "--mesh", "--unit-scale", "--occlusion", "--clutter", "--noise", "--holes",
-                        "--no-missing-edges", "--miss-prob", "--depth-scale", "--sequence", "--speed", "--turn",
-                        "--jump-frame", "--jump"})
-    if (app.count(o)) throw Error(std::string(o) + " does not apply to --world " + world + " (shapes only)");
-  if (models_dir.empty())
-    throw Error("--world " + world + " needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA");
-  for (int i = 0; i < count; ++i) {  // the scene folders this run writes must not be the meshes'
+  const std::vector<std::string> read = {"min-distance", "max-distance", "box-jitter", "false-positives"};
+  std::vector<std::string> shapes_only = {"--mesh", "--unit-scale", "--sequence", "--speed",
+                                          "--turn", "--jump-frame", "--jump"};
+  for (const OptionInfo& f : SynthOptionTable())
+    if (std::find(read.begin(), read.end(), f.name) == read.end())
+      shapes_only.push_back(f.Name(OptionNaming::kCli) +
+                            (f.type == OptionType::kBool ? "/--no-" + std::string(f.name) : ""));
+  for (const std::string& o : shapes_only)
+    if (app.count(o.substr(0, o.find('/'))))
+      throw Error(o + " does not apply to --world " + a.world + " (shapes only)");
+  if (a.models_dir.empty())
+    throw Error("--world " + a.world + " needs the YCB-Video meshes: give --models DIR, or set POSEFILTER_DATA");
+  for (int i = 0; i < a.count; ++i) {  // the scene folders this run writes must not be the meshes'
     char name[32];
     std::snprintf(name, sizeof name, "scene_%03d", i);
-    if (SamePath(models_dir, (std::filesystem::path(out_dir) / name).string()))
-      throw Error("--models " + models_dir + ": is a folder this run writes (--out " + out_dir + "); give another --out");
+    if (SamePath(a.models_dir, (std::filesystem::path(a.out_dir) / name).string()))
+      throw Error("--models " + a.models_dir + ": is a folder this run writes (--out " + a.out_dir +
+                  "); give another --out");
   }
   std::string why;
-  const bool is_room = world == "room";
-  table.box_jitter_px = room.box_jitter_px = opt.box_jitter_px;
-  table.false_positives = room.false_positives = opt.false_positives;
-  if (app.count("--min-distance")) table.min_distance_m = room.min_distance_m = opt.min_distance_m;
-  if (app.count("--max-distance")) table.max_distance_m = room.max_distance_m = opt.max_distance_m;
-  if (app.count("--min-objects")) table.min_objects = room.min_objects = min_objects;
-  if (app.count("--max-objects")) table.max_objects = room.max_objects = max_objects;
+  const bool is_room = a.world == "room";
+  TableSceneOptions& table = a.table;
+  RoomSceneOptions& room = a.room;
+  table.box_jitter_px = room.box_jitter_px = a.opt.box_jitter_px;
+  table.false_positives = room.false_positives = a.opt.false_positives;
+  if (app.count("--min-distance")) table.min_distance_m = room.min_distance_m = a.opt.min_distance_m;
+  if (app.count("--max-distance")) table.max_distance_m = room.max_distance_m = a.opt.max_distance_m;
+  if (app.count("--min-objects")) table.min_objects = room.min_objects = a.min_objects;
+  if (app.count("--max-objects")) table.max_objects = room.max_objects = a.max_objects;
   if (!(is_room ? room.IsValid(&why) : table.IsValid(&why))) {
     const std::pair<const char*, const char*> names[] = {
         {"min_objects", "--min-objects"},     {"max_objects", "--max-objects"},
@@ -138,13 +130,13 @@ void WriteYcbWorldScenes(const CLI::App& app, SynthArgs& a) {
       for (std::size_t at; (at = why.find(field)) != std::string::npos;) why.replace(at, std::strlen(field), option);
     throw Error("invalid scene option: " + why);
   }
-  const TableWorld ycb = TableWorld::LoadYcbVideo(models_dir);
-  CheckOutputFolder(out_dir, "--out");
-  for (int i = 0; i < count; ++i) {
+  const TableWorld ycb = TableWorld::LoadYcbVideo(a.models_dir);
+  CheckOutputFolder(a.out_dir, "--out");
+  for (int i = 0; i < a.count; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "scene_%03d", i);
-    const std::string dir = (std::filesystem::path(out_dir) / name).string();
-    const std::uint64_t s = seed + std::uint64_t(i);
+    const std::string dir = (std::filesystem::path(a.out_dir) / name).string();
+    const std::uint64_t s = a.seed + std::uint64_t(i);
     const TableScene scene = is_room ? MakeRoomScene(ycb, room, s) : ycb.MakeScene(table, s);
     WriteTableScene(scene, dir);
     int targets = 0;
@@ -159,65 +151,56 @@ void WriteYcbWorldScenes(const CLI::App& app, SynthArgs& a) {
 // --mesh: refused when it lies in a folder this run writes; loaded (into *mesh) and made the
 // target otherwise.
 void LoadSynthMesh(const CLI::App& app, SynthArgs& a, std::unique_ptr<Mesh>* mesh) {
-  std::string &out_dir = a.out_dir, &mesh_path = a.mesh_path;
-  int& count = a.count;
-  SynthOptions& opt = a.opt;
-  double& unit_scale = a.unit_scale;
   // The folders this run writes: OUT itself for --sequence, OUT/scene_NNN otherwise. A --mesh
   // inside one of them could be replaced by the scene's copy of it, so it is refused.
-  const std::filesystem::path mesh_dir = std::filesystem::absolute(mesh_path).parent_path();
+  const std::filesystem::path mesh_dir = std::filesystem::absolute(a.mesh_path).parent_path();
   bool written = false;
   if (app.count("--sequence")) {
     for (auto d = mesh_dir; !written; d = d.parent_path()) {
-      written = SamePath(d.string(), out_dir);
+      written = SamePath(d.string(), a.out_dir);
       if (d == d.parent_path()) break;  // the root
     }
   } else {
     char name[32];
-    for (int i = 0; i < count && !written; ++i) {
+    for (int i = 0; i < a.count && !written; ++i) {
       std::snprintf(name, sizeof name, "scene_%03d", i);
-      written = SamePath(mesh_dir.string(), (std::filesystem::path(out_dir) / name).string());
+      written = SamePath(mesh_dir.string(), (std::filesystem::path(a.out_dir) / name).string());
     }
   }
   if (written)
-    throw Error("--mesh " + mesh_path + ": lies in a folder this run writes (--out " + out_dir +
+    throw Error("--mesh " + a.mesh_path + ": lies in a folder this run writes (--out " + a.out_dir +
                 "), where it could be overwritten; copy it elsewhere or give another --out");
-  if (!std::isfinite(unit_scale) || unit_scale <= 0) throw Error("--unit-scale must be finite and > 0");
-  *mesh = std::make_unique<Mesh>(LoadMesh(mesh_path, unit_scale));
-  opt.target_mesh = mesh->get();
+  if (!std::isfinite(a.unit_scale) || a.unit_scale <= 0) throw Error("--unit-scale must be finite and > 0");
+  *mesh = std::make_unique<Mesh>(LoadMesh(a.mesh_path, a.unit_scale));
+  a.opt.target_mesh = mesh->get();
 }
 
 // --sequence N: one scene whose target moves, as a dataset folder.
 void WriteSynthSequenceFolder(const CLI::App& app, SynthArgs& a) {
-  std::string& out_dir = a.out_dir;
-  int& sequence = a.sequence;
-  std::uint64_t& seed = a.seed;
-  SynthOptions& opt = a.opt;
   SynthMotion& motion = a.motion;
   std::string why;
   if (app.count("--count")) throw Error("--sequence writes one moving scene; --count does not apply");
-  motion.frames = sequence;
+  motion.frames = a.sequence;
   if (!motion.IsValid(&why)) throw Error("invalid --sequence motion: " + why);
-  CheckOutputFolder(out_dir, "--out");
-  const std::vector<SynthScene> frames = MakeSynthSequence(opt, motion, seed);
-  WriteSynthSequence(frames, out_dir);
-  std::printf("%s  target %s  %zu frames  distance %.3f m  slide %.3f m/frame  turn %.3f rad/frame%s\n", out_dir.c_str(),
-              frames.front().target.name.c_str(), frames.size(), frames.front().distance_m, motion.speed_m, motion.turn_rad,
-              motion.jump_frame >= 0 ? ("  jump " + std::to_string(motion.jump_m) + " m at frame " + std::to_string(motion.jump_frame)).c_str() : "");
+  CheckOutputFolder(a.out_dir, "--out");
+  const std::vector<SynthScene> frames = MakeSynthSequence(a.opt, motion, a.seed);
+  WriteSynthSequence(frames, a.out_dir);
+  std::printf(
+      "%s  target %s  %zu frames  distance %.3f m  slide %.3f m/frame  turn %.3f rad/frame%s\n", a.out_dir.c_str(),
+      frames.front().target.name.c_str(), frames.size(), frames.front().distance_m, motion.speed_m, motion.turn_rad,
+      motion.jump_frame >= 0
+          ? ("  jump " + std::to_string(motion.jump_m) + " m at frame " + std::to_string(motion.jump_frame)).c_str()
+          : "");
 }
 
 // The shapes world's scenes, OUT/scene_NNN.
-void WriteShapeScenes(SynthArgs& a) {
-  std::string& out_dir = a.out_dir;
-  int& count = a.count;
-  std::uint64_t& seed = a.seed;
-  SynthOptions& opt = a.opt;
-  CheckOutputFolder(out_dir, "--out");
-  for (int i = 0; i < count; ++i) {
+void WriteShapeScenes(const SynthArgs& a) {
+  CheckOutputFolder(a.out_dir, "--out");
+  for (int i = 0; i < a.count; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "scene_%03d", i);
-    const std::string dir = (std::filesystem::path(out_dir) / name).string();
-    const SynthScene scene = MakeSynthScene(opt, seed + std::uint64_t(i));
+    const std::string dir = (std::filesystem::path(a.out_dir) / name).string();
+    const SynthScene scene = MakeSynthScene(a.opt, a.seed + std::uint64_t(i));
     WriteSynthScene(scene, dir);
     std::printf("%s  target %s  distance %.3f m  occlusion %.2f  detections %zu%s\n", dir.c_str(),
                 scene.target.name.c_str(), scene.distance_m, scene.occlusion_achieved, scene.detections.size(),
@@ -230,7 +213,7 @@ void WriteShapeScenes(SynthArgs& a) {
 int RunSynth(int argc, char** argv) {
   CLI::App app{"Make synthetic depth scenes with ground truth and a stage-1 prior", "synth"};
   SynthArgs a;
-  AddSynthOptions(app, a);
+  AddSynthArgs(app, a);
   return RunApp(app, argc, argv, [&] {
     if (a.count < 1 || a.count > 100000) throw Error("--count must be in [1, 100000]");
     if (a.seed > UINT64_MAX - std::uint64_t(a.count - 1))
@@ -242,11 +225,9 @@ int RunSynth(int argc, char** argv) {
     }
     if (app.count("--models") + app.count("--min-objects") + app.count("--max-objects"))
       throw Error("--models, --min-objects and --max-objects describe --world ycbv or room scenes");
-    a.opt.missing_edges = !a.no_missing_edges;
     std::unique_ptr<Mesh> mesh;
     if (!a.mesh_path.empty()) LoadSynthMesh(app, a, &mesh);
-    std::string why;
-    if (!a.opt.IsValid(&why)) throw Error("invalid option " + NameSynthOption(why));
+    CheckSynthOptions(a.opt);
     if (app.count("--sequence")) {
       WriteSynthSequenceFolder(app, a);
       return;

@@ -6,7 +6,7 @@
 // The tables: FilterOptionTable (posefilter/option_table.h, with the engines that read each
 // option), HeuristicOptionTable (posefilter/heuristics.h), TrackOptionTable
 // (posefilter/tracker.h), ScenePassOptionTable (posefilter/scene_pass.h), AutoPriorOptionTable
-// (posefilter/auto_prior.h).
+// (posefilter/auto_prior.h), SynthOptionTable (posefilter/synth.h).
 //
 // Names: the CLI option is "--" + name (a bool: "--name" / "--no-name"); the Python keyword is
 // `python` where a row sets it, else name with '-' → '_'.
@@ -170,5 +170,9 @@ std::string OptionNumberText(float v);
 // A table as a Markdown section body: one row per option with CLI name, Python keyword, C++
 // field, default (from `defaults`, of the rows' struct), range and meaning.
 std::string OptionRowsMarkdown(std::span<const OptionInfo> rows, const void* defaults);
+// An option set's section of docs/OPTIONS.md: "## " + title, the paragraph `intro`, then
+// OptionRowsMarkdown(rows, defaults).
+std::string OptionSetMarkdown(const std::string& title, const std::string& intro, std::span<const OptionInfo> rows,
+                              const void* defaults);
 
 }  // namespace posefilter

@@ -83,9 +83,11 @@ std::vector<std::string> IgnoredOptions(const FilterOptions& o, OptionNaming nam
 // particles, iterations, windows, thresholds and seed stay those of `scale`.
 FilterOptions ThesisFilterOptions(const FilterOptions& scale);
 
-// docs/OPTIONS.md: the filter options, one section per group, one row per option with CLI
-// name, Python keyword, C++ field, default, range, engines, thesis value and help; then the
-// other option sets' tables (the tracker's, the scene pass's, the auto prior's).
+// docs/OPTIONS.md but its last section: the filter options, one section per group, one row per
+// option with CLI name, Python keyword, C++ field, default, range, engines, thesis value and
+// help; then the other option sets' tables (the tracker's, the scene pass's, the auto prior's).
+// The synthetic scenes' table is in the synth layer, which is not below the filter:
+// `posefilter options --markdown` (OptionsMarkdown, apps/commands.h) adds its section.
 std::string OptionTableMarkdown();
 
 }  // namespace posefilter

@@ -10,12 +10,14 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "posefilter/camera.h"
 #include "posefilter/depth_image.h"
 #include "posefilter/mesh.h"
+#include "posefilter/option_rows.h"
 #include "posefilter/prior.h"
 #include "posefilter/scene_io.h"
 
@@ -66,11 +68,18 @@ struct SynthOptions {
   double miss_probability = 0.0;  // probability that the target's detection is missing, [0, 1]
   int false_positives = 2;        // extra detections of random classes at random places with
                                   // random scores, [0, 100]
-  // True when every field is in range (camera valid, depth_scale finite > 0, distances
-  // 0.2 ≤ min ≤ max ≤ 5 m, target a known kind or target_mesh valid and named, ...).
-  // Names the violated constraint (by option name).
+  // True when the camera is valid (at least 80×60 pixels), target a known kind or target_mesh
+  // valid and named, every field of SynthOptionTable in its row's range and min_distance_m ≤
+  // max_distance_m. `why` names the violated constraint by field ("clutter must be in [0, 20]
+  // (got 21)").
   bool IsValid(std::string* why) const;
 };
+
+// SynthOptions' fields but the camera and the target mesh as rows (posefilter/option_rows.h):
+// the CLI flag of `posefilter synth` (--min-distance, --noise, …), range, unit and help; the
+// Python keyword of make_synth_scene is the field ("min_distance_m"). IsValid checks their
+// ranges.
+std::span<const OptionInfo> SynthOptionTable();
 
 struct SynthScene {
   Camera camera;

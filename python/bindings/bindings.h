@@ -123,8 +123,12 @@ Keyword<Options> Nested(const char* name, S Options::*s, T S::*m) {
 const std::vector<Keyword<FilterOptions>>& FilterKeywords();
 // The Python type of an option's values, as the .pyi spells it ("int", "Sequence[float]").
 std::string PythonTypeName(OptionType t);
+// The start of a row's line in a docstring's keyword list: "  name: type = default, range".
+std::string KeywordDocHead(const OptionInfo& f, const std::string& default_text);
 // Estimator's docstring: every keyword with its type, default, range, engines and meaning.
 const std::string& EstimatorDoc();
+// make_synth_scene's keywords: "camera", then one per row of SynthOptionTable (the field:
+// "min_distance_m"); target_mesh is make_synth_scene's own.
 const std::vector<Keyword<SynthOptions>>& SynthKeywords();
 // One keyword per row of TrackOptionTable, ScenePassOptionTable and AutoPriorOptionTable (the
 // row's Python spelling: "lost_weight", "constant_velocity", "scene_pass_band", "auto_min_height").
@@ -132,6 +136,13 @@ const std::vector<Keyword<TrackOptions>>& TrackKeywords();
 const std::vector<Keyword<ScenePassOptions>>& ScenePassKeywords();
 const std::vector<Keyword<AutoPriorOptions>>& AutoPriorKeywords();
 
+// The names of `keywords`, in order.
+template <class Options>
+std::vector<std::string> KeywordNames(const std::vector<Keyword<Options>>& keywords) {
+  std::vector<std::string> names;
+  for (const auto& k : keywords) names.push_back(k.name);
+  return names;
+}
 
 template <class Options>
 std::string KeywordList(const std::vector<Keyword<Options>>& keywords) {

@@ -411,11 +411,7 @@ void BindEstimation(py::module_& m) {
         }
         return rows;
       }, "list of dicts (keyword, cli, field, group, type, default, range, engines, help), one per option")
-      .def_static("option_names", [] {
-        std::vector<std::string> n;
-        for (const auto& k : FilterKeywords()) n.push_back(k.name);
-        return n;
-      })
+      .def_static("option_names", [] { return KeywordNames(FilterKeywords()); })
       .def("estimate", &Estimator::Estimate, "depth"_a, "camera"_a, "mesh"_a, "prior"_a = py::none(), py::kw_only(),
            "obj"_a = py::none(), "depth_scale"_a = py::none(), "progress"_a = py::none(), "mask"_a = py::none(),
            "scene_pass"_a = true,

@@ -1,6 +1,6 @@
 // python/bindings/keywords.cc — the keyword options of Estimator (the rows of the option table,
-// posefilter/option_table.h), of the tracker, the scene pass and the auto prior (the rows of
-// their tables, posefilter/option_rows.h) and of make_synth_scene (every SynthOptions field by name).
+// posefilter/option_table.h), of the tracker, the scene pass, the auto prior and make_synth_scene
+// (the rows of their tables, posefilter/option_rows.h; make_synth_scene's camera besides).
 #include "bindings.h"
 
 namespace posefilter::python {
@@ -62,6 +62,12 @@ std::string PythonTypeName(OptionType t) {
   return "object";
 }
 
+std::string KeywordDocHead(const OptionInfo& f, const std::string& default_text) {
+  const std::string range = f.RangeText();
+  return "  " + f.Name(OptionNaming::kPython) + ": " + PythonTypeName(f.type) + " = " + default_text +
+         (range.empty() ? "" : ", " + range);
+}
+
 const std::string& EstimatorDoc() {
   static const std::string doc = [] {
     std::string d =
@@ -72,9 +78,7 @@ const std::string& EstimatorDoc() {
     std::string group;
     for (const OptionInfo& f : FilterOptionTable()) {
       if (group != f.group) d += "\n" + (group = f.group) + ":\n";
-      const std::string range = f.RangeText();
-      d += "  " + f.Name(OptionNaming::kPython) + ": " + PythonTypeName(f.type) + " = " + f.ValueText(defaults) +
-           (range.empty() ? "" : ", " + range) + "; " + f.EnginesText() + ": " + f.help + "\n";
+      d += KeywordDocHead(f, f.ValueText(defaults)) + "; " + f.EnginesText() + ": " + f.help + "\n";
     }
     return d;
   }();
@@ -82,23 +86,12 @@ const std::string& EstimatorDoc() {
 }
 
 const std::vector<Keyword<SynthOptions>>& SynthKeywords() {
-  using O = SynthOptions;
-  static const std::vector<Keyword<O>> k = {
-      Field("camera", &O::camera),
-      Field("depth_scale", &O::depth_scale),
-      Field("target", &O::target),
-      // target_mesh (a pointer) is handled by make_synth_scene itself.
-      Field("min_distance_m", &O::min_distance_m),
-      Field("max_distance_m", &O::max_distance_m),
-      Field("occlusion", &O::occlusion),
-      Field("clutter", &O::clutter),
-      Field("noise_sigma_m", &O::noise_sigma_m),
-      Field("hole_fraction", &O::hole_fraction),
-      Field("missing_edges", &O::missing_edges),
-      Field("box_jitter_px", &O::box_jitter_px),
-      Field("miss_probability", &O::miss_probability),
-      Field("false_positives", &O::false_positives),
-  };
+  static const std::vector<Keyword<SynthOptions>> k = [] {
+    // The camera, then one keyword per row; target_mesh (a pointer) is make_synth_scene's own.
+    std::vector<Keyword<SynthOptions>> out = {Field("camera", &SynthOptions::camera)};
+    for (Keyword<SynthOptions>& row : RowKeywords<SynthOptions>(SynthOptionTable())) out.push_back(std::move(row));
+    return out;
+  }();
   return k;
 }
 

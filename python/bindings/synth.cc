@@ -82,10 +82,11 @@ void BindSynth(py::module_& m) {
            << ", occlusion_achieved=" << s.occlusion_achieved << ", " << s.detections.size() << " detections)";
         return os.str();
       });
-  m.def("make_synth_scene", &MakeScene, "seed"_a = 0,
-        "Synthetic table-top scene (deterministic per seed). Keywords = SynthOptions fields: camera, depth_scale, "
-        "target, target_mesh, min_distance_m, max_distance_m, occlusion, clutter, noise_sigma_m, hole_fraction, "
-        "missing_edges, box_jitter_px, miss_probability, false_positives.");
+  static const std::string scene_doc =
+      "Synthetic table-top scene (deterministic per seed). Keywords = SynthOptions fields (ranges and units: "
+      "docs/OPTIONS.md, 'Synthetic scenes'): " +
+      KeywordList(SynthKeywords()) + ", target_mesh.";
+  m.def("make_synth_scene", &MakeScene, "seed"_a = 0, scene_doc.c_str());
   m.def("make_synth_sequence", &MakeSequence, "frames"_a = 10, "seed"_a = 0, py::kw_only(), "speed"_a = 0.01,
         "turn"_a = 0.05, "jump_frame"_a = -1, "jump"_a = 0.0,
         "A synthetic sequence (list of SynthScene, frame 0 = make_synth_scene(seed)): the target slides `speed` m "
@@ -97,8 +98,7 @@ void BindSynth(py::module_& m) {
         "Writes the frames as a YCB-Video-style dataset folder (dir/models/, dir/scenes/<name>_0000_<frame>/) for "
         "`posefilter track` and `run-dataset`.");
   m.def("synth_option_names", [] {
-    std::vector<std::string> n;
-    for (const auto& k : SynthKeywords()) n.push_back(k.name);
+    std::vector<std::string> n = KeywordNames(SynthKeywords());
     n.push_back("target_mesh");
     return n;
   });

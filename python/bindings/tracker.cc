@@ -7,39 +7,21 @@
 namespace posefilter::python {
 namespace {
 
-// The keywords of TrackOptions besides the filter's: name, field.
-struct TrackKeyword {
-  const char* name;
-  double TrackOptions::*field;
-};
-constexpr TrackKeyword kTrackKeywords[] = {
-    {"lost_weight", &TrackOptions::lost_weight},   {"refresh_weight", &TrackOptions::refresh_weight},
-    {"search_t", &TrackOptions::search_t_m},       {"search_r", &TrackOptions::search_r_rad},
-    {"window_margin", &TrackOptions::window_margin},
-};
+// The names of `keywords` as a set: what ApplyKeywords of the other option set skips.
+template <class Options>
+std::set<std::string> KeywordSet(const std::vector<Keyword<Options>>& keywords) {
+  const std::vector<std::string> names = KeywordNames(keywords);
+  return {names.begin(), names.end()};
+}
 
 class PyTracker {
  public:
   PyTracker(py::handle meshes_arg, py::handle init_arg, const py::kwargs& kw) {
     TrackOptions o;
-    std::set<std::string> own = {"constant_velocity", "scene_pass"};
-    for (const auto& k : kTrackKeywords) own.insert(k.name);
-    for (const auto& item : kw) {
-      const std::string name = py::str(item.first);
-      if (name == "constant_velocity" || name == "scene_pass") {
-        (name == "scene_pass" ? o.scene_pass : o.constant_velocity) = item.second.cast<bool>();
-        continue;
-      }
-      for (const auto& k : kTrackKeywords)
-        if (name == k.name) {
-          try {
-            o.*k.field = item.second.cast<double>();
-          } catch (const py::cast_error&) {
-            throw py::type_error("Tracker: option '" + name + "' expects a number, got " + std::string(py::repr(item.second)));
-          }
-        }
-    }
-    ApplyKeywords(&o.filter, kw, FilterKeywords(), "Tracker", own);
+    // Each keyword is the tracker's own (a row of TrackOptionTable) or the tracking step's
+    // filter option; an unknown one is a TypeError listing the filter's.
+    ApplyKeywords(&o.filter, kw, FilterKeywords(), "Tracker", KeywordSet(TrackKeywords()));
+    ApplyKeywords(&o, kw, TrackKeywords(), "Tracker", KeywordSet(FilterKeywords()));
     if (!init_arg.is_none()) {
       if (!py::isinstance<py::dict>(init_arg)) throw py::type_error("Tracker: init expects a dict of Estimator options");
       ApplyKeywords(&o.init, init_arg.cast<py::kwargs>(), FilterKeywords(), "Tracker init");
@@ -125,6 +107,24 @@ class PyTracker {
   std::set<std::string> warned_;  // objects Track warned cannot start
 };
 
+// The Tracker's docstring: its own keywords from TrackOptionTable, with type, default, range and
+// meaning.
+const std::string& TrackerDoc() {
+  static const std::string doc = [] {
+    std::string d =
+        "Tracks objects through depth frames: each object's pose in one frame seeds the next (docs/PYTHON.md, "
+        "'Tracking').\n\n"
+        "Tracker(meshes, init=None, **options): meshes a Mesh or a list (their names are the objects); options: "
+        "the tracker's own (below; Tracker.option_names()) and any Estimator option for the tracking step "
+        "(defaults: Tracker.defaults()); init: a dict of Estimator options for the full estimate that starts and "
+        "restarts objects.\n\nThe tracker's keywords (type = default, range: meaning):\n";
+    const TrackOptions defaults;
+    for (const OptionInfo& f : TrackOptionTable()) d += KeywordDocHead(f, f.ValueText(defaults)) + ": " + f.help + "\n";
+    return d;
+  }();
+  return doc;
+}
+
 }  // namespace
 
 void BindTracking(py::module_& m) {
@@ -135,6 +135,8 @@ void BindTracking(py::module_& m) {
       .def_property_readonly("pose", [](const TrackResult& r) { return ToNumpy(r.T_cam_obj); }, "4x4 T_cam_obj, object → camera")
       .def_readonly("weight", &TrackResult::weight, "best weight of the step that gave the pose")
       .def_readonly("iterations", &TrackResult::iterations)
+      .def_readonly("confirmed", &TrackResult::confirmed,
+                    "tracked by the confirmation of its prediction, without the particle search (option confirm)")
       .def_readonly("time_ms", &TrackResult::time_ms)
       .def("__repr__", [](const TrackResult& r) {
         std::ostringstream os;
@@ -143,24 +145,18 @@ void BindTracking(py::module_& m) {
         return os.str();
       });
 
-  py::class_<PyTracker>(m, "Tracker",
-                        "Tracks objects through depth frames: each object's pose in one frame seeds the next "
-                        "(docs/PYTHON.md, 'Tracking').\n\n"
-                        "Tracker(meshes, init=None, **options): meshes a Mesh or a list (their names are the "
-                        "objects); options: lost_weight, refresh_weight, search_t (m), search_r (rad), "
-                        "window_margin, constant_velocity, scene_pass, and any Estimator option for the tracking step "
-                        "(defaults: Tracker.defaults()); init: a dict of Estimator options for the full estimate "
-                        "that starts and restarts objects.")
+  py::class_<PyTracker>(m, "Tracker", TrackerDoc().c_str())
       .def(py::init([](py::handle meshes, py::handle init, const py::kwargs& kw) { return PyTracker(meshes, init, kw); }),
            "meshes"_a, py::kw_only(), "init"_a = py::none())
       .def_static("defaults", [] {
         const TrackOptions o;
         py::dict d = KeywordDict(o.filter, FilterKeywords());
-        for (const auto& k : kTrackKeywords) d[k.name] = o.*k.field;
-        d["constant_velocity"] = o.constant_velocity;
-        d["scene_pass"] = o.scene_pass;
+        for (const auto& [name, value] : KeywordDict(o, TrackKeywords())) d[name] = value;
         return d;
       }, "dict of the default options (the tracking step's filter options and the tracker's own)")
+      .def_static("option_names", [] { return KeywordNames(TrackKeywords()); },
+                  "the tracker's own keywords (TrackOptionTable's rows, docs/OPTIONS.md 'Tracker'), in order; the "
+                  "tracking step's filter options are Estimator.option_names()")
       .def("reset", &PyTracker::Reset, "obj"_a, "pose"_a, "Start (or restart) obj at a known 4x4 pose (object → camera).")
       .def("track", &PyTracker::Track, "depth"_a, "camera"_a, "prior"_a = py::none(), py::kw_only(),
            "depth_scale"_a = py::none(),

@@ -215,7 +215,7 @@ def test_writers_refuse_what_the_cli_refuses(tmp_path):
 def test_bad_synth_options():
     with pytest.raises(ValueError, match="occlusion"):
         pf.make_synth_scene(1, occlusion=2.0)
-    with pytest.raises(ValueError, match="unknown kind 'teapot'"):
+    with pytest.raises(ValueError, match="target must be one of box, cylinder, lshape, torus \\(got 'teapot'\\)"):
         pf.make_synth_scene(1, target="teapot")
     with pytest.raises(TypeError, match="unknown option 'occluder'"):
         pf.make_synth_scene(1, occluder=0.2)

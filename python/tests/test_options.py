@@ -121,6 +121,12 @@ def test_type_stub_covers_the_module():
     assert kwonly(init) == pf.Estimator.option_names()
     synth = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "make_synth_scene")
     assert sorted(kwonly(synth)) == sorted(pf.synth_option_names())
+    # Tracker: init, then the tracker's own keywords (TrackOptionTable) with their types.
+    init = next(f for f in classes["Tracker"].body if isinstance(f, ast.FunctionDef) and f.name == "__init__")
+    assert kwonly(init) == ["init"] + pf.Tracker.option_names()
+    defaults = pf.Tracker.defaults()
+    for a in init.args.kwonlyargs[1:]:
+        assert ast.unparse(a.annotation) == type(defaults[a.arg]).__name__, a.arg
 
 
 if __name__ == "__main__":

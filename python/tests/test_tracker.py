@@ -1,6 +1,7 @@
 """Tracking through the bindings: Tracker on synthetic sequences (make_synth_sequence) — it follows
-a moving object, reports a jump beyond its search as lost, restarts from a stage 1, is
-deterministic, and rejects bad arguments."""
+a moving object, takes its options from the tracker's option table (the confirmation among them),
+reports a jump beyond its search as lost, restarts from a stage 1, is deterministic, and rejects
+bad arguments."""
 
 import warnings
 
@@ -41,6 +42,28 @@ def test_tracks_a_moving_object_from_a_known_start(sequence):
         assert r.obj == "lshape" and r.status == "tracked", r
         assert adds_ok(s, r.pose), (tracker.frames, r)
     assert tracker.frames == 6
+
+
+def test_the_confirmation_is_a_keyword(sequence):
+    names = pf.Tracker.option_names()
+    assert names == ["lost_weight", "refresh_weight", "search_t", "search_r", "constant_velocity", "scene_pass",
+                     "window_margin", "confirm", "confirm_margin"]
+    defaults = pf.Tracker.defaults()
+    assert set(defaults) == set(names) | set(pf.Estimator.option_names())
+    assert defaults["confirm"] is True and defaults["confirm_margin"] == 0.02
+    for name in names:
+        assert name in pf.Tracker.__doc__
+    # With the confirmation, frames after the first may end at the polished prediction; without
+    # it, every frame runs the particle search.
+    confirmed = {}
+    for confirm in (True, False):
+        tracker = pf.Tracker(sequence[0].target, seed=5, threads=2, confirm=confirm, confirm_margin=0.05)
+        tracker.reset("lshape", sequence[0].gt_poses[0])
+        results = [tracker.track(s.depth, s.camera)[0] for s in sequence[:4]]
+        assert all(r.status == "tracked" for r in results), results
+        confirmed[confirm] = [r.confirmed for r in results]
+    assert not any(confirmed[False])
+    assert not confirmed[True][0] and any(confirmed[True]), confirmed[True]
 
 
 def test_same_seed_same_poses(sequence):
@@ -92,6 +115,12 @@ def test_bad_arguments(sequence):
     mesh = sequence[0].target
     with pytest.raises(pf.Error, match="lost_weight"):
         pf.Tracker(mesh, lost_weight=2.0)
+    with pytest.raises(pf.Error, match=r"confirm_margin must be in \[0, 1\] \(got 1.5\)"):
+        pf.Tracker(mesh, confirm_margin=1.5)
+    with pytest.raises(TypeError, match="option 'confirm' cannot take the value 'yes'"):
+        pf.Tracker(mesh, confirm="yes")
+    with pytest.raises(TypeError, match="option 'search_t' cannot take the value 'far'"):
+        pf.Tracker(mesh, search_t="far")
     with pytest.raises(TypeError, match="unknown option 'particle'"):
         pf.Tracker(mesh, particle=10)
     with pytest.raises(pf.Error, match="particles"):

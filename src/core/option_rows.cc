@@ -17,8 +17,9 @@ template <class T>
 std::string ShortestNumberText(T v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   if (std::isfinite(v) && v == std::trunc(v) && std::fabs(v) < 1e15) return std::to_string(static_cast<long long>(v));
+  // The shortest digits that read back, fixed-point down to 1e-4 ("0.0001", not "1e-04").
   char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general);
   return std::string(buf, r.ptr);
 }
 
@@ -229,6 +230,11 @@ std::string OptionRowsMarkdown(std::span<const OptionInfo> rows, const void* def
           f.ValueTextAt(f.ref(const_cast<void*>(defaults))) + " | " + range + " | " + f.help + " |\n";
   }
   return md;
+}
+
+std::string OptionSetMarkdown(const std::string& title, const std::string& intro, std::span<const OptionInfo> rows,
+                              const void* defaults) {
+  return "\n## " + title + "\n\n" + intro + "\n\n" + OptionRowsMarkdown(rows, defaults);
 }
 
 }  // namespace posefilter

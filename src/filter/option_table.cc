@@ -295,11 +295,6 @@ std::string ThesisText(const OptionInfo& f) {
   return std::string(f.thesis) + (f.thesis_kept ? " (kept)" : "");
 }
 
-// An option set's section of docs/OPTIONS.md.
-std::string SetSection(const char* title, const char* intro, std::span<const OptionInfo> rows, const void* defaults) {
-  return std::string("\n## ") + title + "\n\n" + intro + "\n\n" + OptionRowsMarkdown(rows, defaults);
-}
-
 }  // namespace
 
 std::string OptionTableMarkdown() {
@@ -313,7 +308,8 @@ std::string OptionTableMarkdown() {
       "option; setting one away from its default for another engine prints a warning. Thesis: the thesis's value\n"
       "(Ch. 7) where it fixes one; `hw-report`'s thesis configuration sets it, except where marked (kept): there it\n"
       "keeps the value given (the run's scale, thresholds).\n\n"
-      "Then the options of the tracker, the scene pass and the auto prior, from tables of the same kind.\n\n"
+      "Then the options of the tracker, the scene pass, the auto prior and the synthetic scenes, from tables of the\n"
+      "same kind.\n\n"
       "This file is the output of `posefilter options --markdown`; a test keeps them equal.\n";
   const char* group = "";
   for (const OptionInfo& f : Table()) {
@@ -330,20 +326,20 @@ std::string OptionTableMarkdown() {
           " |\n";
   }
   const TrackOptions track;
-  md += SetSection("Tracker",
-                   "`posefilter track` and `posefilter.Tracker` (C++: `posefilter::TrackOptions`, posefilter/tracker.h); the "
-                   "tracking step's filter options are the filter options above.",
-                   TrackOptionTable(), &track);
+  md += OptionSetMarkdown("Tracker",
+                          "`posefilter track` and `posefilter.Tracker` (C++: `posefilter::TrackOptions`, "
+                          "posefilter/tracker.h); the tracking step's filter options are the filter options above.",
+                          TrackOptionTable(), &track);
   const ScenePassOptions pass;
-  md += SetSection("Scene pass",
-                   "The joint pass over several objects' estimates (C++: `posefilter::ScenePassOptions`, "
-                   "posefilter/scene_pass.h).",
-                   ScenePassOptionTable(), &pass);
+  md += OptionSetMarkdown("Scene pass",
+                          "The joint pass over several objects' estimates (C++: `posefilter::ScenePassOptions`, "
+                          "posefilter/scene_pass.h).",
+                          ScenePassOptionTable(), &pass);
   const AutoPriorOptions autop;
-  md += SetSection("Auto prior",
-                   "`--prior auto`: regions above the support and PPF pose proposals (C++: `posefilter::AutoPriorOptions`, "
-                   "posefilter/auto_prior.h).",
-                   AutoPriorOptionTable(), &autop);
+  md += OptionSetMarkdown("Auto prior",
+                          "`--prior auto`: regions above the support and PPF pose proposals (C++: "
+                          "`posefilter::AutoPriorOptions`, posefilter/auto_prior.h).",
+                          AutoPriorOptionTable(), &autop);
   return md;
 }
 

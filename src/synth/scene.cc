@@ -246,44 +246,6 @@ RgbImage PreviewImage(const SynthScene& s) {
 
 using synth::InRange;
 
-}  // namespace
-
-bool SynthOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  std::string sub;
-  if (!camera.IsValid(&sub)) return fail("camera: " + sub);
-  if (camera.width < 80 || camera.height < 60)
-    return fail("camera: image must be at least 80×60 pixels (the prior pyramid's finest level)");
-  if (!std::isfinite(depth_scale) || depth_scale <= 0) return fail("depth_scale must be finite and > 0");
-  if (target_mesh != nullptr) {
-    if (!target_mesh->IsValid(&sub)) return fail("target_mesh: " + sub);
-    if (target_mesh->name.empty()) return fail("target_mesh: the mesh needs a name (its class)");
-  } else {
-    const auto kinds = SynthClassNames();
-    if (std::find(kinds.begin(), kinds.end(), target) == kinds.end()) {
-      std::string list;
-      for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
-      return fail("target: unknown kind '" + target + "' (kinds: " + list + ")");
-    }
-  }
-  if (!InRange(min_distance_m, 0.2, 5.0)) return fail("min_distance_m must be in [0.2, 5] m");
-  if (!InRange(max_distance_m, 0.2, 5.0)) return fail("max_distance_m must be in [0.2, 5] m");
-  if (min_distance_m > max_distance_m) return fail("min_distance_m must be <= max_distance_m");
-  if (!InRange(occlusion, 0.0, 0.9)) return fail("occlusion must be in [0, 0.9]");
-  if (clutter < 0 || clutter > 20) return fail("clutter must be in [0, 20]");
-  if (!InRange(noise_sigma_m, 0.0, 0.05)) return fail("noise_sigma_m must be in [0, 0.05] m");
-  if (!InRange(hole_fraction, 0.0, 0.5)) return fail("hole_fraction must be in [0, 0.5]");
-  if (!InRange(box_jitter_px, 0.0, 100.0)) return fail("box_jitter_px must be in [0, 100] px");
-  if (!InRange(miss_probability, 0.0, 1.0)) return fail("miss_probability must be in [0, 1]");
-  if (false_positives < 0 || false_positives > 100) return fail("false_positives must be in [0, 100]");
-  return true;
-}
-
-namespace {
-
 // The scene of MakeSynthScene, or each frame of MakeSynthSequence (motion != nullptr): the world
 // (table, target at frame 0, occluder, clutter) is built once; then per frame the target is
 // moved (target_at) and everything rendered, with the sensor model and the prior drawn from

@@ -312,9 +312,9 @@ TEST_F(CliTest, NonsenseOptionValues) {
 // Scene options of the commands that make synthetic scenes: the message names the CLI option.
 TEST_F(CliTest, SynthAndSuiteNameTheSceneOption) {
   ExpectInputError(Run({"synth", "--out", Path("bad_synth"), "--max-distance", "9"}), "synth",
-                   "--max-distance (max_distance_m): must be in [0.2, 5] m");
+                   "--max-distance (max_distance_m): must be in [0.2, 5] (got 9)");
   ExpectInputError(Run({"suite", "--count", "1", "--min-distance", "0.1"}), "suite",
-                   "--min-distance (min_distance_m): must be in [0.2, 5] m");
+                   "--min-distance (min_distance_m): must be in [0.2, 5] (got 0.1)");
   ExpectInputError(Run({"suite", "--count", "1", "--false-positives", "-1"}), "suite", "--false-positives");
   ExpectInputError(Run({"suite", "--world", "ycbv", "--min-objects", "0"}), "suite", "--min-objects");
   ExpectInputError(Run({"suite", "--world", "ycbv", "--max-distance", "0.4"}), "suite", "--max-distance");

@@ -21,6 +21,7 @@
 #include "posefilter/heuristics.h"
 #include "posefilter/option_table.h"
 #include "posefilter/scene_pass.h"
+#include "posefilter/synth.h"
 #include "posefilter/tracker.h"
 
 namespace posefilter {
@@ -120,6 +121,13 @@ TEST(OptionRows, EveryFieldOfTheOtherSetsHasARow) {
   ExpectRowsCoverStruct(TrackOptionTable(), {{"", DirectFieldCount<TrackOptions>()}}, {"filter", "init"});
   ExpectRowsCoverStruct(ScenePassOptionTable(), {{"", DirectFieldCount<ScenePassOptions>()}}, {});
   ExpectRowsCoverStruct(AutoPriorOptionTable(), {{"", DirectFieldCount<AutoPriorOptions>()}}, {"surfaces", "ppf"});
+  // SynthOptions: every field but the camera and the target mesh (a pointer) is a row.
+  EXPECT_EQ(DirectFieldCount<SynthOptions>(), 14u);
+  ExpectRowsCoverStruct(SynthOptionTable(), {{"", DirectFieldCount<SynthOptions>()}}, {"camera", "target_mesh"});
+  std::vector<OptionInfo> fewer(SynthOptionTable().begin(), SynthOptionTable().end());
+  fewer.pop_back();
+  EXPECT_NONFATAL_FAILURE(
+      ExpectRowsCoverStruct(fewer, {{"", DirectFieldCount<SynthOptions>()}}, {"camera", "target_mesh"}), "has no row");
 }
 
 // The heuristic volumes' ranges and help are HeuristicOptionTable's: the filter's heuristics-*
@@ -196,6 +204,7 @@ TEST(OptionRows, TheOtherSetsCheckTheirRowsRanges) {
   AutoPriorOptions a;
   ExpectBoundsChecked(AutoPriorOptionTable(), a);
   ExpectBoundsChecked(HeuristicOptionTable(), HeuristicOptions{});
+  ExpectBoundsChecked(SynthOptionTable(), SynthOptions{});
   TrackOptions t;
   t.search_r_rad = 4;
   std::string why;
@@ -205,12 +214,21 @@ TEST(OptionRows, TheOtherSetsCheckTheirRowsRanges) {
   a.min_height_m = a.max_height_m;
   EXPECT_FALSE(a.IsValid(&why));
   EXPECT_EQ(why, "min_height_m must be < max_height_m");
+  SynthOptions so;
+  so.min_distance_m = 1.5;  // in range, above max_distance_m
+  EXPECT_FALSE(so.IsValid(&why));
+  EXPECT_EQ(why, "min_distance_m must be <= max_distance_m");
+  so = {};
+  so.noise_sigma_m = NAN;
+  EXPECT_FALSE(so.IsValid(&why));
+  EXPECT_EQ(why, "noise_sigma_m must be in [0, 0.05] (got nan)");
 }
 
 TEST(OptionRows, TheOtherSetsAreNamedThreeWaysAndReadBack) {
   std::set<std::string> cli;
   for (const OptionInfo& f : FilterOptionTable()) cli.insert(f.name);
-  for (const std::span<const OptionInfo> rows : {TrackOptionTable(), ScenePassOptionTable(), AutoPriorOptionTable()}) {
+  for (const std::span<const OptionInfo> rows :
+       {TrackOptionTable(), ScenePassOptionTable(), AutoPriorOptionTable(), SynthOptionTable()}) {
     for (const OptionInfo& f : rows) {
       SCOPED_TRACE(f.name);
       EXPECT_TRUE(cli.insert(f.name).second) << "a CLI flag of two options";
@@ -234,6 +252,22 @@ TEST(OptionRows, TheOtherSetsAreNamedThreeWaysAndReadBack) {
   ASSERT_TRUE(margin.SetFromText(t, "0.5", &why)) << why;
   EXPECT_EQ(t.window_margin, 0.5);
   EXPECT_EQ(margin.RangeText(), "(0, 2]");
+  // make_synth_scene's keywords are SynthOptions' fields, in the struct's order.
+  keywords.clear();
+  for (const OptionInfo& f : SynthOptionTable()) {
+    EXPECT_EQ(f.Name(OptionNaming::kPython), f.field);
+    keywords.push_back(f.Name(OptionNaming::kPython));
+  }
+  EXPECT_EQ(keywords, (std::vector<std::string>{"depth_scale", "target", "min_distance_m", "max_distance_m",
+                                                "occlusion", "clutter", "noise_sigma_m", "hole_fraction",
+                                                "missing_edges", "box_jitter_px", "miss_probability",
+                                                "false_positives"}));
+  const OptionInfo& noise = *FindOptionRow(SynthOptionTable(), "noise");
+  SynthOptions so;
+  EXPECT_EQ(FindOptionRow(SynthOptionTable(), "depth-scale")->ValueText(so), "0.0001");
+  ASSERT_TRUE(noise.SetFromText(so, "0.002", &why)) << why;
+  EXPECT_EQ(so.noise_sigma_m, 0.002);
+  EXPECT_EQ(noise.RangeText(), "[0, 0.05]");
 }
 
 }  // namespace

@@ -1,16 +1,15 @@
 // The option table (posefilter/option_table.h): every row's range is what IsValid checks, names
-// are unique and spelt three ways, ignored options are reported, docs/OPTIONS.md is its output.
+// are unique and spelt three ways, ignored options are reported (docs/OPTIONS.md, its output with
+// the other sets', is checked in tests/cli/option_flags_test.cc).
 #include "posefilter/option_table.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <set>
 #include <span>
 #include <stdexcept>
-#include <sstream>
 #include <string>
 
 #include "posefilter/filter.h"
@@ -229,14 +228,6 @@ TEST(OptionTable, SetFromTextRejectsWhatDoesNotRead) {
   // A row used on another struct is a programming error, caught.
   TrackOptions t;
   EXPECT_THROW(FindOption("particles")->ValueText(t), std::logic_error);
-}
-
-TEST(OptionTable, DocsOptionsMdIsTheTable) {
-  std::ifstream in(std::string(POSEFILTER_SOURCE_DIR) + "/docs/OPTIONS.md");
-  ASSERT_TRUE(in) << "docs/OPTIONS.md is missing";
-  std::stringstream text;
-  text << in.rdbuf();
-  EXPECT_EQ(text.str(), OptionTableMarkdown()) << "regenerate: posefilter options --markdown > docs/OPTIONS.md";
 }
 
 }  // namespace

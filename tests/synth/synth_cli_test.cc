@@ -78,6 +78,39 @@ TEST(SynthCli, RejectsBadOptions) {
   fs::remove_all(out);
 }
 
+// The shapes world's options, flags of SynthOptionTable's rows, on the YCB worlds: those the YCB
+// worlds read pass the check; the others, either form of a switch, are refused by name.
+TEST(SynthCli, ShapeOptionsOnTheYcbWorlds) {
+  const std::string out = TempDir("ycbv");
+  const std::string models = TempDir("ycbv_models");  // no meshes: a world that passes the check fails later
+  struct Case {
+    std::vector<std::string> flag;
+    std::string message;  // "" = passes the check
+  };
+  const Case cases[] = {
+      {{"--noise", "0.002"}, "--noise does not apply to --world room (shapes only)"},
+      {{"--no-missing-edges"}, "--missing-edges/--no-missing-edges does not apply"},
+      {{"--missing-edges"}, "--missing-edges/--no-missing-edges does not apply"},
+      {{"--target", "box"}, "--target does not apply"},
+      {{"--unit-scale", "2"}, "--unit-scale does not apply"},
+      {{"--box-jitter", "3"}, ""},
+      {{"--max-distance", "1.2"}, ""},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.flag[0]);
+    std::vector<std::string> args = {"--out", out, "--world", "room", "--models", models};
+    args.insert(args.end(), c.flag.begin(), c.flag.end());
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(RunSynthCli(args), 1);
+    const std::string err = testing::internal::GetCapturedStderr();
+    if (c.message.empty())
+      EXPECT_EQ(err.find("does not apply"), std::string::npos) << err;
+    else
+      EXPECT_NE(err.find(c.message), std::string::npos) << err;
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(SynthCli, BinaryExitStatus) {
   const std::string out = TempDir("bin");
   const std::string cli = POSEFILTER_CLI_PATH;
