@@ -48,7 +48,7 @@ constexpr int kLabelTarget = 1;
 constexpr int kLabelOccluder = 2;
 constexpr int kLabelClutterFirst = 3;
 
-constexpr double kDeg = M_PI / 180.0;
+using synth::kDeg;
 constexpr double kEdgeJumpM = 0.02;            // missing-edge threshold |Δz|, metres
 constexpr double kClutterMaxHiddenFrac = 0.005;  // clutter may hide ≤ 0.5 % of the target
 constexpr int kMinTargetPixels = 20;
