@@ -265,7 +265,7 @@ TEST_F(CliTest, WrongUnitsAreNamed) {
 // The same checks in the hw engine. Skipped in a build without it (CMake option
 // POSEFILTER_HW=OFF, as in the asan preset), with its registry row's reason.
 TEST_F(CliTest, TheHwEngineNamesWrongUnits) {
-  if (std::string why; !filter::FindEngine("hw")->available(&why)) GTEST_SKIP() << "hw engine not built: " << why;
+  if (std::string why; !filter::FindEngine("hw")->available(&why)) GTEST_SKIP() << why;
   ExpectInputError(Run(SmallBoxEstimate(Scene("depth.png"), Scene("camera.json"),
                                         {"--unit-scale", "0.001", "--engine", "hw"})),
                    "estimate", "--unit-scale");
