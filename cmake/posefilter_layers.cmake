@@ -55,6 +55,14 @@ function(posefilter_add_layer name)
     endif()
   endforeach()
   target_compile_options(${target} PRIVATE -Wall -Wextra)
+  # Unity build (POSEFILTER_UNITY_LIBRARY, the asan preset). CMake compiles a source with its own
+  # COMPILE_OPTIONS or COMPILE_DEFINITIONS on its own (the cpu kernel per instruction set, the
+  # fuzzed readers' coverage flags); a source that must not share a batch for another reason sets
+  # SKIP_UNITY_BUILD_INCLUSION in its layer's CMakeLists.txt. File-local names (anonymous
+  # namespaces) must differ between the sources of one layer.
+  if(POSEFILTER_UNITY_LIBRARY)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  endif()
   if(POSEFILTER_PCH)
     if(name STREQUAL "core")
       target_precompile_headers(${target} PRIVATE <Eigen/Core> <Eigen/Geometry> <nlohmann/json.hpp>

@@ -6,9 +6,11 @@
 #
 #   scripts/sanitize.sh [--all] [--build-only | --test-only] [ctest arguments...]
 #
-# Default (CI): the library, the CLI and the tests of the file readers and the CLI: the ctest
-# labels core, prior, eval and cli (every test that parses input or runs the `posefilter`
-# binary). --all: every test binary (render, filter, synth and hw too; about twice the time).
+# Default (CI): the library without the hw engine (the preset's POSEFILTER_HW=OFF; the release
+# tests cover it), the CLI and the tests of the file readers and the CLI: the ctest labels core,
+# prior, eval and cli (every test that parses input or runs the `posefilter` binary). --all:
+# the hw engine too (configured with POSEFILTER_HW=ON; the next default run configures it off
+# again) and every test binary (render, filter, synth, view and hw too; about twice the time).
 # Exits non-zero when a test fails or when any process, including a `posefilter` run started by
 # a CLI test, wrote a sanitizer report (reports go to build/asan/sanitizer-logs/ and are
 # printed). --build-only stops after the build, --test-only runs the tests of an earlier build
@@ -25,10 +27,12 @@ if ! command -v clang++ >/dev/null; then
 fi
 labels='core|prior|eval|cli'
 targets=(posefilter_bin core_test prior_test eval_test cli_test)
+configure=()
 if [ "${1:-}" = --all ]; then
   shift
   labels=''
   targets=(all)
+  configure=(-DPOSEFILTER_HW=ON)
 fi
 build=1
 tests=1
@@ -37,7 +41,7 @@ case "${1:-}" in
   --test-only) build=0; shift ;;
 esac
 if [ "$build" = 1 ]; then
-  cmake --preset asan >/dev/null
+  cmake --preset asan "${configure[@]}" >/dev/null
   cmake --build --preset asan --parallel "$jobs" --target "${targets[@]}"
 fi
 [ "$tests" = 1 ] || exit 0

@@ -34,6 +34,7 @@ bool GpuIsNotCpuDriver() {
 }
 bool GpuEngineAvailable(std::string* why) { return render::GpuAvailable(why); }
 bool HwEngineAvailable(std::string* why) { return HwEngineBuilt(why); }
+bool HwListedByDefault() { return HwEngineBuilt(nullptr); }
 bool RtlEngineAvailable(std::string* why) { return RtlEngineBuilt(why); }
 
 std::string DescribeCpuEngine() {
@@ -61,7 +62,7 @@ constexpr EngineRow kEngineRows[] = {
     {"cpu", kEngineCpu, "SIMD float kernel (the reference's results)", true, ListedByDefault, FloatFilterRuns, MakeCpuWeigher,
      AlwaysAvailable, DescribeCpuEngine},
     // Runs of its own (hw_driver.cc); a float context with its options weighs with the reference.
-    {"hw", kEngineHw, "C simulation of the FPGA design (fixed point)", false, ListedByDefault, HwModelRuns, MakeReferenceWeigher,
+    {"hw", kEngineHw, "C simulation of the FPGA design (fixed point)", false, HwListedByDefault, HwModelRuns, MakeReferenceWeigher,
      HwEngineAvailable, DescribeHwEngine},
     {"gpu", kEngineGpu, "Vulkan compute (the reference's counts)", true, GpuIsNotCpuDriver, FloatFilterRuns, MakeGpuWeigher,
      GpuEngineAvailable, DescribeGpuEngine},

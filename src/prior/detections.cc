@@ -10,16 +10,14 @@
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/prior.h"
+#include "prior/option_check.h"
 
 namespace posefilter {
 namespace {
 
 using nlohmann::json;
 
-bool Fail(std::string* why, const std::string& msg) {
-  if (why) *why = msg;
-  return false;
-}
+using prior::Fail;
 
 // Checks one detection; returns "" when fine, else what is wrong (naming the key).
 std::string DetectionProblem(const Detection& d) {

@@ -12,16 +12,14 @@
 #include "core/threads.h"
 #include "posefilter/option_rows.h"
 #include "posefilter/error.h"
+#include "prior/option_check.h"
 #include "prior/quantiles.h"
 #include "prior/volume_cache.h"
 
 namespace posefilter {
 namespace {
 
-bool Fail(std::string* why, const std::string& msg) {
-  if (why) *why = msg;
-  return false;
-}
+using prior::Fail;
 
 struct Scratch {
   std::vector<double> x, y, z;

@@ -12,14 +12,12 @@
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/prior.h"
+#include "prior/option_check.h"
 
 namespace posefilter {
 namespace {
 
-bool Fail(std::string* why, const std::string& msg) {
-  if (why) *why = msg;
-  return false;
-}
+using prior::Fail;
 
 std::string RawFieldName(int field, int num_classes) {
   if (field < num_classes) return "class logit " + std::to_string(field);

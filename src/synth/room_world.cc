@@ -31,8 +31,8 @@
 namespace posefilter {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-constexpr int kPad = 400;  // canvas margin of the objects' full silhouettes, px (as the table world)
+using synth::kDeg;
+using synth::kPad;
 constexpr int kViews = 40;
 
 using Vec2 = Eigen::Vector2d;
@@ -196,7 +196,7 @@ Furniture Build(Kind kind, const Vec2& centre, double yaw, double h, double sa, 
 }
 
 // A placed object: its model, stable pose and pose in the room, footprint in its top's frame.
-struct Placed {
+struct PlacedInRoom {
   int model = -1;
   int pose = -1;
   int support = 0;
@@ -396,7 +396,7 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
   std::vector<int> order(models.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = int(i);
   for (std::size_t i = 0; i + 1 < order.size(); ++i) std::swap(order[i], order[i + rng_objects.UniformInt(order.size() - i)]);
-  std::vector<Placed> placed;
+  std::vector<PlacedInRoom> placed;
   std::vector<std::vector<Polygon>> taken(supports.size());
   std::size_t next_class = 0;
   for (std::size_t sidx = 0; sidx < supports.size(); ++sidx) {
@@ -409,7 +409,7 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
       const Resting rest = Rest(model.mesh, model.poses[std::size_t(pose)].T_table_obj, rng_objects.Uniform(-M_PI, M_PI));
       Vec2 at;
       if (!PlaceOnTop(rest, top, taken[sidx], opt.touch_probability, rng_objects, &at)) continue;
-      Placed p;
+      PlacedInRoom p;
       p.model = m;
       p.pose = pose;
       p.support = int(sidx);
@@ -441,7 +441,7 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
   if (placed.empty()) throw Error("room scene " + std::to_string(seed) + ": no object fits on the support");
 
   Vec3 centre = Vec3::Zero();
-  for (const Placed& p : placed) centre += p.T_R_obj.translation();
+  for (const PlacedInRoom& p : placed) centre += p.T_R_obj.translation();
   centre /= double(placed.size());
 
   // 3. Views.
@@ -546,7 +546,7 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
           break;
       }
       bool ok = in_room(pos, f.radius) && (pos - c2).norm() > f.radius + 0.4;
-      for (const Placed& p : placed) ok = ok && SegmentDistance(pos, c2, p.T_R_obj.translation().head<2>()) > f.radius + 0.1;
+      for (const PlacedInRoom& p : placed) ok = ok && SegmentDistance(pos, c2, p.T_R_obj.translation().head<2>()) > f.radius + 0.1;
       for (const Furniture& g : furniture) ok = ok && (pos - g.centre).norm() > f.radius + g.radius + 0.05;
       if (!ok) continue;
       furniture.push_back(std::move(f));
@@ -593,7 +593,7 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
       const Vec2 p2 = T.translation().head<2>();
       if (on_floor) {
         bool ok = in_room(p2, rest.radius) && (p2 - c2).norm() > 0.3;
-        for (const Placed& p : placed) ok = ok && SegmentDistance(p2, c2, p.T_R_obj.translation().head<2>()) > rest.radius + 0.05;
+        for (const PlacedInRoom& p : placed) ok = ok && SegmentDistance(p2, c2, p.T_R_obj.translation().head<2>()) > rest.radius + 0.05;
         for (const Furniture& g : furniture) ok = ok && (p2 - g.centre).norm() > rest.radius + g.radius;
         if (!ok) continue;
       }
@@ -616,7 +616,7 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
     // Objects' poses in the camera, their full silhouettes (on a padded canvas) and boxes.
     std::vector<TableObject> objects;
     std::vector<std::size_t> alone;
-    for (const Placed& p : placed) {
+    for (const PlacedInRoom& p : placed) {
       TableObject o;
       o.model = p.model;
       o.cls = models[std::size_t(p.model)].mesh.name;

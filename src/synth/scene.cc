@@ -39,6 +39,7 @@
 #include "posefilter/rng.h"
 #include "posefilter/synth.h"
 #include "synth/synth_util.h"
+#include "synth/world_parts.h"
 
 namespace posefilter {
 namespace {
@@ -48,7 +49,7 @@ constexpr int kLabelTarget = 1;
 constexpr int kLabelOccluder = 2;
 constexpr int kLabelClutterFirst = 3;
 
-constexpr double kDeg = M_PI / 180.0;
+using synth::kDeg;
 constexpr double kEdgeJumpM = 0.02;            // missing-edge threshold |Δz|, metres
 constexpr double kClutterMaxHiddenFrac = 0.005;  // clutter may hide ≤ 0.5 % of the target
 constexpr int kMinTargetPixels = 20;
@@ -165,9 +166,7 @@ void AddNoiseAndQuantise(DepthImage* depth, double sigma_1m, double depth_scale,
 // ---------------------------------------------------------------------------------------------
 // Stage-1 prior.
 
-Detection ToDetection(const std::string& cls, double score, const Box& b) {
-  return {cls, score, b.cx - b.w / 2, b.cy - b.h / 2, b.w, b.h};
-}
+using synth::ToDetection;
 
 // The detection list: the target's (jittered, unless missed) first, then false positives of
 // random classes with random boxes that barely overlap the target (IoU ≤ 0.1 when possible).

@@ -15,6 +15,9 @@
 
 namespace posefilter::synth {
 
+// Radians per degree.
+inline constexpr double kDeg = M_PI / 180.0;
+
 // v is finite and lo <= v <= hi (the synthetic worlds' option checks).
 inline bool InRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 

@@ -39,10 +39,10 @@
 namespace posefilter {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using synth::kDeg;
+using synth::kPad;
 constexpr double kTableHeightM = 0.74;     // floor below the table top
 constexpr double kMaxGroupRadiusM = 0.25;  // objects are placed within this of the first one
-constexpr int kPad = 400;                  // canvas margin of the objects' full silhouettes, px
 
 using Vec2 = Eigen::Vector2d;
 using Polygon = std::vector<Vec2>;

@@ -20,6 +20,10 @@
 
 namespace posefilter::synth {
 
+// The canvas margin, px, around the image on which each object's full silhouette is rendered
+// (the part the image border cuts off counts as hidden).
+inline constexpr int kPad = 400;
+
 // Convex hull of 2-D points (Andrew's monotone chain), counter-clockwise.
 std::vector<Eigen::Vector2d> ConvexHull2d(std::vector<Eigen::Vector2d> pts);
 // True when the convex polygons a and b are at least `gap` (metres) apart along one of their
