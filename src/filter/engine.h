@@ -45,7 +45,7 @@ class EngineRuns {
 // what their options read); `prior` outlives the result. The hw engine takes the mesh itself
 // (it makes its own hardware mesh); `prep`, `mesh` and `prior` outlive its result. Throws
 // Error on inputs the engine cannot take.
-std::unique_ptr<EngineRuns> MakeFloatEngine(std::shared_ptr<const PreparedScene> prep,
+std::unique_ptr<EngineRuns> MakeFloatEngine(const std::shared_ptr<const PreparedScene>& prep,
                                             std::shared_ptr<const ModelLod> model, const Prior& prior, int cls,
                                             const FilterOptions& options);  // particle_filter.cc
 std::unique_ptr<EngineRuns> MakeHwEngine(const PreparedScene& prep, const Mesh& mesh, const Prior& prior, int cls,

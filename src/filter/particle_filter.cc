@@ -728,7 +728,7 @@ namespace {
 // the weigher, normals) serve every run and the final polish; each run keeps its own RunState.
 class FloatEngine final : public filter::EngineRuns {
  public:
-  FloatEngine(std::shared_ptr<const filter::PreparedScene> prep, std::shared_ptr<const filter::ModelLod> model,
+  FloatEngine(const std::shared_ptr<const filter::PreparedScene>& prep, std::shared_ptr<const filter::ModelLod> model,
               const Prior& prior, int cls, const FilterOptions& options)
       : ctx_(BuildContext(prep, std::move(model), prior, cls, options, true)), scratch_(filter::MakeScratch(ctx_)) {
     // A cell without a heuristic volume cannot host a particle (App. B: check_pose()).
@@ -759,9 +759,9 @@ class FloatEngine final : public filter::EngineRuns {
 
 namespace filter {
 
-std::unique_ptr<EngineRuns> MakeFloatEngine(std::shared_ptr<const PreparedScene> prep, std::shared_ptr<const ModelLod> model,
+std::unique_ptr<EngineRuns> MakeFloatEngine(const std::shared_ptr<const PreparedScene>& prep, std::shared_ptr<const ModelLod> model,
                                             const Prior& prior, int cls, const FilterOptions& options) {
-  return std::make_unique<FloatEngine>(std::move(prep), std::move(model), prior, cls, options);
+  return std::make_unique<FloatEngine>(prep, std::move(model), prior, cls, options);
 }
 
 }  // namespace filter

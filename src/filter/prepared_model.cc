@@ -72,7 +72,10 @@ std::shared_ptr<const ModelLod> BuildModelLod(const Mesh& mesh, const ModelNeeds
   m.lod_max_faces = needs.lod_max_faces;
   Mesh storage;
   const Mesh& lod = MeshAtLod(mesh, needs.lod_max_faces, &storage);
-  m.lod = &lod == &mesh ? mesh : std::move(storage);
+  if (&lod == &mesh)
+    m.lod = mesh;
+  else
+    m.lod = std::move(storage);
   m.diameter = m.lod.Diameter();
   m.face_planes = FacePlanesOf(m.lod);
   // Coarse levels (FilterOptions::anneal.simplify): the mesh simplified to faces / factor² faces
@@ -159,7 +162,7 @@ PreparedModel::PreparedModel(Mesh mesh, std::vector<std::shared_ptr<const filter
     : mesh_(std::move(mesh)),
       lods_(std::move(lods)),
       ppf_(std::move(ppf)),
-      ppf_options_(std::move(ppf_options)),
+      ppf_options_(ppf_options),
       ppf_status_(std::move(ppf_status)) {}
 
 bool PreparedModel::HasPpf(const PpfOptions& options) const {

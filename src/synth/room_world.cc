@@ -392,7 +392,8 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
 
   // 2. Objects on the supports' first tops: the first ceil(k / n) on the first, the rest on the
   // second; classes in a shuffled order, one that does not fit is skipped.
-  const int k = opt.min_objects + int(rng_objects.UniformInt(std::uint64_t(opt.max_objects - opt.min_objects + 1)));
+  const int object_choices = opt.max_objects - opt.min_objects + 1;
+  const int k = opt.min_objects + int(rng_objects.UniformInt(std::uint64_t(object_choices)));
   std::vector<int> order(models.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = int(i);
   for (std::size_t i = 0; i + 1 < order.size(); ++i) std::swap(order[i], order[i + rng_objects.UniformInt(order.size() - i)]);
@@ -516,7 +517,8 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
     // Furniture around: not on the line of sight to any object, clear of the camera (40 cm)
     // and of other furniture.
     std::vector<Furniture> furniture = supports;
-    const int nf = opt.min_furniture + int(rng.UniformInt(std::uint64_t(opt.max_furniture - opt.min_furniture + 1)));
+    const int furniture_choices = opt.max_furniture - opt.min_furniture + 1;
+    const int nf = opt.min_furniture + int(rng.UniformInt(std::uint64_t(furniture_choices)));
     for (int i = 0, tries = 0; i < nf && tries < 60; ++tries) {
       const double u = rng.Uniform();
       const Kind kind = u < 0.35 ? Kind::kTabletChair : u < 0.55 ? Kind::kDesk : u < 0.7 ? Kind::kShelf : u < 0.85 ? Kind::kStool : Kind::kCrate;
@@ -557,7 +559,8 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
 
     // Distractors: on other furniture's tops (not the supports' object tops) or on the floor
     // within 2 m of the objects, never on the line of sight to an object.
-    const int nd = opt.min_distractors + int(rng.UniformInt(std::uint64_t(opt.max_distractors - opt.min_distractors + 1)));
+    const int distractor_choices = opt.max_distractors - opt.min_distractors + 1;
+    const int nd = opt.min_distractors + int(rng.UniformInt(std::uint64_t(distractor_choices)));
     std::vector<std::vector<Polygon>> on_top;
     std::vector<const Top*> tops;
     for (std::size_t fi = 0; fi < furniture.size(); ++fi)

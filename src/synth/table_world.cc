@@ -229,7 +229,8 @@ DepthImage ApplySensor(const DepthImage& clean, const std::vector<int>& labels, 
     if (pix.empty()) continue;
     for (int p = 0; p < patches; ++p) {
       const int k = pix[rng.UniformInt(pix.size())];
-      DropDisc(&d, k % W, k / W, rng.Uniform(3.0, 10.0));
+      const int column = k % W, row = k / W;  // the disc's centre pixel
+      DropDisc(&d, column, row, rng.Uniform(3.0, 10.0));
     }
   }
   synth::DropHoles(&d, s.hole_fraction, rng);
@@ -440,7 +441,8 @@ TableScene TableWorld::MakeScene(const TableSceneOptions& opt, std::uint64_t see
   const int W = cam.width, H = cam.height;
 
   // 1. Classes and stable poses.
-  const int k = opt.min_objects + int(rng_objects.UniformInt(std::uint64_t(opt.max_objects - opt.min_objects + 1)));
+  const int object_choices = opt.max_objects - opt.min_objects + 1;
+  const int k = opt.min_objects + int(rng_objects.UniformInt(std::uint64_t(object_choices)));
   std::vector<int> order(models_.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = int(i);
   for (std::size_t i = 0; i + 1 < order.size(); ++i)  // Fisher–Yates
@@ -636,7 +638,7 @@ TableScene TableWorld::MakeScene(const TableSceneOptions& opt, std::uint64_t see
     s.detections.push_back(ToDetection(o.cls, score, JitterBox(o.box, opt.box_jitter_px, scale, rng_prior)));
   }
   for (int i = 0; i < opt.false_positives; ++i) {
-    const std::string cls = classes[rng_prior.UniformInt(classes.size())];
+    const std::string& cls = classes[rng_prior.UniformInt(classes.size())];
     const double score = rng_prior.Uniform(0.05, 0.9);
     const bool on_object = i % 2 == 0;
     const TableObject& other = s.objects[rng_prior.UniformInt(s.objects.size())];
