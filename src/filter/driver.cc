@@ -193,7 +193,8 @@ EstimateResult Estimate(const SceneInput& scene, const PreparedModel* model, con
                         int cls, const FilterOptions& options, const ProgressFn& progress) {
   const auto t_start = filter::Clock::now();
   ThrowIfInvalid(options, OptionNaming::kField);
-  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
+  auto prep = std::make_shared<const filter::PreparedScene>(
+      filter::PrepareScene(scene, options, "scene", model ? model->thickness_m() : filter::MeshThickness(mesh)));
   return EstimateOn(std::move(prep), model, mesh, prior, cls, options, progress, t_start);
 }
 
@@ -203,7 +204,9 @@ EstimateResult EstimateFrame(const PreparedFrame& frame, const ObjectInput& obje
                              const ProgressFn& progress) {
   const auto t_start = filter::Clock::now();
   ThrowIfInvalid(options, OptionNaming::kField);
-  return EstimateOn(filter::SceneFor(frame, object, options), model, mesh, prior, cls, options, progress, t_start);
+  const double thickness = model ? model->thickness_m() : filter::MeshThickness(mesh);
+  return EstimateOn(filter::SceneFor(frame, object, options, "scene", thickness), model, mesh, prior, cls, options,
+                    progress, t_start);
 }
 
 }  // namespace
