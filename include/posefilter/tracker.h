@@ -10,7 +10,8 @@
 //      reference weight less confirm_margin. Otherwise a short particle filter run
 //      (TrackOptions::filter: few particles, few iterations, no annealing, small moves) whose
 //      initial particles are the predicted and the last pose jittered by (search_t_m,
-//      search_r_rad), weighed in the same window;
+//      search_r_rad), weighed in the same window; after a failed confirmation it ends once
+//      its best particle weighs the reference;
 //   3. judge: a best weight below lost_weight means the object is lost; it is then
 //      re-initialised by a full estimate (TrackOptions::init) from the frame's stage 1, if
 //      the caller gives one, and stays lost otherwise (the next frames search about its last
@@ -79,9 +80,11 @@ struct TrackOptions {
   // Confirm the prediction before searching: the predicted pose, polished alone (filter's
   // polish: its ICP steps), is the frame's pose when it weighs at least refresh_weight,
   // lost_weight and the object's reference weight less confirm_margin; the particle search runs only
-  // otherwise. The reference weight is the weight of the object's last particle search or
-  // (re-)initialisation, raised by the confirmations since; an object that has neither (just
-  // Reset, or lost) is searched. false = every frame runs the particle search.
+  // otherwise, and then ends as soon as its best particle weighs the reference (the filter's
+  // stop.confidence, where that is lower). The reference weight is the weight of the object's
+  // last particle search or (re-)initialisation, raised by the confirmations since; an object
+  // that has neither (just Reset, or lost) is searched to the end. false = every frame runs the
+  // whole particle search.
   bool confirm = true;
   double confirm_margin = 0.02;  // weight (eq. 7.4 [ALGORITHM.md] units), [0, 1]
 

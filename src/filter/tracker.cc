@@ -322,9 +322,12 @@ TrackResult Tracker::Search(const Camera& cam, std::size_t k, SearchCounts* coun
     const Eigen::Isometry3d& base = i % 2 == 0 ? predicted : s.last;
     win.scene.seeds.push_back({i < 2 ? base : Jitter(base, options_.search_t_m, options_.search_r_rad, rng), 1.0});
   }
+  FilterOptions so = StepOptions(StepSeed(fo.seed, frame_, k, 1));
+  // After a failed confirmation the search ends as soon as its best particle weighs the
+  // reference: the object is found again as well as its last search found it.
+  if (options_.confirm && s.has_reference) so.stop.confidence = std::min(so.stop.confidence, s.reference);
   try {
-    const EstimateResult e =
-        EstimatePose(win.scene, *models_[k], win.prior, 0, StepOptions(StepSeed(fo.seed, frame_, k, 1)));
+    const EstimateResult e = EstimatePose(win.scene, *models_[k], win.prior, 0, so);
     counts->weighings += e.stats.weighings;
     r.T_cam_obj = e.T_cam_obj;
     r.weight = e.weight;

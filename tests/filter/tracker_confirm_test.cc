@@ -99,6 +99,37 @@ TEST_F(TrackerConfirmTest, ConfirmedFramesTrackAsTheSearchDoesWithFarFewerWeighi
   EXPECT_LT(2 * on.stats.weighings, off.stats.weighings) << "the confirmations weigh far less than the searches";
 }
 
+TEST_F(TrackerConfirmTest, ASearchAfterAFailedConfirmationEndsAtTheReferenceWeight) {
+  // Confirmations that never pass (a floor of 0.999): every frame is searched, and each search
+  // after the first has a reference to end at. With the filter's own confidence stop off
+  // (1.0), it finds every frame with fewer weighings than the searches without the
+  // confirmation, which run to their last iteration or stall, and each of its searches that
+  // ended early (before the stall rule could end it: 2 iterations without gain) reached the
+  // reference.
+  const std::vector<SynthScene>& seq = *moving_;
+  TrackOptions failing = ConfirmTrackOptions(true);
+  failing.refresh_weight = 0.999;
+  failing.filter.stop.confidence = 1.0;
+  const ConfirmRun on = TrackSequence(seq, failing);
+  TrackOptions off_options = ConfirmTrackOptions(false);
+  off_options.refresh_weight = 0.999;
+  off_options.filter.stop.confidence = 1.0;
+  const ConfirmRun off = TrackSequence(seq, off_options);
+  EXPECT_EQ(on.stats.confirmed, 0);
+  double reference = on.results[0].weight;
+  int ended_at_reference = 0;
+  for (std::size_t t = 0; t < seq.size(); ++t) {
+    EXPECT_TRUE(FoundInFrame(seq[t], on.results[t])) << "frame " << t;
+    if (t > 0 && on.results[t].iterations < failing.filter.stop.stall_iterations + 1) {
+      EXPECT_GE(on.results[t].weight, reference) << "frame " << t << " ended before its stall rule could end it";
+      ++ended_at_reference;
+    }
+    reference = on.results[t].weight;
+  }
+  EXPECT_GT(ended_at_reference, 0);
+  EXPECT_LT(on.stats.weighings, off.stats.weighings);
+}
+
 TEST_F(TrackerConfirmTest, AJumpIsNotConfirmedAndConfirmOffGivesTheParticleSearchAlone) {
   const std::vector<SynthScene>& seq = *jump_;
   const ConfirmRun on = TrackSequence(seq, ConfirmTrackOptions(true));
