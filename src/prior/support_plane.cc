@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/option_check.h"
 #include "core/plane_fit.h"
 #include "posefilter/error.h"
 #include "posefilter/rng.h"
@@ -135,17 +136,13 @@ double HullDistance(const std::vector<Eigen::Vector2d>& a, const std::vector<Eig
 }
 
 bool SupportPlaneOptions::IsValid(std::string* why) const {
-  auto fail = [&](const char* m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (samples < kMinPoints) return fail("samples must be >= 50");
-  if (iterations < 1) return fail("iterations must be >= 1");
-  if (!(ransac_band_m > 0 && std::isfinite(ransac_band_m))) return fail("ransac_band_m must be > 0");
-  if (!(min_fraction > 0 && min_fraction <= 1)) return fail("min_fraction must be in (0, 1]");
-  if (!(band_sigmas > 0 && std::isfinite(band_sigmas))) return fail("band_sigmas must be > 0");
+  if (samples < kMinPoints) return Fail(why, "samples must be >= 50");
+  if (iterations < 1) return Fail(why, "iterations must be >= 1");
+  if (!(ransac_band_m > 0 && std::isfinite(ransac_band_m))) return Fail(why, "ransac_band_m must be > 0");
+  if (!(min_fraction > 0 && min_fraction <= 1)) return Fail(why, "min_fraction must be in (0, 1]");
+  if (!(band_sigmas > 0 && std::isfinite(band_sigmas))) return Fail(why, "band_sigmas must be > 0");
   if (!(min_band_m > 0 && max_band_m >= min_band_m && std::isfinite(max_band_m)))
-    return fail("the band clamp must satisfy 0 < min_band_m <= max_band_m");
+    return Fail(why, "the band clamp must satisfy 0 < min_band_m <= max_band_m");
   return true;
 }
 
@@ -225,21 +222,17 @@ std::vector<std::uint8_t> SupportPlanePixels(const DepthImage& depth, const Came
 }
 
 bool SupportSurfaceOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
   std::string p;
-  if (!plane.IsValid(&p)) return fail("plane: " + p);
-  if (max_planes < 1) return fail("max_planes must be >= 1");
-  if (!(min_fraction > 0 && min_fraction <= 1)) return fail("min_fraction must be in (0, 1]");
-  if (neighbourhood < 1) return fail("neighbourhood must be >= 1");
-  if (!(min_area_m2 > 0 && std::isfinite(min_area_m2))) return fail("min_area_m2 must be > 0");
-  if (!(max_tilt_deg > 0 && max_tilt_deg < 90)) return fail("max_tilt_deg must be in (0, 90)");
-  if (!(large_area_m2 > 0 && std::isfinite(large_area_m2))) return fail("large_area_m2 must be > 0");
-  if (!(margin_m >= 0 && std::isfinite(margin_m))) return fail("margin_m must be >= 0");
-  if (!(min_rise_m >= 0 && std::isfinite(min_rise_m))) return fail("min_rise_m must be >= 0");
-  if (!(merge_gap_m >= 0 && std::isfinite(merge_gap_m))) return fail("merge_gap_m must be >= 0");
+  if (!plane.IsValid(&p)) return Fail(why, "plane: " + p);
+  if (max_planes < 1) return Fail(why, "max_planes must be >= 1");
+  if (!(min_fraction > 0 && min_fraction <= 1)) return Fail(why, "min_fraction must be in (0, 1]");
+  if (neighbourhood < 1) return Fail(why, "neighbourhood must be >= 1");
+  if (!(min_area_m2 > 0 && std::isfinite(min_area_m2))) return Fail(why, "min_area_m2 must be > 0");
+  if (!(max_tilt_deg > 0 && max_tilt_deg < 90)) return Fail(why, "max_tilt_deg must be in (0, 90)");
+  if (!(large_area_m2 > 0 && std::isfinite(large_area_m2))) return Fail(why, "large_area_m2 must be > 0");
+  if (!(margin_m >= 0 && std::isfinite(margin_m))) return Fail(why, "margin_m must be >= 0");
+  if (!(min_rise_m >= 0 && std::isfinite(min_rise_m))) return Fail(why, "min_rise_m must be >= 0");
+  if (!(merge_gap_m >= 0 && std::isfinite(merge_gap_m))) return Fail(why, "merge_gap_m must be >= 0");
   return true;
 }
 
