@@ -35,7 +35,8 @@ bool FootWithin(const SupportSurface& s, const std::vector<OutlineEdge>& edges, 
 std::vector<OutlineEdge> EdgesOf(const std::vector<Eigen::Vector2d>& outline) {
   std::vector<OutlineEdge> edges;
   for (std::size_t i = 0; i < outline.size(); ++i) {
-    const Eigen::Vector2d a = outline[i], e = outline[(i + 1) % outline.size()] - a;
+    const Eigen::Vector2d& a = outline[i];
+    const Eigen::Vector2d e = outline[(i + 1) % outline.size()] - a;
     const double len = e.norm();
     if (len > 0) edges.push_back({a.x(), a.y(), e.x(), e.y(), len});
   }
@@ -114,7 +115,8 @@ double PointSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Ei
 bool InsideConvex(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
   if (poly.size() < 3) return false;
   for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Eigen::Vector2d a = poly[i], b = poly[(i + 1) % poly.size()];
+    const Eigen::Vector2d& a = poly[i];
+    const Eigen::Vector2d& b = poly[(i + 1) % poly.size()];
     if ((b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x()) < 0) return false;
   }
   return true;
@@ -312,6 +314,7 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
   std::iota(pool.begin(), pool.end(), 0);
   Rng rng(kRansacSeed);
   const int R = opt.neighbourhood;
+  const std::uint64_t side = 2 * std::uint64_t(R) + 1;  // the neighbourhood's cells per row and column
   std::vector<SupportSurface> patches;
   std::vector<std::vector<int>> patch_samples;  // per patch: its samples
   for (int plane_index = 0; plane_index < opt.max_planes; ++plane_index) {
@@ -325,7 +328,8 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
       const int ax = cell_of[std::size_t(a)] % gw, ay = cell_of[std::size_t(a)] / gw;
       int b = -1, c = -1;
       for (int t = 0; t < 20 && (b < 0 || c < 0); ++t) {
-        const int x = ax + int(rng.UniformInt(std::uint64_t(2 * R + 1))) - R, y = ay + int(rng.UniformInt(std::uint64_t(2 * R + 1))) - R;
+        const int x = ax + int(rng.UniformInt(side)) - R;
+        const int y = ay + int(rng.UniformInt(side)) - R;
         if (x < 0 || y < 0 || x >= gw || y >= gh) continue;
         const int q = at[std::size_t(y) * gw + x];
         if (q < 0 || q == a || q == b || used[std::size_t(q)]) continue;
