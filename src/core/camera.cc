@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/option_check.h"
+
 namespace posefilter {
 
 namespace {
@@ -50,11 +52,6 @@ bool PrincipalPointIsPlausible(const char* name, double c, int side, std::string
        << "-pixel image; " << name << " must be in [" << lo << ", " << hi << "]";
     *why = os.str();
   }
-  return false;
-}
-
-bool Fail(std::string* why, const std::string& message) {
-  if (why != nullptr) *why = message;
   return false;
 }
 

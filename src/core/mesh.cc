@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/option_check.h"
+
 namespace posefilter {
 
 namespace {
@@ -55,28 +57,24 @@ std::vector<size_t> DiameterSubsample(const std::vector<Eigen::Vector3f>& v, siz
 }  // namespace
 
 bool Mesh::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why != nullptr) *why = m;
-    return false;
-  };
-  if (vertices.empty()) return fail("mesh has no vertices");
-  if (faces.empty()) return fail("mesh has no faces");
+  if (vertices.empty()) return Fail(why, "mesh has no vertices");
+  if (faces.empty()) return Fail(why, "mesh has no faces");
   for (size_t i = 0; i < vertices.size(); ++i) {
     if (!vertices[i].allFinite()) {
-      return fail("vertex " + std::to_string(i) + " has a non-finite coordinate");
+      return Fail(why, "vertex " + std::to_string(i) + " has a non-finite coordinate");
     }
     if (vertices[i].cwiseAbs().maxCoeff() > kMaxCoordinate) {
-      return fail("vertex " + std::to_string(i) + " lies " + std::to_string(vertices[i].cwiseAbs().maxCoeff()) +
-                  " from the origin, beyond the +-" + std::to_string(int(kMaxCoordinate)) +
-                  " of any object (wrong unit scale?)");
+      return Fail(why, "vertex " + std::to_string(i) + " lies " + std::to_string(vertices[i].cwiseAbs().maxCoeff()) +
+                           " from the origin, beyond the +-" + std::to_string(int(kMaxCoordinate)) +
+                           " of any object (wrong unit scale?)");
     }
   }
   bool any_area = false;
   for (size_t f = 0; f < faces.size(); ++f) {
     for (std::uint32_t idx : faces[f]) {
       if (idx >= vertices.size()) {
-        return fail("face " + std::to_string(f) + " indexes vertex " + std::to_string(idx) +
-                    " but the mesh has " + std::to_string(vertices.size()) + " vertices");
+        return Fail(why, "face " + std::to_string(f) + " indexes vertex " + std::to_string(idx) + " but the mesh has " +
+                             std::to_string(vertices.size()) + " vertices");
       }
     }
     if (!any_area) {
@@ -85,7 +83,7 @@ bool Mesh::IsValid(std::string* why) const {
       any_area = (b - a).cross(c - a).norm() > 0;
     }
   }
-  if (!any_area) return fail("every face is degenerate (zero area): nothing to render");
+  if (!any_area) return Fail(why, "every face is degenerate (zero area): nothing to render");
   return true;
 }
 

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <set>
 
+#include "core/option_check.h"
 #include "posefilter/error.h"
 #include "posefilter/metrics.h"
 #include "posefilter/render.h"
@@ -82,21 +83,18 @@ std::vector<double> Multiples(double start, int count) {
 }
 
 bool BopEvalOptions::IsValid(std::string* why) const {
-  auto fail = [why](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!std::isfinite(vsd_delta_m) || vsd_delta_m < 0) return fail("vsd_delta_m must be finite and ≥ 0 (metres)");
-  if (!ValidList(vsd_taus, 1e9)) return fail("vsd_taus must be a non-empty list of finite values > 0");
-  if (!ValidList(vsd_thresholds, 1)) return fail("vsd_thresholds must be a non-empty list of values in (0, 1]");
-  if (!ValidList(mssd_thresholds, 1e9)) return fail("mssd_thresholds must be a non-empty list of finite values > 0");
+  if (!std::isfinite(vsd_delta_m) || vsd_delta_m < 0) return Fail(why, "vsd_delta_m must be finite and ≥ 0 (metres)");
+  if (!ValidList(vsd_taus, 1e9)) return Fail(why, "vsd_taus must be a non-empty list of finite values > 0");
+  if (!ValidList(vsd_thresholds, 1)) return Fail(why, "vsd_thresholds must be a non-empty list of values in (0, 1]");
+  if (!ValidList(mssd_thresholds, 1e9))
+    return Fail(why, "mssd_thresholds must be a non-empty list of finite values > 0");
   if (!ValidList(mspd_thresholds_px, 1e9))
-    return fail("mspd_thresholds_px must be a non-empty list of finite values > 0");
-  if (!std::isfinite(add_threshold) || add_threshold <= 0) return fail("add_threshold must be finite and > 0");
-  if (!std::isfinite(auc_max_m) || auc_max_m <= 0) return fail("auc_max_m must be finite and > 0 (metres)");
+    return Fail(why, "mspd_thresholds_px must be a non-empty list of finite values > 0");
+  if (!std::isfinite(add_threshold) || add_threshold <= 0) return Fail(why, "add_threshold must be finite and > 0");
+  if (!std::isfinite(auc_max_m) || auc_max_m <= 0) return Fail(why, "auc_max_m must be finite and > 0 (metres)");
   if (!std::isfinite(max_sym_disc_step) || max_sym_disc_step <= 0)
-    return fail("max_sym_disc_step must be finite and > 0");
-  if (max_points < 1) return fail("max_points must be ≥ 1");
+    return Fail(why, "max_sym_disc_step must be finite and > 0");
+  if (max_points < 1) return Fail(why, "max_points must be ≥ 1");
   return true;
 }
 

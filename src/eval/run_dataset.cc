@@ -18,6 +18,7 @@
 #include <map>
 #include <set>
 
+#include "core/option_check.h"
 #include "posefilter/auto_prior.h"
 #include "posefilter/error.h"
 #include "posefilter/estimate_scene.h"
@@ -29,19 +30,15 @@
 namespace posefilter {
 
 bool RunDatasetOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& w) {
-    if (why) *why = w;
-    return false;
-  };
-  if (dataset.empty()) return fail("dataset: no folder given");
-  if (out.empty()) return fail("out: no results CSV given");
+  if (dataset.empty()) return Fail(why, "dataset: no folder given");
+  if (out.empty()) return Fail(why, "out: no results CSV given");
   if (prior == DatasetPriorKind::kDetections && detections_path.empty())
-    return fail("detections_path: the detections prior needs a BOP detections JSON");
+    return Fail(why, "detections_path: the detections prior needs a BOP detections JSON");
   if (!std::isfinite(gt_jitter_px) || gt_jitter_px < 0 || gt_jitter_px > 1000)
-    return fail("gt_jitter_px must be in [0, 1000] pixels, got " + std::to_string(gt_jitter_px));
+    return Fail(why, "gt_jitter_px must be in [0, 1000] pixels, got " + std::to_string(gt_jitter_px));
   if (!std::isfinite(gt_box_score) || gt_box_score < 0 || gt_box_score > 1)
-    return fail("gt_box_score must be in [0, 1], got " + std::to_string(gt_box_score));
-  if (limit < 0) return fail("limit must be >= 0 (0 = every image), got " + std::to_string(limit));
+    return Fail(why, "gt_box_score must be in [0, 1], got " + std::to_string(gt_box_score));
+  if (limit < 0) return Fail(why, "limit must be >= 0 (0 = every image), got " + std::to_string(limit));
   return true;
 }
 

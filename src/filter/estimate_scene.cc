@@ -2,18 +2,16 @@
 // pass over those of the shared prior (posefilter/estimate_scene.h).
 #include "posefilter/estimate_scene.h"
 
+#include "core/option_check.h"
 #include "posefilter/error.h"
 
 namespace posefilter {
 
 bool EstimateSceneOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& w) {
-    if (why) *why = w;
-    return false;
-  };
-  if (pass_min_objects < 1) return fail("pass_min_objects must be >= 1 (got " + std::to_string(pass_min_objects) + ")");
+  if (pass_min_objects < 1)
+    return Fail(why, "pass_min_objects must be >= 1 (got " + std::to_string(pass_min_objects) + ")");
   std::string p;
-  if (!pass.IsValid(&p)) return fail("pass: " + p);
+  if (!pass.IsValid(&p)) return Fail(why, "pass: " + p);
   return true;
 }
 

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "core/mesh_scale.h"
+#include "core/option_check.h"
 #include "filter/driver.h"
 #include "filter/engine.h"
 #include "filter/host_setup.h"
@@ -508,15 +509,11 @@ std::unique_ptr<EngineRuns> MakeHwEngineWith(const PreparedScene& prep, const Me
 }  // namespace filter
 
 bool HwProfileOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (cores.empty()) return fail("cores must not be empty");
+  if (cores.empty()) return Fail(why, "cores must not be empty");
   for (int c : cores)
-    if (c < 1 || c > kMaxRasterCores) return fail("cores must each be in [1, 10]");
-  if (!(clock_mhz > 0 && std::isfinite(clock_mhz))) return fail("clock_mhz must be > 0");
-  if (profile_every < 1) return fail("profile_every must be >= 1");
+    if (c < 1 || c > kMaxRasterCores) return Fail(why, "cores must each be in [1, 10]");
+  if (!(clock_mhz > 0 && std::isfinite(clock_mhz))) return Fail(why, "clock_mhz must be > 0");
+  if (profile_every < 1) return Fail(why, "profile_every must be >= 1");
   return true;
 }
 

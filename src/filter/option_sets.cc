@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/option_check.h"
 #include "filter/engine_registry.h"
 #include "posefilter/option_table.h"
 #include "posefilter/scene_pass.h"
@@ -44,20 +45,16 @@ std::span<const OptionInfo> TrackOptionTable() {
 }
 
 bool TrackOptions::IsValid(std::string* why) const {
-  auto fail = [why](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
   if (!ValidateOptionRows(TrackOptionTable(), *this, OptionNaming::kField, why)) return false;
   std::string w;
-  if (!ValidateFilterOptions(filter, OptionNaming::kField, &w)) return fail("filter." + w);
-  if (!ValidateFilterOptions(init, OptionNaming::kField, &w)) return fail("init." + w);
+  if (!ValidateFilterOptions(filter, OptionNaming::kField, &w)) return Fail(why, "filter." + w);
+  if (!ValidateFilterOptions(init, OptionNaming::kField, &w)) return Fail(why, "init." + w);
   if (const filter::EngineRow* row = filter::FindEngine(filter.engine); row != nullptr && !row->float_filter) {
     std::string floats;
     for (const filter::EngineRow& r : filter::EngineRegistry())
       if (r.float_filter) floats += std::string(floats.empty() ? "" : ", ") + r.name;
-    return fail("filter.engine must be a float engine (" + floats + "): the " + filter.engine +
-                " engine does not read pose seeds");
+    return Fail(why, "filter.engine must be a float engine (" + floats + "): the " + filter.engine +
+                         " engine does not read pose seeds");
   }
   return true;
 }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/option_check.h"
 #include "core/threads.h"
 #include "filter/engine_registry.h"
 #include "posefilter/auto_prior.h"
@@ -346,10 +347,6 @@ std::string OptionTableMarkdown() {
 bool ValidateFilterOptions(const FilterOptions& o, OptionNaming naming, std::string* why) {
   if (!ValidateOptionRows(Table(), o, naming, why)) return false;
   auto name = [naming](const char* field) { return FindOption(field)->Name(naming); };
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
   if (o.cpu_isa != "auto") {
     render::CpuTarget t;
     render::ParseCpuTarget(o.cpu_isa, &t);  // a listed choice: parses
@@ -357,37 +354,37 @@ bool ValidateFilterOptions(const FilterOptions& o, OptionNaming naming, std::str
       std::string supported;
       for (render::CpuTarget c : render::SupportedCpuTargets())
         supported += std::string(supported.empty() ? "" : ", ") + render::CpuTargetName(c);
-      return fail(name("cpu_isa") + " '" + o.cpu_isa + "' is not supported by this CPU or build (supported: " +
-                  supported + ")");
+      return Fail(why, name("cpu_isa") + " '" + o.cpu_isa +
+                           "' is not supported by this CPU or build (supported: " + supported + ")");
     }
   }
   if (std::fabs(o.score.alpha + o.score.beta + o.score.gamma - 1) > 1e-6)
-    return fail(name("score.alpha") + " + " + name("score.beta") + " + " + name("score.gamma") + " must equal 1");
+    return Fail(why, name("score.alpha") + " + " + name("score.beta") + " + " + name("score.gamma") + " must equal 1");
   if (o.num_elite >= o.num_particles)
-    return fail(name("num_elite") + " must be < " + name("num_particles") + " (got " + std::to_string(o.num_elite) +
-                " >= " + std::to_string(o.num_particles) + ")");
+    return Fail(why, name("num_elite") + " must be < " + name("num_particles") + " (got " +
+                         std::to_string(o.num_elite) + " >= " + std::to_string(o.num_particles) + ")");
   if (o.render.lod_max_faces != 0 && o.render.lod_max_faces < kMinSimplifyFaces)
-    return fail(name("render.lod_max_faces") + " must be 0 (the full mesh) or >= " + std::to_string(kMinSimplifyFaces) +
-                " (got " + std::to_string(o.render.lod_max_faces) + ")");
+    return Fail(why, name("render.lod_max_faces") + " must be 0 (the full mesh) or >= " +
+                         std::to_string(kMinSimplifyFaces) + " (got " + std::to_string(o.render.lod_max_faces) + ")");
   double total = 0;
   for (double p : o.diffusion.move_probabilities) total += p;
-  if (!(total > 0)) return fail(name("diffusion.move_probabilities") + ": at least one must be > 0");
+  if (!(total > 0)) return Fail(why, name("diffusion.move_probabilities") + ": at least one must be > 0");
   if (o.threads > MaxWorkerThreads())
-    return fail(name("threads") + " must be in [0, " + std::to_string(MaxWorkerThreads()) +
-                "] (0 = all cores; at most 4 per hardware thread; got " + std::to_string(o.threads) + ")");
+    return Fail(why, name("threads") + " must be in [0, " + std::to_string(MaxWorkerThreads()) +
+                         "] (0 = all cores; at most 4 per hardware thread; got " + std::to_string(o.threads) + ")");
   if (EngineBit(o.engine) == kEngineHw) {  // the hardware's limits (posefilter/hw_engine.h): hw and rtl
     if (o.num_particles > kHwMaxParticles)
-      return fail(name("num_particles") + " must be <= " + std::to_string(kHwMaxParticles) + " with the hw engine (got " +
-                  std::to_string(o.num_particles) + ")");
+      return Fail(why, name("num_particles") + " must be <= " + std::to_string(kHwMaxParticles) +
+                           " with the hw engine (got " + std::to_string(o.num_particles) + ")");
     if (o.render.max_window_px > kHwMaxWindowPx)
-      return fail(name("render.max_window_px") + " must be <= " + std::to_string(kHwMaxWindowPx) +
-                  " with the hw engine (got " + std::to_string(o.render.max_window_px) + ")");
+      return Fail(why, name("render.max_window_px") + " must be <= " + std::to_string(kHwMaxWindowPx) +
+                           " with the hw engine (got " + std::to_string(o.render.max_window_px) + ")");
     if (o.render.near_m < kHwMinNearM)
-      return fail(name("render.near_m") + " must be >= 1/64 m with the hw engine (got " + OptionNumberText(o.render.near_m) +
-                  ")");
+      return Fail(why, name("render.near_m") + " must be >= 1/64 m with the hw engine (got " +
+                           OptionNumberText(o.render.near_m) + ")");
   }
   if (o.heuristics.percentile_lo > o.heuristics.percentile_hi)
-    return fail(name("heuristics.percentile_lo") + " must be <= " + name("heuristics.percentile_hi"));
+    return Fail(why, name("heuristics.percentile_lo") + " must be <= " + name("heuristics.percentile_hi"));
   return true;
 }
 

@@ -3,22 +3,20 @@
 #include "posefilter/stage1.h"
 
 #include "core/mesh_scale.h"
+#include "core/option_check.h"
 #include "posefilter/error.h"
 
 namespace posefilter {
 
 bool Stage1Options::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& w) {
-    if (why) *why = w;
-    return false;
-  };
   if (kind == Stage1Kind::kPyramid) {
-    if (classes.empty()) return fail("a raw pyramid prior needs its class list (classes)");
-    if (raw_pyramid.empty() && pyramid_path.empty()) return fail("a raw pyramid prior needs raw_pyramid or pyramid_path");
+    if (classes.empty()) return Fail(why, "a raw pyramid prior needs its class list (classes)");
+    if (raw_pyramid.empty() && pyramid_path.empty())
+      return Fail(why, "a raw pyramid prior needs raw_pyramid or pyramid_path");
   }
   if (kind == Stage1Kind::kAuto) {
     std::string p;
-    if (!auto_prior.IsValid(&p)) return fail("auto_prior: " + p);
+    if (!auto_prior.IsValid(&p)) return Fail(why, "auto_prior: " + p);
   }
   return true;
 }

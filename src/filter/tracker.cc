@@ -10,6 +10,7 @@
 
 #include "core/threads.h"
 #include "filter/engine_registry.h"
+#include "filter/host_setup.h"
 #include "posefilter/error.h"
 #include "posefilter/mesh_simplify.h"
 #include "posefilter/option_table.h"
@@ -22,8 +23,8 @@
 namespace posefilter {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+using filter::Clock;
+using filter::MsSince;
 
 // A stream seed from the tracker's seed, the frame and the object (SplitMix64 finaliser).
 std::uint64_t StepSeed(std::uint64_t seed, int frame, std::size_t object, std::uint64_t purpose) {

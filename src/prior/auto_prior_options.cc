@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/option_check.h"
 #include "posefilter/auto_prior.h"
 
 namespace posefilter {
@@ -44,15 +45,11 @@ std::span<const OptionInfo> AutoPriorOptionTable() {
 }
 
 bool AutoPriorOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
   std::string p;
-  if (!surfaces.IsValid(&p)) return fail("surfaces: " + p);
+  if (!surfaces.IsValid(&p)) return Fail(why, "surfaces: " + p);
   if (!ValidateOptionRows(AutoPriorOptionTable(), *this, OptionNaming::kField, why)) return false;
-  if (!(min_height_m < max_height_m)) return fail("min_height_m must be < max_height_m");
-  if (!ppf.IsValid(&p)) return fail("ppf: " + p);
+  if (!(min_height_m < max_height_m)) return Fail(why, "min_height_m must be < max_height_m");
+  if (!ppf.IsValid(&p)) return Fail(why, "ppf: " + p);
   return true;
 }
 

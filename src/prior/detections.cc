@@ -7,17 +7,15 @@
 #include <set>
 #include <nlohmann/json.hpp>
 
+#include "core/option_check.h"
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/prior.h"
-#include "prior/option_check.h"
 
 namespace posefilter {
 namespace {
 
 using nlohmann::json;
-
-using prior::Fail;
 
 // Checks one detection; returns "" when fine, else what is wrong (naming the key).
 std::string DetectionProblem(const Detection& d) {

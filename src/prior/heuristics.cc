@@ -9,17 +9,15 @@
 #include <tuple>
 #include <utility>
 
+#include "core/option_check.h"
 #include "core/threads.h"
-#include "posefilter/option_rows.h"
 #include "posefilter/error.h"
-#include "prior/option_check.h"
+#include "posefilter/option_rows.h"
 #include "prior/quantiles.h"
 #include "prior/volume_cache.h"
 
 namespace posefilter {
 namespace {
-
-using prior::Fail;
 
 struct Scratch {
   std::vector<double> x, y, z;

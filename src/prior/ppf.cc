@@ -6,6 +6,7 @@
 #include <numeric>
 #include <tuple>
 
+#include "core/option_check.h"
 #include "core/threads.h"
 #include "posefilter/error.h"
 #include "posefilter/rng.h"
@@ -65,20 +66,19 @@ Rect MaskBounds(const std::vector<std::uint8_t>& mask, int W, int H) {
 }  // namespace
 
 bool PpfOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!(distance_step > 0 && distance_step <= 0.5)) return fail("distance_step must be in (0, 0.5]");
-  if (angle_bins < 4 || angle_bins > 64) return fail("angle_bins must be in [4, 64]");
-  if (max_bucket < 1) return fail("max_bucket must be >= 1");
-  if (alpha_bins < 4 || alpha_bins > 256) return fail("alpha_bins must be in [4, 256]");
-  if (reference_stride < 1) return fail("reference_stride must be >= 1");
-  if (!(cluster_translation > 0 && std::isfinite(cluster_translation))) return fail("cluster_translation must be > 0");
-  if (!(cluster_rotation_rad > 0 && std::isfinite(cluster_rotation_rad))) return fail("cluster_rotation_rad must be > 0");
-  if (max_proposals < 1) return fail("max_proposals must be >= 1");
-  if (threads < 0 || threads > MaxWorkerThreads()) return fail("threads must be in [0, " + std::to_string(MaxWorkerThreads()) + "]");
-  if (!(min_relative_votes > 0 && min_relative_votes <= 1)) return fail("min_relative_votes must be in (0, 1]");
+  if (!(distance_step > 0 && distance_step <= 0.5)) return Fail(why, "distance_step must be in (0, 0.5]");
+  if (angle_bins < 4 || angle_bins > 64) return Fail(why, "angle_bins must be in [4, 64]");
+  if (max_bucket < 1) return Fail(why, "max_bucket must be >= 1");
+  if (alpha_bins < 4 || alpha_bins > 256) return Fail(why, "alpha_bins must be in [4, 256]");
+  if (reference_stride < 1) return Fail(why, "reference_stride must be >= 1");
+  if (!(cluster_translation > 0 && std::isfinite(cluster_translation)))
+    return Fail(why, "cluster_translation must be > 0");
+  if (!(cluster_rotation_rad > 0 && std::isfinite(cluster_rotation_rad)))
+    return Fail(why, "cluster_rotation_rad must be > 0");
+  if (max_proposals < 1) return Fail(why, "max_proposals must be >= 1");
+  if (threads < 0 || threads > MaxWorkerThreads())
+    return Fail(why, "threads must be in [0, " + std::to_string(MaxWorkerThreads()) + "]");
+  if (!(min_relative_votes > 0 && min_relative_votes <= 1)) return Fail(why, "min_relative_votes must be in (0, 1]");
   return true;
 }
 

@@ -19,6 +19,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "core/option_check.h"
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/ppf.h"
@@ -111,15 +112,11 @@ class Reader {
 // The model in `bytes` if it is whole and made from `mesh_hash` with `opt`; else false and why.
 bool Deserialize(const std::string& bytes, std::uint64_t mesh_hash, const PpfOptions& opt, PpfModel* m,
                  std::string* why) {
-  auto fail = [&](const char* w) {
-    *why = w;
-    return false;
-  };
   if (bytes.size() < sizeof(kMagic) + 8 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
-    return fail("not a posefilter PPF cache file");
+    return Fail(why, "not a posefilter PPF cache file");
   std::uint64_t stored_sum = 0;
   std::memcpy(&stored_sum, bytes.data() + bytes.size() - 8, 8);
-  if (Fnv(bytes.data(), bytes.size() - 8) != stored_sum) return fail("checksum mismatch (damaged or cut short)");
+  if (Fnv(bytes.data(), bytes.size() - 8) != stored_sum) return Fail(why, "checksum mismatch (damaged or cut short)");
   Reader r(bytes);
   char magic[8];
   const std::string options = ModelOptionBytes(opt);
@@ -129,15 +126,16 @@ bool Deserialize(const std::string& bytes, std::uint64_t mesh_hash, const PpfOpt
   r.Get(&magic);
   if (!r.Get(&m->mesh_hash) || !r.GetBytes(&stored_options) || !r.Get(&m->diameter) || !r.Get(&m->step) ||
       !r.Get(&distance_bins) || !r.Get(&points) || !r.Get(&entries))
-    return fail("header cut short");
-  if (m->mesh_hash != mesh_hash) return fail("made from another mesh");
-  if (stored_options != options) return fail("made with other options");
+    return Fail(why, "header cut short");
+  if (m->mesh_hash != mesh_hash) return Fail(why, "made from another mesh");
+  if (stored_options != options) return Fail(why, "made with other options");
   m->angle_bins = opt.angle_bins;
   m->distance_bins = distance_bins;
-  if (!(m->diameter > 0) || !(m->step > 0) || distance_bins < 1 || distance_bins > 1000) return fail("bad header values");
+  if (!(m->diameter > 0) || !(m->step > 0) || distance_bins < 1 || distance_bins > 1000)
+    return Fail(why, "bad header values");
   const std::size_t keys = std::size_t(m->KeyCount()) + 1;
   if (points > PpfModel::kMaxPoints || r.left() != points * 24 + keys * 4 + entries * 4 + 8)
-    return fail("size does not match its header");
+    return Fail(why, "size does not match its header");
   m->points.resize(points);
   for (OrientedPoint& q : m->points)
     for (int k = 0; k < 6; ++k) r.Get(k < 3 ? &q.p[k] : &q.n[k - 3]);
@@ -147,11 +145,11 @@ bool Deserialize(const std::string& bytes, std::uint64_t mesh_hash, const PpfOpt
   for (PpfEntry& e : m->entries) {
     r.Get(&e.reference);
     r.Get(&e.alpha);
-    if (e.reference >= points) return fail("entry points past the model's points");
+    if (e.reference >= points) return Fail(why, "entry points past the model's points");
   }
-  if (m->offsets.front() != 0 || m->offsets.back() != entries) return fail("offsets do not span the entries");
+  if (m->offsets.front() != 0 || m->offsets.back() != entries) return Fail(why, "offsets do not span the entries");
   for (std::size_t k = 1; k < keys; ++k)
-    if (m->offsets[k] < m->offsets[k - 1]) return fail("offsets are not ordered");
+    if (m->offsets[k] < m->offsets[k - 1]) return Fail(why, "offsets are not ordered");
   return true;
 }
 

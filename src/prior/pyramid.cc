@@ -9,15 +9,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/option_check.h"
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/prior.h"
-#include "prior/option_check.h"
 
 namespace posefilter {
 namespace {
-
-using prior::Fail;
 
 std::string RawFieldName(int field, int num_classes) {
   if (field < num_classes) return "class logit " + std::to_string(field);

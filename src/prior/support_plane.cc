@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/option_check.h"
 #include "core/plane_fit.h"
 #include "posefilter/error.h"
 #include "posefilter/rng.h"
@@ -34,7 +35,8 @@ bool FootWithin(const SupportSurface& s, const std::vector<OutlineEdge>& edges, 
 std::vector<OutlineEdge> EdgesOf(const std::vector<Eigen::Vector2d>& outline) {
   std::vector<OutlineEdge> edges;
   for (std::size_t i = 0; i < outline.size(); ++i) {
-    const Eigen::Vector2d a = outline[i], e = outline[(i + 1) % outline.size()] - a;
+    const Eigen::Vector2d& a = outline[i];
+    const Eigen::Vector2d e = outline[(i + 1) % outline.size()] - a;
     const double len = e.norm();
     if (len > 0) edges.push_back({a.x(), a.y(), e.x(), e.y(), len});
   }
@@ -113,7 +115,8 @@ double PointSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Ei
 bool InsideConvex(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
   if (poly.size() < 3) return false;
   for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Eigen::Vector2d a = poly[i], b = poly[(i + 1) % poly.size()];
+    const Eigen::Vector2d& a = poly[i];
+    const Eigen::Vector2d& b = poly[(i + 1) % poly.size()];
     if ((b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x()) < 0) return false;
   }
   return true;
@@ -135,17 +138,13 @@ double HullDistance(const std::vector<Eigen::Vector2d>& a, const std::vector<Eig
 }
 
 bool SupportPlaneOptions::IsValid(std::string* why) const {
-  auto fail = [&](const char* m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (samples < kMinPoints) return fail("samples must be >= 50");
-  if (iterations < 1) return fail("iterations must be >= 1");
-  if (!(ransac_band_m > 0 && std::isfinite(ransac_band_m))) return fail("ransac_band_m must be > 0");
-  if (!(min_fraction > 0 && min_fraction <= 1)) return fail("min_fraction must be in (0, 1]");
-  if (!(band_sigmas > 0 && std::isfinite(band_sigmas))) return fail("band_sigmas must be > 0");
+  if (samples < kMinPoints) return Fail(why, "samples must be >= 50");
+  if (iterations < 1) return Fail(why, "iterations must be >= 1");
+  if (!(ransac_band_m > 0 && std::isfinite(ransac_band_m))) return Fail(why, "ransac_band_m must be > 0");
+  if (!(min_fraction > 0 && min_fraction <= 1)) return Fail(why, "min_fraction must be in (0, 1]");
+  if (!(band_sigmas > 0 && std::isfinite(band_sigmas))) return Fail(why, "band_sigmas must be > 0");
   if (!(min_band_m > 0 && max_band_m >= min_band_m && std::isfinite(max_band_m)))
-    return fail("the band clamp must satisfy 0 < min_band_m <= max_band_m");
+    return Fail(why, "the band clamp must satisfy 0 < min_band_m <= max_band_m");
   return true;
 }
 
@@ -225,21 +224,17 @@ std::vector<std::uint8_t> SupportPlanePixels(const DepthImage& depth, const Came
 }
 
 bool SupportSurfaceOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
   std::string p;
-  if (!plane.IsValid(&p)) return fail("plane: " + p);
-  if (max_planes < 1) return fail("max_planes must be >= 1");
-  if (!(min_fraction > 0 && min_fraction <= 1)) return fail("min_fraction must be in (0, 1]");
-  if (neighbourhood < 1) return fail("neighbourhood must be >= 1");
-  if (!(min_area_m2 > 0 && std::isfinite(min_area_m2))) return fail("min_area_m2 must be > 0");
-  if (!(max_tilt_deg > 0 && max_tilt_deg < 90)) return fail("max_tilt_deg must be in (0, 90)");
-  if (!(large_area_m2 > 0 && std::isfinite(large_area_m2))) return fail("large_area_m2 must be > 0");
-  if (!(margin_m >= 0 && std::isfinite(margin_m))) return fail("margin_m must be >= 0");
-  if (!(min_rise_m >= 0 && std::isfinite(min_rise_m))) return fail("min_rise_m must be >= 0");
-  if (!(merge_gap_m >= 0 && std::isfinite(merge_gap_m))) return fail("merge_gap_m must be >= 0");
+  if (!plane.IsValid(&p)) return Fail(why, "plane: " + p);
+  if (max_planes < 1) return Fail(why, "max_planes must be >= 1");
+  if (!(min_fraction > 0 && min_fraction <= 1)) return Fail(why, "min_fraction must be in (0, 1]");
+  if (neighbourhood < 1) return Fail(why, "neighbourhood must be >= 1");
+  if (!(min_area_m2 > 0 && std::isfinite(min_area_m2))) return Fail(why, "min_area_m2 must be > 0");
+  if (!(max_tilt_deg > 0 && max_tilt_deg < 90)) return Fail(why, "max_tilt_deg must be in (0, 90)");
+  if (!(large_area_m2 > 0 && std::isfinite(large_area_m2))) return Fail(why, "large_area_m2 must be > 0");
+  if (!(margin_m >= 0 && std::isfinite(margin_m))) return Fail(why, "margin_m must be >= 0");
+  if (!(min_rise_m >= 0 && std::isfinite(min_rise_m))) return Fail(why, "min_rise_m must be >= 0");
+  if (!(merge_gap_m >= 0 && std::isfinite(merge_gap_m))) return Fail(why, "merge_gap_m must be >= 0");
   return true;
 }
 
@@ -319,6 +314,7 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
   std::iota(pool.begin(), pool.end(), 0);
   Rng rng(kRansacSeed);
   const int R = opt.neighbourhood;
+  const std::uint64_t side = 2 * std::uint64_t(R) + 1;  // the neighbourhood's cells per row and column
   std::vector<SupportSurface> patches;
   std::vector<std::vector<int>> patch_samples;  // per patch: its samples
   for (int plane_index = 0; plane_index < opt.max_planes; ++plane_index) {
@@ -332,7 +328,8 @@ SupportSurfaces FindSupportSurfaces(const DepthImage& depth, const Camera& camer
       const int ax = cell_of[std::size_t(a)] % gw, ay = cell_of[std::size_t(a)] / gw;
       int b = -1, c = -1;
       for (int t = 0; t < 20 && (b < 0 || c < 0); ++t) {
-        const int x = ax + int(rng.UniformInt(std::uint64_t(2 * R + 1))) - R, y = ay + int(rng.UniformInt(std::uint64_t(2 * R + 1))) - R;
+        const int x = ax + int(rng.UniformInt(side)) - R;
+        const int y = ay + int(rng.UniformInt(side)) - R;
         if (x < 0 || y < 0 || x >= gw || y >= gh) continue;
         const int q = at[std::size_t(y) * gw + x];
         if (q < 0 || q == a || q == b || used[std::size_t(q)]) continue;

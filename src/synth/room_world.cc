@@ -21,6 +21,7 @@
 #include <memory>
 #include <set>
 
+#include "core/option_check.h"
 #include "posefilter/error.h"
 #include "posefilter/render.h"
 #include "posefilter/rng.h"
@@ -301,41 +302,37 @@ double SegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
 }  // namespace
 
 bool RoomSceneOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
   std::string sub;
-  if (!camera.IsValid(&sub)) return fail("camera: " + sub);
-  if (camera.width < 80 || camera.height < 60) return fail("camera: image must be at least 80×60 pixels");
-  if (!(depth_scale > 0 && std::isfinite(depth_scale))) return fail("depth_scale must be finite and > 0");
+  if (!camera.IsValid(&sub)) return Fail(why, "camera: " + sub);
+  if (camera.width < 80 || camera.height < 60) return Fail(why, "camera: image must be at least 80×60 pixels");
+  if (!(depth_scale > 0 && std::isfinite(depth_scale))) return Fail(why, "depth_scale must be finite and > 0");
   if (min_objects < 1 || max_objects < min_objects || max_objects > 20)
-    return fail("objects per scene must satisfy 1 <= min_objects <= max_objects <= 20");
+    return Fail(why, "objects per scene must satisfy 1 <= min_objects <= max_objects <= 20");
   if (!(InRange(min_distance_m, 0.3, 5) && InRange(max_distance_m, min_distance_m, 5)))
-    return fail("distances must satisfy 0.3 <= min_distance_m <= max_distance_m <= 5 m");
+    return Fail(why, "distances must satisfy 0.3 <= min_distance_m <= max_distance_m <= 5 m");
   if (!(InRange(min_elevation_deg, 5, 85) && InRange(max_elevation_deg, min_elevation_deg, 85)))
-    return fail("elevations must satisfy 5 <= min_elevation_deg <= max_elevation_deg <= 85");
+    return Fail(why, "elevations must satisfy 5 <= min_elevation_deg <= max_elevation_deg <= 85");
   if (!(InRange(min_surface_height_m, 0.1, 2) && InRange(max_surface_height_m, min_surface_height_m, 2)))
-    return fail("surface heights must satisfy 0.1 <= min_surface_height_m <= max_surface_height_m <= 2 m");
+    return Fail(why, "surface heights must satisfy 0.1 <= min_surface_height_m <= max_surface_height_m <= 2 m");
   if (!(InRange(min_surface_size_m, 0.15, 1.5) && InRange(max_surface_size_m, min_surface_size_m, 1.5)))
-    return fail("surface sizes must satisfy 0.15 <= min_surface_size_m <= max_surface_size_m <= 1.5 m");
+    return Fail(why, "surface sizes must satisfy 0.15 <= min_surface_size_m <= max_surface_size_m <= 1.5 m");
   if (!(InRange(min_surface_view, 0, 1) && InRange(max_surface_view, min_surface_view, 1)))
-    return fail("surface view fractions must satisfy 0 <= min_surface_view <= max_surface_view <= 1");
-  if (!InRange(shelf_probability, 0, 1)) return fail("shelf_probability must be in [0, 1]");
-  if (!InRange(two_surfaces_probability, 0, 1)) return fail("two_surfaces_probability must be in [0, 1]");
+    return Fail(why, "surface view fractions must satisfy 0 <= min_surface_view <= max_surface_view <= 1");
+  if (!InRange(shelf_probability, 0, 1)) return Fail(why, "shelf_probability must be in [0, 1]");
+  if (!InRange(two_surfaces_probability, 0, 1)) return Fail(why, "two_surfaces_probability must be in [0, 1]");
   if (min_furniture < 0 || max_furniture < min_furniture || max_furniture > 20)
-    return fail("furniture must satisfy 0 <= min_furniture <= max_furniture <= 20");
+    return Fail(why, "furniture must satisfy 0 <= min_furniture <= max_furniture <= 20");
   if (min_distractors < 0 || max_distractors < min_distractors || max_distractors > 30)
-    return fail("distractors must satisfy 0 <= min_distractors <= max_distractors <= 30");
-  if (!InRange(touch_probability, 0, 1)) return fail("touch_probability must be in [0, 1]");
-  if (!InRange(min_visible_fraction, 0, 1)) return fail("min_visible_fraction must be in [0, 1]");
-  if (min_visible_px < 1) return fail("min_visible_px must be >= 1");
-  if (!sensor.IsValid(&sub)) return fail(sub);
-  if (!InRange(box_jitter_px, 0, 100)) return fail("box_jitter_px must be in [0, 100] px");
+    return Fail(why, "distractors must satisfy 0 <= min_distractors <= max_distractors <= 30");
+  if (!InRange(touch_probability, 0, 1)) return Fail(why, "touch_probability must be in [0, 1]");
+  if (!InRange(min_visible_fraction, 0, 1)) return Fail(why, "min_visible_fraction must be in [0, 1]");
+  if (min_visible_px < 1) return Fail(why, "min_visible_px must be >= 1");
+  if (!sensor.IsValid(&sub)) return Fail(why, sub);
+  if (!InRange(box_jitter_px, 0, 100)) return Fail(why, "box_jitter_px must be in [0, 100] px");
   if (!(InRange(box_scale_min, 0.2, 5) && InRange(box_scale_max, box_scale_min, 5)))
-    return fail("box scales must satisfy 0.2 <= box_scale_min <= box_scale_max <= 5");
-  if (false_positives < 0 || false_positives > 100) return fail("false_positives must be in [0, 100]");
-  if (!InRange(mask_boundary_px, 0, 20)) return fail("mask_boundary_px must be in [0, 20] px");
+    return Fail(why, "box scales must satisfy 0.2 <= box_scale_min <= box_scale_max <= 5");
+  if (false_positives < 0 || false_positives > 100) return Fail(why, "false_positives must be in [0, 100]");
+  if (!InRange(mask_boundary_px, 0, 20)) return Fail(why, "mask_boundary_px must be in [0, 20] px");
   return true;
 }
 

@@ -31,6 +31,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/option_check.h"
 #include "posefilter/depth_image.h"
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
@@ -486,16 +487,12 @@ std::vector<SynthScene> BuildScenes(const SynthOptions& opt, std::uint64_t seed,
 }  // namespace
 
 bool SynthMotion::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (frames < 1 || frames > 1000) return fail("frames must be in [1, 1000]");
-  if (!InRange(speed_m, 0.0, 0.5)) return fail("speed_m must be in [0, 0.5] m per frame");
-  if (!InRange(turn_rad, -M_PI, M_PI)) return fail("turn_rad must be in [-pi, pi] rad per frame");
+  if (frames < 1 || frames > 1000) return Fail(why, "frames must be in [1, 1000]");
+  if (!InRange(speed_m, 0.0, 0.5)) return Fail(why, "speed_m must be in [0, 0.5] m per frame");
+  if (!InRange(turn_rad, -M_PI, M_PI)) return Fail(why, "turn_rad must be in [-pi, pi] rad per frame");
   if (jump_frame != -1 && (jump_frame < 1 || jump_frame >= frames))
-    return fail("jump_frame must be -1 (none) or a frame in [1, frames) (frame 0 is the seed's scene)");
-  if (!InRange(jump_m, 0.0, 1.0)) return fail("jump_m must be in [0, 1] m");
+    return Fail(why, "jump_frame must be -1 (none) or a frame in [1, frames) (frame 0 is the seed's scene)");
+  if (!InRange(jump_m, 0.0, 1.0)) return Fail(why, "jump_m must be in [0, 1] m");
   return true;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/option_check.h"
 #include "posefilter/synth.h"
 
 namespace posefilter {
@@ -46,25 +47,21 @@ std::span<const OptionInfo> SynthOptionTable() {
 }
 
 bool SynthOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
   std::string sub;
-  if (!camera.IsValid(&sub)) return fail("camera: " + sub);
+  if (!camera.IsValid(&sub)) return Fail(why, "camera: " + sub);
   if (camera.width < 80 || camera.height < 60)
-    return fail("camera: image must be at least 80×60 pixels (the prior pyramid's finest level)");
+    return Fail(why, "camera: image must be at least 80×60 pixels (the prior pyramid's finest level)");
   if (target_mesh != nullptr) {
-    if (!target_mesh->IsValid(&sub)) return fail("target_mesh: " + sub);
-    if (target_mesh->name.empty()) return fail("target_mesh: the mesh needs a name (its class)");
+    if (!target_mesh->IsValid(&sub)) return Fail(why, "target_mesh: " + sub);
+    if (target_mesh->name.empty()) return Fail(why, "target_mesh: the mesh needs a name (its class)");
   } else if (const std::vector<std::string> kinds = SynthClassNames();
              std::find(kinds.begin(), kinds.end(), target) == kinds.end()) {
     std::string list;
     for (const std::string& k : kinds) list += (list.empty() ? "" : ", ") + k;
-    return fail("target must be one of " + list + " (got '" + target + "')");
+    return Fail(why, "target must be one of " + list + " (got '" + target + "')");
   }
   if (!ValidateOptionRows(SynthOptionTable(), *this, OptionNaming::kField, why)) return false;
-  if (min_distance_m > max_distance_m) return fail("min_distance_m must be <= max_distance_m");
+  if (min_distance_m > max_distance_m) return Fail(why, "min_distance_m must be <= max_distance_m");
   return true;
 }
 

@@ -28,6 +28,7 @@
 #include <limits>
 #include <set>
 
+#include "core/option_check.h"
 #include "posefilter/error.h"
 #include "posefilter/file_io.h"
 #include "posefilter/render.h"
@@ -331,52 +332,45 @@ Camera YcbVideoCamera() {
 }
 
 bool SensorModel::IsValid(std::string* why) const {
-  auto fail = [&](const char* m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (!InRange(baseline_m, 0, 1)) return fail("sensor.baseline_m must be in [0, 1] m");
-  if (!InRange(focal_px, 1, 1e5)) return fail("sensor.focal_px must be in [1, 1e5] px");
+  if (!InRange(baseline_m, 0, 1)) return Fail(why, "sensor.baseline_m must be in [0, 1] m");
+  if (!InRange(focal_px, 1, 1e5)) return Fail(why, "sensor.focal_px must be in [1, 1e5] px");
   if (!InRange(disparity_noise_px, 0, 10) || !InRange(disparity_smooth_px, 0, 10))
-    return fail("sensor disparity noise must be in [0, 10] px");
-  if (!InRange(disparity_step_px, 0, 10)) return fail("sensor.disparity_step_px must be in [0, 10] px");
+    return Fail(why, "sensor disparity noise must be in [0, 10] px");
+  if (!InRange(disparity_step_px, 0, 10)) return Fail(why, "sensor.disparity_step_px must be in [0, 10] px");
   if (!(InRange(min_range_m, 0, 100) && InRange(max_range_m, min_range_m, 100)))
-    return fail("sensor range must satisfy 0 <= min_range_m <= max_range_m <= 100");
-  if (!InRange(shadow_tolerance, 0, 1)) return fail("sensor.shadow_tolerance must be in [0, 1]");
+    return Fail(why, "sensor range must satisfy 0 <= min_range_m <= max_range_m <= 100");
+  if (!InRange(shadow_tolerance, 0, 1)) return Fail(why, "sensor.shadow_tolerance must be in [0, 1]");
   if (!(InRange(grazing_start_deg, 0, 90) && InRange(grazing_end_deg, grazing_start_deg, 90)))
-    return fail("sensor grazing angles must satisfy 0 <= start <= end <= 90 degrees");
-  if (!InRange(edge_jump_m, 1e-4, 10)) return fail("sensor.edge_jump_m must be in [1e-4, 10] m");
-  if (!InRange(edge_second_ring_probability, 0, 1)) return fail("sensor.edge_second_ring_probability must be in [0, 1]");
-  if (!InRange(hole_fraction, 0, 0.5)) return fail("sensor.hole_fraction must be in [0, 0.5]");
-  if (!InRange(object_patch_probability, 0, 1)) return fail("sensor.object_patch_probability must be in [0, 1]");
-  if (!InRange(output_step_m, 0, 0.1)) return fail("sensor.output_step_m must be in [0, 0.1] m");
+    return Fail(why, "sensor grazing angles must satisfy 0 <= start <= end <= 90 degrees");
+  if (!InRange(edge_jump_m, 1e-4, 10)) return Fail(why, "sensor.edge_jump_m must be in [1e-4, 10] m");
+  if (!InRange(edge_second_ring_probability, 0, 1))
+    return Fail(why, "sensor.edge_second_ring_probability must be in [0, 1]");
+  if (!InRange(hole_fraction, 0, 0.5)) return Fail(why, "sensor.hole_fraction must be in [0, 0.5]");
+  if (!InRange(object_patch_probability, 0, 1)) return Fail(why, "sensor.object_patch_probability must be in [0, 1]");
+  if (!InRange(output_step_m, 0, 0.1)) return Fail(why, "sensor.output_step_m must be in [0, 0.1] m");
   return true;
 }
 
 bool TableSceneOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
   std::string sub;
-  if (!camera.IsValid(&sub)) return fail("camera: " + sub);
-  if (camera.width < 80 || camera.height < 60) return fail("camera: image must be at least 80×60 pixels");
-  if (!(depth_scale > 0 && std::isfinite(depth_scale))) return fail("depth_scale must be finite and > 0");
+  if (!camera.IsValid(&sub)) return Fail(why, "camera: " + sub);
+  if (camera.width < 80 || camera.height < 60) return Fail(why, "camera: image must be at least 80×60 pixels");
+  if (!(depth_scale > 0 && std::isfinite(depth_scale))) return Fail(why, "depth_scale must be finite and > 0");
   if (min_objects < 1 || max_objects < min_objects || max_objects > 50)
-    return fail("objects per scene must satisfy 1 <= min_objects <= max_objects <= 50");
+    return Fail(why, "objects per scene must satisfy 1 <= min_objects <= max_objects <= 50");
   if (!(InRange(min_distance_m, 0.3, 5) && InRange(max_distance_m, min_distance_m, 5)))
-    return fail("distances must satisfy 0.3 <= min_distance_m <= max_distance_m <= 5 m");
+    return Fail(why, "distances must satisfy 0.3 <= min_distance_m <= max_distance_m <= 5 m");
   if (!(InRange(min_elevation_deg, 5, 90) && InRange(max_elevation_deg, min_elevation_deg, 90)))
-    return fail("elevations must satisfy 5 <= min_elevation_deg <= max_elevation_deg <= 90");
-  if (!InRange(touch_probability, 0, 1)) return fail("touch_probability must be in [0, 1]");
-  if (!InRange(min_visible_fraction, 0, 1)) return fail("min_visible_fraction must be in [0, 1]");
-  if (min_visible_px < 1) return fail("min_visible_px must be >= 1");
-  if (!sensor.IsValid(&sub)) return fail(sub);
-  if (!InRange(box_jitter_px, 0, 100)) return fail("box_jitter_px must be in [0, 100] px");
+    return Fail(why, "elevations must satisfy 5 <= min_elevation_deg <= max_elevation_deg <= 90");
+  if (!InRange(touch_probability, 0, 1)) return Fail(why, "touch_probability must be in [0, 1]");
+  if (!InRange(min_visible_fraction, 0, 1)) return Fail(why, "min_visible_fraction must be in [0, 1]");
+  if (min_visible_px < 1) return Fail(why, "min_visible_px must be >= 1");
+  if (!sensor.IsValid(&sub)) return Fail(why, sub);
+  if (!InRange(box_jitter_px, 0, 100)) return Fail(why, "box_jitter_px must be in [0, 100] px");
   if (!(InRange(box_scale_min, 0.2, 5) && InRange(box_scale_max, box_scale_min, 5)))
-    return fail("box scales must satisfy 0.2 <= box_scale_min <= box_scale_max <= 5");
-  if (false_positives < 0 || false_positives > 100) return fail("false_positives must be in [0, 100]");
-  if (!InRange(mask_boundary_px, 0, 20)) return fail("mask_boundary_px must be in [0, 20] px");
+    return Fail(why, "box scales must satisfy 0.2 <= box_scale_min <= box_scale_max <= 5");
+  if (false_positives < 0 || false_positives > 100) return Fail(why, "false_positives must be in [0, 100]");
+  if (!InRange(mask_boundary_px, 0, 20)) return Fail(why, "mask_boundary_px must be in [0, 20] px");
   return true;
 }
 
