@@ -72,9 +72,6 @@ class PreparedModel {
   bool HasPpf(const PpfOptions& options) const;
   // LoadOrBuildPpfModel's status when ppf() was prepared ("loaded", "built", ...); "" without.
   const std::string& ppf_status() const { return ppf_status_; }
-  // The mesh's least extent (metres): the least side of its polish box. A thin object's
-  // relief may lie within a support surface's band (docs/ALGORITHM.md §12, "Thin objects").
-  double thickness_m() const { return thickness_m_; }
 
  private:
   Mesh mesh_;
@@ -82,7 +79,6 @@ class PreparedModel {
   std::shared_ptr<const PpfModel> ppf_;
   PpfOptions ppf_options_;
   std::string ppf_status_;
-  double thickness_m_ = 0;
 };
 
 // Prepares `mesh` for estimates with any of the given option sets (at least one; each valid,

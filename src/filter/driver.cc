@@ -193,8 +193,7 @@ EstimateResult Estimate(const SceneInput& scene, const PreparedModel* model, con
                         int cls, const FilterOptions& options, const ProgressFn& progress) {
   const auto t_start = filter::Clock::now();
   ThrowIfInvalid(options, OptionNaming::kField);
-  auto prep = std::make_shared<const filter::PreparedScene>(
-      filter::PrepareScene(scene, options, "scene", model ? model->thickness_m() : filter::MeshThickness(mesh)));
+  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
   return EstimateOn(std::move(prep), model, mesh, prior, cls, options, progress, t_start);
 }
 
@@ -204,9 +203,7 @@ EstimateResult EstimateFrame(const PreparedFrame& frame, const ObjectInput& obje
                              const ProgressFn& progress) {
   const auto t_start = filter::Clock::now();
   ThrowIfInvalid(options, OptionNaming::kField);
-  const double thickness = model ? model->thickness_m() : filter::MeshThickness(mesh);
-  return EstimateOn(filter::SceneFor(frame, object, options, "scene", thickness), model, mesh, prior, cls, options,
-                    progress, t_start);
+  return EstimateOn(filter::SceneFor(frame, object, options), model, mesh, prior, cls, options, progress, t_start);
 }
 
 }  // namespace

@@ -34,7 +34,6 @@
 #include "filter/engine.h"
 #include "filter/host_setup.h"
 #include "filter/hw_weigh.h"
-#include "filter/model_lod.h"
 #include "filter/scene_prep.h"
 #include "hw/cycle_model.h"
 #include "hw/latency.h"
@@ -557,7 +556,7 @@ HwProfile ProfileHw(const SceneInput& scene, const Mesh& mesh, const Prior& prio
   ThrowIfInvalid(options, OptionNaming::kField);
   FilterOptions opt = options;
   opt.restarts = 1;
-  const filter::PreparedScene prep = filter::PrepareScene(scene, opt, "scene", filter::MeshThickness(mesh));
+  const filter::PreparedScene prep = filter::PrepareScene(scene, opt);
   HwRunner runner(prep, mesh, prior, cls, opt);
   HwMemories& m = runner.mem();
   const int N = opt.num_particles;

@@ -63,18 +63,6 @@ struct ModelLod {
   const CoarseMesh* Coarse(int budget) const;
 };
 
-// The box the polish turns a mesh in (ModelLod::box_axes, box_centre, box_half): the
-// axis-aligned bounding box, or the box along the vertices' principal axes when that one is at
-// least 10 % smaller. Identity axes and zero extents for a mesh without vertices.
-struct ModelBox {
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  Eigen::Vector3d half = Eigen::Vector3d::Zero();
-};
-ModelBox PolishBox(const Mesh& mesh);
-// Twice the least half extent of PolishBox(mesh), metres (PreparedModel::thickness_m).
-double MeshThickness(const Mesh& mesh);
-
 // What an option set reads of a level of detail; parts are unioned over the option sets a
 // model is prepared for.
 struct ModelNeeds {

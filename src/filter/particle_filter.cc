@@ -525,7 +525,7 @@ std::vector<double> WeighPreparedPoses(std::shared_ptr<const filter::PreparedSce
 std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
   ThrowIfInvalid(options, OptionNaming::kField);
-  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options, "scene", filter::MeshThickness(mesh)));
+  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
   auto lod = filter::LodFor(nullptr, mesh, options, false, prep->plane.found);
   return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
 }
@@ -533,7 +533,7 @@ std::vector<double> WeighPoses(const SceneInput& scene, const Mesh& mesh, const 
 std::vector<double> WeighPoses(const SceneInput& scene, const PreparedModel& model, const Prior& prior, int cls,
                                const FilterOptions& options, const std::vector<std::pair<Pose6, int>>& hypotheses) {
   ThrowIfInvalid(options, OptionNaming::kField);
-  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options, "scene", model.thickness_m()));
+  auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
   auto lod = filter::LodFor(&model, model.mesh(), options, false, prep->plane.found);
   return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
 }
@@ -542,7 +542,7 @@ std::vector<double> WeighPoses(const PreparedFrame& frame, const ObjectInput& ob
                                const Prior& prior, int cls, const FilterOptions& options,
                                const std::vector<std::pair<Pose6, int>>& hypotheses) {
   ThrowIfInvalid(options, OptionNaming::kField);
-  auto prep = filter::SceneFor(frame, object, options, "scene", model.thickness_m());
+  auto prep = filter::SceneFor(frame, object, options);
   auto lod = filter::LodFor(&model, model.mesh(), options, false, prep->plane.found);
   return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
 }
@@ -551,7 +551,7 @@ std::vector<double> WeighPoses(const PreparedFrame& frame, const ObjectInput& ob
                                const Prior& prior, int cls, const FilterOptions& options,
                                const std::vector<std::pair<Pose6, int>>& hypotheses) {
   ThrowIfInvalid(options, OptionNaming::kField);
-  auto prep = filter::SceneFor(frame, object, options, "scene", filter::MeshThickness(mesh));
+  auto prep = filter::SceneFor(frame, object, options);
   auto lod = filter::LodFor(nullptr, mesh, options, false, prep->plane.found);
   return WeighPreparedPoses(std::move(prep), std::move(lod), prior, cls, options, hypotheses);
 }

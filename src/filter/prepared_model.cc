@@ -66,35 +66,6 @@ bool Meets(const ModelLod& lod, const ModelNeeds& needs) {
   return true;
 }
 
-ModelBox PolishBox(const Mesh& mesh) {
-  ModelBox box;
-  if (mesh.vertices.empty()) return box;
-  const Eigen::Vector3d lo = mesh.Min().cast<double>(), hi = mesh.Max().cast<double>();
-  box.centre = 0.5 * (lo + hi);
-  box.half = 0.5 * (hi - lo);
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& v : mesh.vertices) mean += v.cast<double>();
-  mean /= double(mesh.vertices.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& v : mesh.vertices) cov += (v.cast<double>() - mean) * (v.cast<double>() - mean).transpose();
-  Eigen::Matrix3d A = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors();
-  if (A.determinant() < 0) A.col(2) = -A.col(2);
-  Eigen::Vector3d plo = Eigen::Vector3d::Constant(1e30), phi = Eigen::Vector3d::Constant(-1e30);
-  for (const auto& v : mesh.vertices) {
-    const Eigen::Vector3d q = A.transpose() * v.cast<double>();
-    plo = plo.cwiseMin(q);
-    phi = phi.cwiseMax(q);
-  }
-  if ((phi - plo).prod() < 0.9 * (hi - lo).prod() && A.allFinite()) {
-    box.axes = A;
-    box.centre = A * (0.5 * (plo + phi));
-    box.half = 0.5 * (phi - plo);
-  }
-  return box;
-}
-
-double MeshThickness(const Mesh& mesh) { return 2 * PolishBox(mesh).half.minCoeff(); }
-
 std::shared_ptr<const ModelLod> BuildModelLod(const Mesh& mesh, const ModelNeeds& needs) {
   auto out = std::make_shared<ModelLod>();
   ModelLod& m = *out;
@@ -148,10 +119,28 @@ std::shared_ptr<const ModelLod> BuildModelLod(const Mesh& mesh, const ModelNeeds
   const Eigen::Vector3d lo = m.lod.Min().cast<double>(), hi = m.lod.Max().cast<double>();
   for (int i = 0; i < 8; ++i)
     m.bbox_corners[i] = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  const ModelBox box = PolishBox(m.lod);
-  m.box_axes = box.axes;
-  m.box_centre = box.centre;
-  m.box_half = box.half;
+  m.box_centre = 0.5 * (lo + hi);
+  m.box_half = 0.5 * (hi - lo);
+  {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& v : m.lod.vertices) mean += v.cast<double>();
+    mean /= double(m.lod.vertices.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto& v : m.lod.vertices) cov += (v.cast<double>() - mean) * (v.cast<double>() - mean).transpose();
+    Eigen::Matrix3d A = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors();
+    if (A.determinant() < 0) A.col(2) = -A.col(2);
+    Eigen::Vector3d plo = Eigen::Vector3d::Constant(1e30), phi = Eigen::Vector3d::Constant(-1e30);
+    for (const auto& v : m.lod.vertices) {
+      const Eigen::Vector3d q = A.transpose() * v.cast<double>();
+      plo = plo.cwiseMin(q);
+      phi = phi.cwiseMax(q);
+    }
+    if ((phi - plo).prod() < 0.9 * (hi - lo).prod() && A.allFinite()) {
+      m.box_axes = A;
+      m.box_centre = A * (0.5 * (plo + phi));
+      m.box_half = 0.5 * (phi - plo);
+    }
+  }
   ++lods_prepared;
   return out;
 }
@@ -174,8 +163,7 @@ PreparedModel::PreparedModel(Mesh mesh, std::vector<std::shared_ptr<const filter
       lods_(std::move(lods)),
       ppf_(std::move(ppf)),
       ppf_options_(ppf_options),
-      ppf_status_(std::move(ppf_status)),
-      thickness_m_(filter::MeshThickness(mesh_)) {}
+      ppf_status_(std::move(ppf_status)) {}
 
 bool PreparedModel::HasPpf(const PpfOptions& options) const {
   // The cache file's name hashes the mesh and the options the table depends on.

@@ -35,37 +35,16 @@ struct PreparedScene {
   double mask_shift_m = 0;  // how far pixels outside the mask were moved (0: no mask)
   std::size_t valid_pixels = 0;  // pixels of the input depth with a reading (> 0)
   std::size_t plane_pixels = 0;  // of those, the ones removed as support surfaces or structure
-  // Per pixel (row-major): 1 + the index in surfaces.patches of the patch whose pixel was
-  // removed, 0 where none was; empty when support_plane is off.
-  std::vector<std::uint16_t> removed_by;
 };
-
-// Thin objects (docs/ALGORITHM.md §12, "Thin objects"): an object thinner than this (its
-// least extent, PreparedModel::thickness_m) gets back the support pixels its relief may be.
-inline constexpr double kThinObjectM = 0.04;
 
 // Validates the scene (ValidateScene, naming `what`) and prepares it for `options`:
 // FrameScene, then WithObject with the scene's mask and seeds.
-// `thickness_m`: the object's (ThinRelief; 0 = none).
-PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options, const std::string& what = "scene",
-                           double thickness_m = 0);
+PreparedScene PrepareScene(const SceneInput& scene, const FilterOptions& options, const std::string& what = "scene");
 
 // The part of a scene's preparation that reads the frame alone (depth and camera, checked by
 // the caller): with `support_plane`, the support surfaces found and their pixels taken out of
 // the scoring and support depths; no mask, no seeds.
 PreparedScene FrameScene(const SceneInput& frame, bool support_plane);
-
-// The removed support pixels (indices into `frame`'s images) that an object `thickness_m` thin
-// (under kThinObjectM) gets back: those standing above their support by more than half its
-// band at the pixel's depth (and at least the band's lower clamp). The band holds ±3 σ of the
-// surface's noise; its upper half keeps the part of a thin object's relief that its noise
-// rarely reaches (1.5 σ: about 7 % of the surface's pixels come back with it). `depth`: the
-// frame's depth before FrameScene. Empty for a thicker object or a frame without supports.
-std::vector<std::size_t> ThinRelief(const PreparedScene& frame, const DepthImage& depth, double thickness_m);
-// `frame` with the pixels of ThinRelief back in its scoring and support depths (not counted in
-// plane_pixels); `frame` itself when there are none.
-std::shared_ptr<const PreparedScene> ForThickness(std::shared_ptr<const PreparedScene> frame, const DepthImage& depth,
-                                                  double thickness_m);
 
 // The object's part: `frame` (a FrameScene) with the object's pose seeds and, with a mask,
 // the pixels outside it shifted towards the camera in the scoring depth and dropped from the
@@ -74,12 +53,11 @@ PreparedScene WithObject(PreparedScene frame, const std::vector<std::uint8_t>& m
                          const FilterOptions& options);
 
 // The scene an estimate with `options` scores against on a prepared frame with the object's
-// mask and seeds (checked here, naming `what`) and thickness (ForThickness): the frame's own
-// scene when the object adds nothing and the frame was prepared with options.support.plane;
-// else WithObject of it, or of the frame prepared again with the options' support.plane.
+// mask and seeds (checked here, naming `what`): the frame's own scene when the object adds
+// nothing and the frame was prepared with options.support.plane; else WithObject of it, or of
+// the frame prepared again with the options' support.plane.
 std::shared_ptr<const PreparedScene> SceneFor(const PreparedFrame& frame, const ObjectInput& object,
-                                              const FilterOptions& options, const std::string& what = "scene",
-                                              double thickness_m = 0);
+                                              const FilterOptions& options, const std::string& what = "scene");
 
 // Checks a mask and pose seeds for an image of `pixels` pixels (ValidateScene's part for them);
 // throws Error naming `what`.
