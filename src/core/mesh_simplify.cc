@@ -12,6 +12,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/option_check.h"
 #include "posefilter/error.h"
 
 namespace posefilter {
@@ -72,10 +73,7 @@ double MaxDistanceToSurface(const std::vector<Eigen::Vector3f>& points, const Me
 }  // namespace
 
 bool SimplifyOptions::IsValid(std::string* why) const {
-  if (!(max_relative_error > 0 && max_relative_error <= 1)) {
-    if (why != nullptr) *why = "max_relative_error must be in (0, 1]";
-    return false;
-  }
+  if (!(max_relative_error > 0 && max_relative_error <= 1)) return Fail(why, "max_relative_error must be in (0, 1]");
   return true;
 }
 

@@ -12,6 +12,7 @@ extern "C" {
 #include <map>
 #include <numeric>
 
+#include "core/option_check.h"
 #include "core/plane_fit.h"
 #include "posefilter/error.h"
 
@@ -179,10 +180,7 @@ Eigen::Vector3d CentreOfMass(const Mesh& mesh) {
 }
 
 bool StablePoseOptions::IsValid(std::string* why) const {
-  if (!(min_probability >= 0 && min_probability < 1)) {
-    if (why) *why = "min_probability must be in [0, 1)";
-    return false;
-  }
+  if (!(min_probability >= 0 && min_probability < 1)) return Fail(why, "min_probability must be in [0, 1)");
   return true;
 }
 
