@@ -21,7 +21,8 @@ namespace {
 
 // Vertices of a convex polygon (indices into `pts`) in the plane with unit normal n, sorted
 // counter-clockwise seen from the side n points to.
-std::vector<int> SortPolygon(const std::vector<Eigen::Vector3d>& pts, std::vector<int> ids, const Eigen::Vector3d& n) {
+std::vector<int> SortPolygon(const std::vector<Eigen::Vector3d>& pts, const std::vector<int>& ids,
+                             const Eigen::Vector3d& n) {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (int i : ids) centre += pts[std::size_t(i)];
   centre /= double(ids.size());
