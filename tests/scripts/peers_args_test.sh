@@ -14,6 +14,9 @@ if ! "$PY" -c "import numpy, open3d, scipy" >/dev/null 2>&1; then
 fi
 T="$(mktemp -d "${TMPDIR:-/tmp}/peers_args_test.XXXXXX")"
 trap 'rm -rf "$T"' EXIT
+# The checks after the meshes folder's get an existing (empty) one, so that the test does not
+# depend on ../shared/data being beside the clone.
+mkdir -p "$T/models"
 
 failures=0
 # expect_error WHAT ARGS...: peers.py ARGS must fail and print WHAT on stderr, writing nothing.
@@ -45,9 +48,9 @@ expect_error "--world" --world kitchen
 expect_error "--max-depth and --large-plane apply to --world room" --max-depth 2
 expect_error "--max-depth must be above 0.35" --world room --max-depth 0.2
 expect_error "--large-plane must be > 0" --world room --large-plane 0
-expect_error "--reuse-posefilter: no posefilter.json" --reuse-posefilter
+expect_error "--reuse-posefilter: no posefilter.json" --reuse-posefilter --models "$T/models"
 expect_error "no such folder" --models "$T/no_models"
-expect_error "no posefilter binary" --posefilter "$T/no_posefilter"
+expect_error "no posefilter binary" --posefilter "$T/no_posefilter" --models "$T/models"
 
 if [[ $failures -ne 0 ]]; then
   exit 1
