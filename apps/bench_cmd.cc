@@ -230,6 +230,7 @@ FilterOptions CheckBenchArgs(BenchArgs& a) {
   opt.threads = threads;
   opt.render.zbuffer = zbuffer == "on";
   opt.render.lod_max_faces = lod;
+  opt.render.lod_face_px = 0;       // the --lod mesh at every size in the image
   opt.seed = seed;
   CheckFilterOptions(opt);  // names --threads, --lod, ... as the filter commands do
   SynthOptions synth;

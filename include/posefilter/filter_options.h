@@ -85,6 +85,15 @@ struct RenderOptions {
   // of up to 4096 faces as they are and brings a 16k-face YCB-Video mesh to 4096, which finds
   // the same objects 2.3× faster (docs/ALGORITHM.md, "Level of detail").
   int lod_max_faces = 4096;
+  // Ours: a level of detail by size in the image. The filter weighs the coarsest of the
+  // simplified meshes of faces / m² faces (m = 1..4, at least 256 faces; the ladder of
+  // adaptive_resolution and anneal.simplify) with at most D² / lod_face_px faces, D the
+  // object's projected diameter in pixels at its most probable cell's depth: an object small
+  // in the image is weighed with fewer faces, each covering more pixels. Pixels (of D²) per
+  // face; 0 = off (the lod_max_faces mesh at every size). At 16 a 16k-face YCB-Video mesh
+  // (4096 at lod_max_faces) keeps 4096 faces from 256 px across, 1024 from 128 px, 455 from
+  // 86 px and 256 below (docs/ALGORITHM.md §14).
+  double lod_face_px = 16;
   int max_window_px = 200;           // windows are the cell's box clipped to this, pixels
   // Ours: objects whose projected diameter exceeds 1.25 · max_window_px pixels (a large object
   // close to a long-focal-length camera) are weighed on every s-th pixel of every s-th row in

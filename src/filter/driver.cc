@@ -30,17 +30,38 @@ int AnnealIterations(const FilterOptions& options) {
                                                          : 0;
 }
 
-int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
-               const Camera& camera, double diameter) {
-  if (!options.render.adaptive_resolution) return 1;
+namespace {
+
+// The object's projected diameter in pixels, diameter · max(fx, fy) / z, at the depth z of the
+// volume centre of the class's most probable cell with a volume; 0 when no cell has one.
+double ProjectedDiameterPx(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
+                           const Camera& camera, double diameter) {
   int best = -1;
   double best_p = 0;
   for (int c = 0; c < prior.layout.CellCount(); ++c)
     if (volumes.Valid(c) && prior.Prob(c, cls) > best_p) best = c, best_p = prior.Prob(c, cls);
-  if (best < 0) return 1;
+  if (best < 0) return 0;
   const double z = std::max((camera.base_to_camera * volumes.Get(best).Centre()).z(), options.render.near_m);
-  const double px = diameter * std::max(camera.fx, camera.fy) / z;
+  return diameter * std::max(camera.fx, camera.fy) / z;
+}
+
+}  // namespace
+
+int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
+               const Camera& camera, double diameter) {
+  if (!options.render.adaptive_resolution) return 1;
+  const double px = ProjectedDiameterPx(options, prior, cls, volumes, camera, diameter);
+  if (!(px > 0)) return 1;
   return std::clamp(int(std::ceil(px / (1.25 * options.render.max_window_px))), 1, 4);
+}
+
+int MeshFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
+               const Camera& camera, double diameter, int faces) {
+  if (!(options.render.lod_face_px > 0)) return 1;
+  const double px = ProjectedDiameterPx(options, prior, cls, volumes, camera, diameter);
+  if (!(px > 0)) return 1;
+  // faces / m² ≤ px² / lod_face_px  ⇔  m ≥ sqrt(faces · lod_face_px) / px
+  return std::clamp(int(std::ceil(std::sqrt(double(faces) * options.render.lod_face_px) / px)), 1, 4);
 }
 
 int CoarseMeshFaces(int faces, int subsample) {

@@ -37,6 +37,13 @@ int CoarseMeshFaces(int faces, int subsample);
 // windows s times as large, so the window holds the whole object.
 int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
                const Camera& camera, double diameter);
+// The mesh stride of the levels (FilterOptions::render.lod_face_px): the smallest m in [1, 4]
+// with faces / m² ≤ D² / lod_face_px, D the projected diameter of FineFactor (1 when
+// lod_face_px is 0 or no cell has a volume). A level of pixel stride s weighs the mesh of
+// CoarseMeshFaces(faces, max(s, m)) faces (with anneal.simplify; max(1, m) without), so the
+// faces of a small object in the image are at most about one per lod_face_px pixels of D².
+int MeshFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
+               const Camera& camera, double diameter, int faces);
 
 // The set size once annealing is over (FilterOptions::fine_particle_fraction):
 // round(fine_particle_fraction · num_particles), at least num_elite + 1, at most num_particles.

@@ -434,6 +434,7 @@ Context BuildContext(std::shared_ptr<const PreparedScene> prep_ptr, std::shared_
   // A pixel level of the given factor: the scene and N_depth table subsampled, and (factor > 1,
   // anneal_simplify) the model's mesh simplified to faces / factor² faces (at least
   // kCoarseMinFaces; a mesh meshoptimizer cannot bring to the budget is weighed as it is).
+  const int mesh_factor = filter::MeshFactor(options, prior, cls, ctx.volumes, scene.camera, diameter, int(mesh.faces.size()));
   auto make_level = [&](int factor) {
     Level l;
     l.factor = factor;
@@ -442,8 +443,9 @@ Context BuildContext(std::shared_ptr<const PreparedScene> prep_ptr, std::shared_
     l.valid_depth = render::ValidDepthSat(support.data.data(), support.width, support.height);
     l.mesh = &mesh;
     l.face_planes = &m.face_planes;
-    if (factor > 1 && options.anneal.simplify) {
-      const int budget = filter::CoarseMeshFaces(int(mesh.faces.size()), factor);
+    const int mesh_stride = std::max(options.anneal.simplify ? factor : 1, mesh_factor);
+    if (mesh_stride > 1) {
+      const int budget = filter::CoarseMeshFaces(int(mesh.faces.size()), mesh_stride);
       if (int(mesh.faces.size()) > budget) {
         const CoarseMesh* coarse = m.Coarse(budget);
         if (!coarse) throw Error("internal: mesh '" + mesh.name + "' was not prepared for this coarse level");

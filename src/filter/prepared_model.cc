@@ -54,6 +54,11 @@ ModelNeeds NeedsOf(const FilterOptions& options, bool runs, bool plane) {
     if (runs && options.anneal.subsample > 1 && AnnealIterations(options) > 0)
       for (int f = 1; f <= max_fine; ++f) add(f * options.anneal.subsample);
   }
+  // render.lod_face_px: the mesh strides 2–4 of MeshFactor, at any pixel level.
+  if (options.render.lod_face_px > 0)
+    for (int f = 2; f <= 4; ++f)
+      if (std::find(n.coarse_factors.begin(), n.coarse_factors.end(), f) == n.coarse_factors.end())
+        n.coarse_factors.push_back(f);
   return n;
 }
 

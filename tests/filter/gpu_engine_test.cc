@@ -101,6 +101,7 @@ TEST(GpuEngine, AMeshTooLargeForTheDevicesBuffersIsAnErrorNamingTheLimit) {
   const EasyCase c("torus", 14);  // 1024 vertices: 16 KiB of vertex records per particle
   FilterOptions o = Budget("gpu");
   o.anneal.subsample = 1;  // one level: the full mesh and image
+  o.render.lod_face_px = 0;
   ASSERT_EQ(setenv("POSEFILTER_GPU_MAX_BUFFER_BYTES", "8192", 1), 0);
   try {
     testing_util::ExpectError([&] { c.Run(o); }, {"gpu engine", "too large", "vertices", "--engine cpu"});

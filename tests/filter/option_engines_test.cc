@@ -139,6 +139,8 @@ std::map<std::string, Probe> Probes() {
       {"zbuffer", SetProbe("zbuffer", "false")},
       {"near", {nullptr, [distance](FilterOptions& o) { o.render.near_m = distance - 0.01; }}},
       {"lod", SetProbe("lod", "64")},
+      {"lod-face-px",  // the full mesh on every pixel: the probe's stride 4 is a coarser mesh than the base's
+       SetProbe("lod-face-px", "1000", [](FilterOptions& o) { o.render.lod_max_faces = 0, o.render.adaptive_resolution = false; })},
       {"window", SetProbe("window", "40")},
       {"adaptive-resolution",
        SetProbe("adaptive-resolution", "false", [](FilterOptions& o) { o.render.max_window_px = 24; })},

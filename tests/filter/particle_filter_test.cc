@@ -353,6 +353,7 @@ TEST(ParticleFilterTest, CoarseIterationsWeighTheSimplifiedMesh) {
   const int F = int(torus.sc.target.faces.size());
   ASSERT_GT(F, 1024);
   FilterOptions o = EasyCase::Countable(6);  // N = 64; iterations 0–2 coarse; fine sets of 43
+  o.render.lod_face_px = 0;                  // the full mesh at every size in the image
   ASSERT_EQ(filter::CoarseMeshFaces(F, 3), std::max(256, F / 9));
   const std::int64_t Fc = std::int64_t(SimplifyMesh(torus.sc.target, filter::CoarseMeshFaces(F, 3)).faces.size());
   ASSERT_LT(Fc, F);
@@ -364,6 +365,26 @@ TEST(ParticleFilterTest, CoarseIterationsWeighTheSimplifiedMesh) {
   EXPECT_EQ(torus.Run(o).stats.faces_total, (coarse_weighings + fine_weighings) * F);
   // Meshes at or below the floor are weighed as they are.
   EXPECT_EQ(filter::CoarseMeshFaces(12, 3), filter::kCoarseMinFaces);
+}
+
+// render.lod_face_px: an object that covers fewer than lod_face_px pixels of D² per face is
+// weighed with the mesh of stride m = 4 (max(256, F / 16) faces: the coarse level's too, as the
+// torus's 2048 faces are under 9 · 256) at both pixel levels; at 0
+// the fine level weighs the full mesh. FilterStats::faces_total counts the faces weighed.
+TEST(ParticleFilterTest, AnObjectSmallInTheImageWeighsAMeshOfFewerFaces) {
+  const EasyCase torus("torus", 4);
+  const int F = int(torus.sc.target.faces.size());
+  FilterOptions o = EasyCase::Countable(6);  // N = 64; iterations 0–2 coarse; fine sets of 43
+  const std::int64_t F4 = std::int64_t(SimplifyMesh(torus.sc.target, filter::CoarseMeshFaces(F, 4)).faces.size());
+  const std::int64_t Fc = std::int64_t(SimplifyMesh(torus.sc.target, filter::CoarseMeshFaces(F, 3)).faces.size());
+  ASSERT_LT(F4, F);
+  const std::int64_t coarse_weighings = 3 * 64, fine_weighings = 43 + 2 * (43 - 10);
+  o.render.lod_face_px = 1e6;  // D² / 1e6 faces: stride 4 for any object under 8000 px across
+  const EstimateResult small = torus.Run(o);
+  EXPECT_EQ(small.stats.weighings, coarse_weighings + fine_weighings);
+  EXPECT_EQ(small.stats.faces_total, (coarse_weighings + fine_weighings) * F4);
+  o.render.lod_face_px = 0;
+  EXPECT_EQ(torus.Run(o).stats.faces_total, coarse_weighings * Fc + fine_weighings * F);
 }
 
 TEST(ParticleFilterTest, CountsTheThesisQuantities) {
