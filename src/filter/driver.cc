@@ -188,7 +188,7 @@ namespace {
 
 // EstimatePose on a prepared scene with the mesh's prepared model (null: prepared on the fly
 // for the float engines); options checked, t_start the call's start.
-EstimateResult EstimateOn(std::shared_ptr<const filter::PreparedScene> prep, const PreparedModel* model, const Mesh& mesh,
+EstimateResult EstimateOn(const std::shared_ptr<const filter::PreparedScene>& prep, const PreparedModel* model, const Mesh& mesh,
                           const Prior& prior, int cls, const FilterOptions& options, const ProgressFn& progress,
                           filter::Clock::time_point t_start) {
   const Camera camera = prep->scoring.camera;
@@ -215,7 +215,7 @@ EstimateResult Estimate(const SceneInput& scene, const PreparedModel* model, con
   const auto t_start = filter::Clock::now();
   ThrowIfInvalid(options, OptionNaming::kField);
   auto prep = std::make_shared<const filter::PreparedScene>(filter::PrepareScene(scene, options));
-  return EstimateOn(std::move(prep), model, mesh, prior, cls, options, progress, t_start);
+  return EstimateOn(prep, model, mesh, prior, cls, options, progress, t_start);
 }
 
 // EstimatePose on a prepared frame and an object's mask and seeds.

@@ -12,6 +12,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "filter/engine_registry.h"
@@ -100,7 +101,7 @@ struct Probe {
 
 // A probe that sets the row's field from text.
 Probe SetProbe(const char* name, const char* value, std::function<void(FilterOptions&)> context = nullptr) {
-  return {context, [name, value](FilterOptions& o) {
+  return {std::move(context), [name, value](FilterOptions& o) {
             std::string why;
             if (!FindOption(name)->SetFromText(o, value, &why)) ADD_FAILURE() << why;
           }};

@@ -22,7 +22,7 @@ TEST(FilterOptionsTest, IsValidNamesTheViolatedConstraint) {
   FilterOptions o;
   std::string why;
   EXPECT_TRUE(o.IsValid(&why)) << why;
-  auto expect_bad = [](FilterOptions bad, const std::string& needle) {
+  auto expect_bad = [](const FilterOptions& bad, const std::string& needle) {
     std::string w;
     EXPECT_FALSE(bad.IsValid(&w));
     EXPECT_NE(w.find(needle), std::string::npos) << w;
