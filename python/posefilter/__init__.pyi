@@ -256,7 +256,7 @@ class Estimator:
         zbuffer: bool = ...,  # True
         near: float = ...,  # 0.05, > 0
         lod: int = ...,  # 4096, >= 0
-        lod_face_px: float = ...,  # 16.0, >= 0
+        lod_face_px: float = ...,  # 0.0, >= 0
         window: int = ...,  # 200, >= 8
         adaptive_resolution: bool = ...,  # True
         min_window_diameters: float = ...,  # 1.0, [0, 4]

@@ -161,9 +161,9 @@ const std::vector<OptionInfo>& Table() {
           "triangles closer than this to the camera are skipped (m; the hw engine: >= 1/64)"),
       Row("lod", POSEFILTER_FIELD(render.lod_max_faces), "Rendering", AtLeast(0), kAllEngines,
           "level of detail: render the mesh simplified to at most this many faces (0 = the full mesh, else >= 4)"),
-      Thesis("0", Row("lod-face-px", POSEFILTER_FIELD(render.lod_face_px), "Rendering", AtLeast(0), kAllEngines,
-                      "level of detail by size in the image: at most (projected diameter in px)^2 / this many faces "
-                      "(the mesh simplified to faces/m^2, m <= 4; 0 = off; the hw engine uses it for the polish only)")),
+      Row("lod-face-px", POSEFILTER_FIELD(render.lod_face_px), "Rendering", AtLeast(0), kAllEngines,
+          "level of detail by size in the image: at most (projected diameter in px)^2 / this many faces (the mesh "
+          "simplified to faces/m^2, m <= 4; 0 = off; the hw engine uses it for the polish only)"),
       ThesisKept("200", Row("window", POSEFILTER_FIELD(render.max_window_px), "Rendering", AtLeast(8), kAllEngines,
                             "maximum window side (pixels; the hw engine: at most 200)")),
       Thesis(

@@ -171,7 +171,6 @@ TEST(OptionTable, ThesisColumnIsTheThesisConfiguration) {
   expected.anneal.start_m = 0;
   expected.anneal.subsample = 1;
   expected.anneal.simplify = false;
-  expected.render.lod_face_px = 0;
   expected.niches.region_cap = 1;
   expected.niches.rotation_cap = 1;
   expected.diffusion.min_sigma_fraction = 0;
@@ -206,7 +205,7 @@ TEST(OptionTable, ThesisColumnIsTheThesisConfiguration) {
       ++set;
     }
   }
-  EXPECT_EQ(set, 21);
+  EXPECT_EQ(set, 20);
   EXPECT_GE(kept, 9);
   // The thesis's figures the column states and keeps: N = 510, 32 tracker entries, 200 px windows.
   EXPECT_STREQ(FindOption("particles")->thesis, "510");
