@@ -92,8 +92,8 @@ struct RenderOptions {
   // in the image is weighed with fewer faces, each covering more pixels. Pixels (of D²) per
   // face; 0 = off (the lod_max_faces mesh at every size). At 16 a 16k-face YCB-Video mesh
   // (4096 at lod_max_faces) keeps 4096 faces from 256 px across, 1024 from 128 px, 455 from
-  // 86 px and 256 below: rooms 1.2–1.3× faster, but the scene pass then compares weights of
-  // meshes of different strides (docs/ALGORITHM.md §14), so it is off by default.
+  // 86 px and 256 below: rooms 1.2–1.3× faster, but the scene pass rescues fewer objects on
+  // the table (docs/ALGORITHM.md §14), so it is off by default.
   double lod_face_px = 0;
   int max_window_px = 200;           // windows are the cell's box clipped to this, pixels
   // Ours: objects whose projected diameter exceeds 1.25 · max_window_px pixels (a large object

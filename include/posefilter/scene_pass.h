@@ -57,7 +57,9 @@ struct SceneObject {
 
 struct ScenePassResult {
   EstimateResult estimate;      // the object's estimate after the pass (T_cam_obj, pose_base, cell)
-  double weight_alone = 0;      // its weight before the pass (the per-object estimate's)
+  // Its weight before the pass: the per-object estimate's (with render.lod_face_px, its pose
+  // weighed again in the whole frame, at the stride of its own depth).
+  double weight_alone = 0;
   double weight_masked = 0;     // its weight against the pixels better estimates leave it
   bool reestimated = false;     // step 3 ran
   bool replaced = false;        // step 3's pose replaced the per-object one

@@ -45,6 +45,13 @@ double ProjectedDiameterPx(const FilterOptions& options, const Prior& prior, int
   return diameter * std::max(camera.fx, camera.fy) / z;
 }
 
+// render.lod_face_px's mesh stride for an object px pixels across (1 when px is not positive):
+// faces / m² ≤ px² / lod_face_px  ⇔  m ≥ sqrt(faces · lod_face_px) / px, m in [1, 4].
+int StrideForDiameterPx(const FilterOptions& options, int faces, double px) {
+  if (!(px > 0)) return 1;
+  return std::clamp(int(std::ceil(std::sqrt(double(faces) * options.render.lod_face_px) / px)), 1, 4);
+}
+
 }  // namespace
 
 int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
@@ -58,10 +65,12 @@ int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const 
 int MeshFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
                const Camera& camera, double diameter, int faces) {
   if (!(options.render.lod_face_px > 0)) return 1;
-  const double px = ProjectedDiameterPx(options, prior, cls, volumes, camera, diameter);
-  if (!(px > 0)) return 1;
-  // faces / m² ≤ px² / lod_face_px  ⇔  m ≥ sqrt(faces · lod_face_px) / px
-  return std::clamp(int(std::ceil(std::sqrt(double(faces) * options.render.lod_face_px) / px)), 1, 4);
+  return StrideForDiameterPx(options, faces, ProjectedDiameterPx(options, prior, cls, volumes, camera, diameter));
+}
+
+int MeshFactorAt(const FilterOptions& options, const Camera& camera, double diameter, int faces, double z_m) {
+  if (!(options.render.lod_face_px > 0)) return 1;
+  return StrideForDiameterPx(options, faces, diameter * std::max(camera.fx, camera.fy) / std::max(z_m, options.render.near_m));
 }
 
 int CoarseMeshFaces(int faces, int subsample) {

@@ -44,6 +44,8 @@ int FineFactor(const FilterOptions& options, const Prior& prior, int cls, const 
 // faces of a small object in the image are at most about one per lod_face_px pixels of D².
 int MeshFactor(const FilterOptions& options, const Prior& prior, int cls, const prior::VolumeCache& volumes,
                const Camera& camera, double diameter, int faces);
+// The same stride for an object whose centre is z_m metres in front of the camera.
+int MeshFactorAt(const FilterOptions& options, const Camera& camera, double diameter, int faces, double z_m);
 
 // The set size once annealing is over (FilterOptions::fine_particle_fraction):
 // round(fine_particle_fraction · num_particles), at least num_elite + 1, at most num_particles.

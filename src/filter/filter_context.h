@@ -141,9 +141,13 @@ inline const SupportPlane* PlaneBelow(const Context& ctx, const Eigen::Vector3d&
 // cell. `runs`: the context will run the filter (EstimatePose), so it also gets the coarse
 // level of the annealing iterations, the stable poses and the seeds; weighing given poses and
 // the polish need only every pixel. `model` must hold what NeedsOf(options, runs) asks for
-// (LodFor). The context shares `prep` and `model`; `prior` must outlive it.
+// (LodFor). The context shares `prep` and `model`; `prior` must outlive it. `poses` (weighing
+// given poses; may be null): render.lod_face_px's mesh stride comes from the nearest of them
+// (its box centre's depth), not from the most probable cell, so that one pose weighs with one
+// mesh in any frame and mask.
 Context BuildContext(std::shared_ptr<const PreparedScene> prep, std::shared_ptr<const ModelLod> model,
-                     const Prior& prior, int cls, const FilterOptions& options, bool runs);
+                     const Prior& prior, int cls, const FilterOptions& options, bool runs,
+                     const std::vector<Pose6>* poses = nullptr);
 
 // Weighs every particle not yet scored in `run`'s state, as one batch of the scratch's weigher;
 // `icp`: also solve each one's ICP step (the kIcpStep move's input).

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <cmath>
 #include <array>
+#include <limits>
 #include <map>
 #include <memory>
 #include <set>
@@ -405,7 +406,8 @@ SceneInput SubsampleScene(const SceneInput& scene, int factor) {
 namespace filter {
 
 Context BuildContext(std::shared_ptr<const PreparedScene> prep_ptr, std::shared_ptr<const ModelLod> model,
-                     const Prior& prior, int cls, const FilterOptions& options, bool runs) {
+                     const Prior& prior, int cls, const FilterOptions& options, bool runs,
+                     const std::vector<Pose6>* poses) {
   const PreparedScene& prep = *prep_ptr;  // options: checked by the caller (ThrowIfInvalid)
   const Mesh& mesh = model->lod;
   const SceneInput& scene = prep.scoring;
@@ -434,7 +436,16 @@ Context BuildContext(std::shared_ptr<const PreparedScene> prep_ptr, std::shared_
   // A pixel level of the given factor: the scene and N_depth table subsampled, and (factor > 1,
   // anneal_simplify) the model's mesh simplified to faces / factor² faces (at least
   // kCoarseMinFaces; a mesh meshoptimizer cannot bring to the budget is weighed as it is).
-  const int mesh_factor = filter::MeshFactor(options, prior, cls, ctx.volumes, scene.camera, diameter, int(mesh.faces.size()));
+  int mesh_factor = 1;
+  if (poses == nullptr) {
+    mesh_factor = filter::MeshFactor(options, prior, cls, ctx.volumes, scene.camera, diameter, int(mesh.faces.size()));
+  } else {
+    double z_near = std::numeric_limits<double>::infinity();
+    for (const Pose6& p : *poses)
+      z_near = std::min(z_near, (scene.camera.base_to_camera * PoseToTransform(p) * m.box_centre).z());
+    if (std::isfinite(z_near))
+      mesh_factor = filter::MeshFactorAt(options, scene.camera, diameter, int(mesh.faces.size()), z_near);
+  }
   auto make_level = [&](int factor) {
     Level l;
     l.factor = factor;
@@ -506,7 +517,9 @@ std::vector<double> WeighPreparedPoses(std::shared_ptr<const filter::PreparedSce
                                        std::shared_ptr<const filter::ModelLod> lod, const Prior& prior, int cls,
                                        const FilterOptions& options,
                                        const std::vector<std::pair<Pose6, int>>& hypotheses) {
-  const Context ctx = BuildContext(std::move(prep), std::move(lod), prior, cls, options, false);
+  std::vector<Pose6> poses;
+  for (const auto& h : hypotheses) poses.push_back(h.first);
+  const Context ctx = BuildContext(std::move(prep), std::move(lod), prior, cls, options, false, &poses);
   std::vector<Particle> ps(hypotheses.size());
   for (std::size_t i = 0; i < hypotheses.size(); ++i) {
     if (hypotheses[i].second < 0 || hypotheses[i].second >= prior.layout.CellCount())

@@ -60,12 +60,18 @@ std::vector<ScenePassResult> RunScenePass(const PreparedFrame& frame, const Prio
     ScenePassResult& r = out[idx];
     r.estimate = obj.estimate;
     const std::vector<std::pair<Pose6, int>> hyp = {{obj.estimate.pose_base, obj.estimate.cell}};
-    r.weight_alone = obj.estimate.weight;
-    const bool any_free = std::find(masked.mask.begin(), masked.mask.end(), 1) != masked.mask.end();
     // The caller's prepared model, or the mesh prepared for each call (only what it reads).
-    r.weight_masked = !any_free ? 0.0
-                      : obj.model ? WeighPoses(frame, masked, *obj.model, prior, obj.cls, options, hyp)[0]
-                                  : WeighPoses(frame, masked, *obj.mesh, prior, obj.cls, options, hyp)[0];
+    auto weigh = [&](const ObjectInput& in, const std::vector<std::pair<Pose6, int>>& poses) {
+      return obj.model ? WeighPoses(frame, in, *obj.model, prior, obj.cls, options, poses)[0]
+                       : WeighPoses(frame, in, *obj.mesh, prior, obj.cls, options, poses)[0];
+    };
+    // With a level of detail by size (render.lod_face_px) the estimate weighed its mesh at its
+    // most probable cell's stride; the pose is weighed again, unmasked, at the stride of its own
+    // depth, the one every weighing below uses, so that the drop compares one mesh.
+    const bool by_size = options.render.lod_face_px > 0;
+    r.weight_alone = by_size ? weigh(ObjectInput{}, hyp) : obj.estimate.weight;
+    const bool any_free = std::find(masked.mask.begin(), masked.mask.end(), 1) != masked.mask.end();
+    r.weight_masked = !any_free ? 0.0 : weigh(masked, hyp);
     if (any_free && r.weight_alone - r.weight_masked > pass.conflict_drop) {
       // Better estimates explain this one's pixels: look again where they leave room.
       FilterOptions o = options;
@@ -74,9 +80,10 @@ std::vector<ScenePassResult> RunScenePass(const PreparedFrame& frame, const Prio
       try {
         const EstimateResult e = obj.model ? EstimatePose(frame, masked, *obj.model, prior, obj.cls, o)
                                            : EstimatePose(frame, masked, *obj.mesh, prior, obj.cls, o);
-        if (e.weight > r.weight_masked) {
+        const double e_weight = by_size ? weigh(masked, {{e.pose_base, e.cell}}) : e.weight;
+        if (e_weight > r.weight_masked) {
           r.estimate = e;
-          r.weight_masked = e.weight;
+          r.weight_masked = e_weight;
           r.replaced = true;
         }
       } catch (const Error&) {

@@ -387,6 +387,24 @@ TEST(ParticleFilterTest, AnObjectSmallInTheImageWeighsAMeshOfFewerFaces) {
   EXPECT_EQ(torus.Run(o).stats.faces_total, coarse_weighings * Fc + fine_weighings * F);
 }
 
+// render.lod_face_px's stride at a depth: the smallest m in [1, 4] with faces / m² ≤ D² / K,
+// D = diameter · max(fx, fy) / z. A 4096-face mesh of 0.1 m at f = 1000 px with K = 16
+// (sqrt(4096 · 16) = 256 px): D = 256.4 px → 1, 200 → 2, 100 → 3, 50 → 4, and 4 beyond.
+TEST(MeshFactorTest, TheStrideFollowsTheProjectedDiameter) {
+  FilterOptions o;
+  Camera cam;
+  cam.fx = cam.fy = 1000;
+  o.render.lod_face_px = 16;
+  EXPECT_EQ(filter::MeshFactorAt(o, cam, 0.1, 4096, 0.39), 1);
+  EXPECT_EQ(filter::MeshFactorAt(o, cam, 0.1, 4096, 0.5), 2);
+  EXPECT_EQ(filter::MeshFactorAt(o, cam, 0.1, 4096, 1.0), 3);
+  EXPECT_EQ(filter::MeshFactorAt(o, cam, 0.1, 4096, 2.0), 4);
+  EXPECT_EQ(filter::MeshFactorAt(o, cam, 0.1, 4096, 20.0), 4);
+  EXPECT_EQ(filter::MeshFactorAt(o, cam, 0.1, 256, 1.5), 1);  // 256 faces ≤ 66.7² / 16
+  o.render.lod_face_px = 0;  // off: the mesh itself at every size
+  EXPECT_EQ(filter::MeshFactorAt(o, cam, 0.1, 4096, 2.0), 1);
+}
+
 TEST(ParticleFilterTest, CountsTheThesisQuantities) {
   const SynthScene sc = EasyScene("lshape", 4);
   const Prior prior = PostProcessPyramid(sc.raw_pyramid, sc.layout, sc.classes);
