@@ -433,9 +433,8 @@ Context BuildContext(std::shared_ptr<const PreparedScene> prep_ptr, std::shared_
   const HeuristicOptions hopt = VolumeOptions(options, diameter);
   ctx.volumes = prior::VolumeCache(prep.support, scene.camera, prior.boxes, hopt, options.threads);
   const int cells = prior.layout.CellCount();
-  // A pixel level of the given factor: the scene and N_depth table subsampled, and (factor > 1,
-  // anneal_simplify) the model's mesh simplified to faces / factor² faces (at least
-  // kCoarseMinFaces; a mesh meshoptimizer cannot bring to the budget is weighed as it is).
+  // The mesh stride of render.lod_face_px (1 when off): from the class's most probable cell, or
+  // from the nearest of the given poses.
   int mesh_factor = 1;
   if (poses == nullptr) {
     mesh_factor = filter::MeshFactor(options, prior, cls, ctx.volumes, scene.camera, diameter, int(mesh.faces.size()));
@@ -446,6 +445,10 @@ Context BuildContext(std::shared_ptr<const PreparedScene> prep_ptr, std::shared_
     if (std::isfinite(z_near))
       mesh_factor = filter::MeshFactorAt(options, scene.camera, diameter, int(mesh.faces.size()), z_near);
   }
+  // A pixel level of the given factor: the scene and N_depth table subsampled, and (factor > 1,
+  // anneal_simplify) the model's mesh simplified to faces / factor² faces (at least
+  // kCoarseMinFaces; a mesh meshoptimizer cannot bring to the budget is weighed as it is), or
+  // to faces / mesh_factor² where that is fewer.
   auto make_level = [&](int factor) {
     Level l;
     l.factor = factor;
