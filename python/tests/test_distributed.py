@@ -337,6 +337,12 @@ def test_worker_needs_no_posefilter_package(data, tmp_path):
                 pytest.skip("posefilter is importable without PYTHONPATH here (installed)")
             s = run_dataset(c, ds, out, prior=PRIOR, options=OPTIONS, cli=cli, no_time=True)
         finally:
+            # A worker still closing its comms after 30 s on a loaded machine is killed: what is
+            # tested is that it ran the tasks, not how fast it shuts down.
             worker.terminate()
-            worker.wait(timeout=30)
+            try:
+                worker.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                worker.kill()
+                worker.wait()
     assert s.done == 6 and _lines(out) == _lines(ref)
