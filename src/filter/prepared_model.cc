@@ -41,24 +41,22 @@ ModelNeeds NeedsOf(const FilterOptions& options, bool runs, bool plane) {
   n.lod_max_faces = options.render.lod_max_faces;
   n.hull = plane && options.support.contact > 0 && options.support.plane;
   n.stable = plane && runs && options.support.stable_start > 0 && options.support.plane;
+  auto add = [&n](int factor) {
+    if (factor > 1 && std::find(n.coarse_factors.begin(), n.coarse_factors.end(), factor) == n.coarse_factors.end())
+      n.coarse_factors.push_back(factor);
+  };
   // With anneal.simplify every level of factor > 1 weighs a simplified mesh: the fine level
   // (factor 1–4 with adaptive resolution, FineFactor) and, when the run anneals on the coarse
   // grid, the coarse level (the fine factor times anneal.subsample).
   if (options.anneal.simplify) {
     const int max_fine = options.render.adaptive_resolution ? 4 : 1;
-    auto add = [&n](int factor) {
-      if (factor > 1 && std::find(n.coarse_factors.begin(), n.coarse_factors.end(), factor) == n.coarse_factors.end())
-        n.coarse_factors.push_back(factor);
-    };
     for (int f = 1; f <= max_fine; ++f) add(f);
     if (runs && options.anneal.subsample > 1 && AnnealIterations(options) > 0)
       for (int f = 1; f <= max_fine; ++f) add(f * options.anneal.subsample);
   }
   // render.lod_face_px: the mesh strides 2–4 of MeshFactor, at any pixel level.
   if (options.render.lod_face_px > 0)
-    for (int f = 2; f <= 4; ++f)
-      if (std::find(n.coarse_factors.begin(), n.coarse_factors.end(), f) == n.coarse_factors.end())
-        n.coarse_factors.push_back(f);
+    for (int f = 2; f <= 4; ++f) add(f);
   return n;
 }
 
