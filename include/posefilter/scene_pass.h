@@ -10,14 +10,8 @@
 //      weight first); its current pose is weighed against that mask (SceneInput::mask: masked-
 //      out pixels are neither inliers nor in N_depth, and hide what lies behind them);
 //   3. when that weight falls short of the object's own by more than conflict_drop (a better
-//      estimate claims its pixels: two estimates on one object), one of the two is estimated
-//      again. The claimant is the settled object that explains most of this pose's pixels;
-//      where its weight without this pose's explained pixels falls by more than this object's
-//      fell (the claimant lies on this object more than this object lies on it), the claimant
-//      is estimated again without them, and where the new pose weighs more there it replaces
-//      the claimant's, which is settled again after this object (this object keeps its pose;
-//      each object yields so at most once). Otherwise this object is estimated again on the
-//      masked scene, and the new pose replaces the old one where it weighs more there;
+//      estimate claims its pixels: two estimates on one object), the object is estimated again
+//      on the masked scene, and the new pose replaces the old one where it weighs more there;
 //   4. the object is settled: its pixels are taken from the objects after it.
 // Units: metres; poses object → camera. Deterministic given the options' seed.
 #pragma once
@@ -66,12 +60,10 @@ struct ScenePassResult {
   // Its weight before the pass: the per-object estimate's (with render.lod_face_px, its pose
   // weighed again in the whole frame, at the stride of its own depth).
   double weight_alone = 0;
-  // Its weight against the pixels better estimates leave it (after step 3: of the pose kept).
-  double weight_masked = 0;
-  bool reestimated = false;     // step 3 estimated it again (as the object or as the claimant)
+  double weight_masked = 0;     // its weight against the pixels better estimates leave it
+  bool reestimated = false;     // step 3 ran
   bool replaced = false;        // step 3's pose replaced the per-object one
-  double time_ms = 0;           // the pass's wall time for this object (a claimant's re-estimate
-                                // counts in the time of the object it yields to)
+  double time_ms = 0;           // the pass's wall time for this object
 };
 
 // The pass over `objects` (results in the objects' order). `scene` must not hold a mask or

@@ -422,8 +422,8 @@ void BindEstimation(py::module_& m) {
            "object's instance mask (H x W, non-zero = the object; one Mesh), scored against. progress(obj, "
            "iteration, best_weight) is called after each iteration (best_weight: the best at the final inlier "
            "threshold, never falling; NaN while the first run anneals). scene_pass (a list of Mesh, no mask): after "
-           "the per-object estimates, the joint scene pass re-estimates, of two estimates that claim the same "
-           "pixels, the one that lies on the other. Runs without the GIL.")
+           "the per-object estimates, the joint scene pass re-estimates an object whose pixels a better estimate "
+           "explains. Runs without the GIL.")
       .def("__repr__", [](const Estimator& e) {
         const auto& o = e.options();
         return "Estimator(particles=" + std::to_string(o.num_particles) + ", iterations=" +
