@@ -168,6 +168,11 @@ struct StopOptions {
   // max_iterations (the thesis).
   int stall_iterations = 3;
   double stall_gain = 0.01;          // weight (eq. 7.4 [ALGORITHM.md] units)
+  // Ours: with more than two restarts, the rest are skipped when the first two runs agree: their
+  // best poses' origins lie within restart_agree_m (metres, [0, 1]; 0 = off: every restart
+  // runs) and their best weights within restart_agree_weight (eq. 7.4 [ALGORITHM.md] units, [0, 1]).
+  double restart_agree_m = 0.01;
+  double restart_agree_weight = 0.02;
 };
 
 // Final polish (ours): the best pose of every run, and each of those turned about the model's

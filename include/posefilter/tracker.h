@@ -49,14 +49,18 @@ namespace posefilter {
 // 0.1 rad, weight α 0.3 + β 0.7 (γ = 0: the tracker's prior is its own prediction, not a
 // detector's evidence), a polish of 3 ICP steps without turns, LOD 1024 faces.
 FilterOptions TrackingFilterOptions();
+// The (re-)initialisations' options: FilterOptions defaults with every restart run
+// (stop.restart_agree_m = 0): an initialisation's pose seeds every frame after it, so it does
+// not stop early where its first two runs agree.
+FilterOptions TrackingInitOptions();
 
 struct TrackOptions {
   // The short filter run of each tracked object and frame (TrackingFilterOptions()).
   // filter.seed seeds every stream of the tracker.
   FilterOptions filter = TrackingFilterOptions();
-  // The full estimate that starts or re-initialises an object from a stage 1 (FilterOptions
-  // defaults). Its seed is replaced per frame and object (derived from filter.seed).
-  FilterOptions init = {};
+  // The full estimate that starts or re-initialises an object from a stage 1
+  // (TrackingInitOptions()). Its seed is replaced per frame and object (derived from filter.seed).
+  FilterOptions init = TrackingInitOptions();
   // A tracking step whose best weight (eq. 7.4 [ALGORITHM.md] with filter's α, β, γ) is below this reports
   // the object lost; so does a (re-)initialisation below it. In [0, 1].
   double lost_weight = 0.45;

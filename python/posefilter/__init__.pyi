@@ -276,6 +276,8 @@ class Estimator:
         confidence: float = ...,  # 0.9, (0, 1]
         stall_iterations: int = ...,  # 3, [0, 1000]
         stall_gain: float = ...,  # 0.01, [0, 1]
+        restart_agree_m: float = ...,  # 0.01, [0, 1]
+        restart_agree_weight: float = ...,  # 0.02, [0, 1]
         polish_steps: int = ...,  # 8, [0, 100]
         polish_turns: bool = ...,  # True
         polish_pivots: bool = ...,  # True

@@ -96,6 +96,12 @@ bool RunEnds(const FilterOptions& options, int it, int anneal_its, const std::ve
   return *converged || stalled || it + 1 == options.stop.max_iterations;
 }
 
+bool RunsAgree(const StopOptions& stop, const EstimateResult& a, const EstimateResult& b) {
+  const Eigen::Vector3d d(a.pose_base.x - b.pose_base.x, a.pose_base.y - b.pose_base.y, a.pose_base.z - b.pose_base.z);
+  return stop.restart_agree_m > 0 && d.norm() < stop.restart_agree_m &&
+         std::fabs(a.weight - b.weight) < stop.restart_agree_weight;
+}
+
 EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progress, const RunFn& run) {
   Rng rng(options.seed);
   EstimateResult best;
@@ -113,6 +119,8 @@ EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progr
         })
                  : ProgressFn();
     EstimateResult r = run(run_rng, run_progress);
+    // The first two runs found one optimum: further runs would most likely find it again.
+    const bool agree = k == 1 && RunsAgree(options.stop, best, r);
     FilterStats total = best.stats;
     total += r.stats;
     const int iterations = best.iterations + r.iterations;
@@ -132,6 +140,7 @@ EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progr
     best.iteration_ms = std::move(times);
     best.particle_history = std::move(particles);
     best.converged = converged;
+    if (agree) break;
   }
   return best;
 }

@@ -67,8 +67,13 @@ using RunFn = std::function<EstimateResult(Rng& rng, const ProgressFn& progress)
 // iteration counts add up, the per-iteration histories are concatenated, the run with the
 // highest weight provides the pose. `progress` (may be empty) sees the iterations counted
 // over all runs and the best weight any run has reached at the final inlier threshold (NaN
-// before one has; ProgressFn, posefilter/filter.h).
+// before one has; ProgressFn, posefilter/filter.h). The runs after the second are skipped
+// where the first two agree (RunsAgree).
 EstimateResult RunRestarts(const FilterOptions& options, const ProgressFn& progress, const RunFn& run);
+
+// Whether two runs' results found one optimum: their best poses' origins lie within
+// stop.restart_agree_m (metres; 0: never) and their weights within stop.restart_agree_weight.
+bool RunsAgree(const StopOptions& stop, const EstimateResult& a, const EstimateResult& b);
 
 // A pose to polish: object → base, and the prior cell it is weighed with (its window, ρ).
 struct PolishSeed {

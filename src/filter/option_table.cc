@@ -217,6 +217,11 @@ const std::vector<OptionInfo>& Table() {
               "threshold (0 = off)")),
       Row("stall-gain", POSEFILTER_FIELD(stop.stall_gain), "Stopping", kFraction, kAllEngines,
           "see --stall-iterations (weight)"),
+      Thesis("0", Row("restart-agree-m", POSEFILTER_FIELD(stop.restart_agree_m), "Stopping", Closed(0, 1), kAllEngines,
+                      "with more than 2 --restarts, skip the rest when the first two runs' best poses lie within this "
+                      "of each other (m; 0 = off: every restart runs)")),
+      Row("restart-agree-weight", POSEFILTER_FIELD(stop.restart_agree_weight), "Stopping", kFraction, kAllEngines,
+          "see --restart-agree-m: and their best weights lie within this (weight)"),
       // ---- polish
       Thesis("0", Row("polish-steps", POSEFILTER_FIELD(polish.steps), "Polish", Closed(0, 100), kAllEngines,
                       "final polish: ICP steps per polished candidate (0 = off)")),

@@ -146,6 +146,12 @@ TrackStage1 AutoTrackStage1(const SceneInput& frame, const std::vector<std::shar
   return SeedsByName(std::move(a.prior), std::move(a.seeds), names);
 }
 
+FilterOptions TrackingInitOptions() {
+  FilterOptions o;
+  o.stop.restart_agree_m = 0;
+  return o;
+}
+
 FilterOptions TrackingFilterOptions() {
   FilterOptions o;
   o.num_particles = 64;

@@ -164,6 +164,15 @@ std::map<std::string, Probe> Probes() {
        SetProbe("stall-iterations", "1", [](FilterOptions& o) { o.stop.max_iterations = 12, o.stop.stall_gain = 0.5; })},
       {"stall-gain",
        SetProbe("stall-gain", "1", [](FilterOptions& o) { o.stop.max_iterations = 12, o.stop.stall_gain = 0; })},
+      // Three runs, of which the first two always agree (any distance, any weights) before the move.
+      {"restart-agree-m", SetProbe("restart-agree-m", "0",
+                                   [](FilterOptions& o) {
+                                     o.restarts = 3, o.stop.restart_agree_m = 1, o.stop.restart_agree_weight = 1;
+                                   })},
+      {"restart-agree-weight", SetProbe("restart-agree-weight", "0",
+                                        [](FilterOptions& o) {
+                                          o.restarts = 3, o.stop.restart_agree_m = 1, o.stop.restart_agree_weight = 1;
+                                        })},
       {"polish-steps", SetProbe("polish-steps", "2")},
       {"polish-turns", SetProbe("polish-turns", "true")},
       {"polish-pivots", SetProbe("polish-pivots", "false", [](FilterOptions& o) { o.polish.turns = true; })},

@@ -180,6 +180,7 @@ TEST(OptionTable, ThesisColumnIsTheThesisConfiguration) {
   expected.seed_start = 0;
   expected.fine_particle_fraction = 1;
   expected.stop.stall_iterations = 0;
+  expected.stop.restart_agree_m = 0;
   const FilterOptions thesis = ThesisFilterOptions(scale);
   std::string why;
   EXPECT_TRUE(thesis.IsValid(&why)) << why;
@@ -205,7 +206,7 @@ TEST(OptionTable, ThesisColumnIsTheThesisConfiguration) {
       ++set;
     }
   }
-  EXPECT_EQ(set, 20);
+  EXPECT_EQ(set, 21);
   EXPECT_GE(kept, 9);
   // The thesis's figures the column states and keeps: N = 510, 32 tracker entries, 200 px windows.
   EXPECT_STREQ(FindOption("particles")->thesis, "510");

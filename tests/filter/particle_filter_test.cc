@@ -146,6 +146,51 @@ TEST(RunEndsTest, StopsOnConfidenceOnAStallAtTheFinalThresholdOrAfterTheLastIter
   EXPECT_TRUE(converged);
 }
 
+// A run whose result is the k-th of `poses` (origin x, metres) and `weights`, 10 iterations.
+filter::RunFn ScriptedRuns(const std::vector<double>& xs, const std::vector<double>& weights, int* calls) {
+  return [xs, weights, calls](Rng&, const ProgressFn&) {
+    EstimateResult r;
+    r.pose_base.x = xs[std::size_t(*calls)];
+    r.weight = weights[std::size_t(*calls)];
+    r.iterations = 10;
+    ++*calls;
+    return r;
+  };
+}
+
+TEST(RunRestartsTest, TheRestAreSkippedWhereTheFirstTwoRunsAgree) {
+  FilterOptions o;
+  o.restarts = 4;
+  o.stop.restart_agree_m = 0.01;
+  o.stop.restart_agree_weight = 0.02;
+  // Agreeing: 5 mm and 0.01 apart. The third and fourth runs (which would win) never run.
+  int calls = 0;
+  EstimateResult r = filter::RunRestarts(o, nullptr, ScriptedRuns({0.100, 0.105, 0.3, 0.4}, {0.60, 0.61, 0.9, 0.9}, &calls));
+  EXPECT_EQ(calls, 2);
+  EXPECT_EQ(r.iterations, 20);
+  EXPECT_EQ(r.weight, 0.61);
+  // 2 cm apart, or weights 0.05 apart: every run.
+  const std::vector<std::pair<std::vector<double>, std::vector<double>>> apart = {
+      {{0.1, 0.12, 0.3, 0.4}, {0.6, 0.61, 0.7, 0.5}}, {{0.1, 0.105, 0.3, 0.4}, {0.6, 0.65, 0.7, 0.5}}};
+  for (const auto& [xs, ws] : apart) {
+    calls = 0;
+    r = filter::RunRestarts(o, nullptr, ScriptedRuns(xs, ws, &calls));
+    EXPECT_EQ(calls, 4);
+    EXPECT_EQ(r.iterations, 40);
+    EXPECT_EQ(r.weight, 0.7);
+    EXPECT_EQ(r.pose_base.x, 0.3);
+  }
+  // Off (0 m): every run, agreeing or not; and the third run is never compared.
+  o.stop.restart_agree_m = 0;
+  calls = 0;
+  filter::RunRestarts(o, nullptr, ScriptedRuns({0.1, 0.1, 0.1, 0.1}, {0.6, 0.6, 0.6, 0.6}, &calls));
+  EXPECT_EQ(calls, 4);
+  o.stop.restart_agree_m = 0.01;
+  calls = 0;
+  filter::RunRestarts(o, nullptr, ScriptedRuns({0.1, 0.3, 0.3, 0.3}, {0.6, 0.6, 0.6, 0.6}, &calls));
+  EXPECT_EQ(calls, 4);
+}
+
 TEST(ValidateSceneTest, RejectsSizeMismatchNanAndEmptyDepth) {
   SceneInput s{DepthImage(640, 480, 1.0f), Camera{}};
   EXPECT_NO_THROW(ValidateScene(s, "d.png"));
