@@ -146,7 +146,7 @@ TEST(RunEndsTest, StopsOnConfidenceOnAStallAtTheFinalThresholdOrAfterTheLastIter
   EXPECT_TRUE(converged);
 }
 
-// A run whose result is the k-th of `poses` (origin x, metres) and `weights`, 10 iterations.
+// Runs whose k-th result has origin x = xs[k] (metres) and weight weights[k], 10 iterations each.
 filter::RunFn ScriptedRuns(const std::vector<double>& xs, const std::vector<double>& weights, int* calls) {
   return [xs, weights, calls](Rng&, const ProgressFn&) {
     EstimateResult r;
