@@ -61,9 +61,11 @@ struct RoomSceneOptions {
 };
 
 // One room scene of `world`'s meshes (TableScene: objects are the meshes on the support
-// surfaces, supports their planes, table_plane the first support's). Throws Error if
-// !opt.IsValid (naming the option), if max_objects exceeds the world's classes, or when no
-// view shows an object well enough.
+// surfaces, supports their planes, table_plane the first support's). A layout where no object
+// fits on the supports, or no view shows one well enough, is drawn again from later streams
+// of the seed (at most 8 layouts; the first layout of every seed is the one drawn from the
+// seed's first streams). Throws Error if !opt.IsValid (naming the option), if max_objects
+// exceeds the world's classes, or when none of the 8 layouts gives a scene.
 TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, std::uint64_t seed);
 
 }  // namespace posefilter

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include "core/option_check.h"
@@ -35,6 +36,7 @@ namespace {
 using synth::kDeg;
 using synth::kPad;
 constexpr int kViews = 40;
+constexpr int kRoomLayoutAttempts = 8;  // layouts drawn before a seed is given up
 
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
@@ -336,14 +338,12 @@ bool RoomSceneOptions::IsValid(std::string* why) const {
   return true;
 }
 
-TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, std::uint64_t seed) {
-  std::string why;
-  if (!opt.IsValid(&why)) throw Error("room scene options: " + why);
+namespace {
+
+// One layout of the scene drawn from `root` (options checked by the caller); nullopt when no
+// object fits on the supports or no view shows an object well enough.
+std::optional<TableScene> TryRoomScene(const TableWorld& world, const RoomSceneOptions& opt, Rng root) {
   const std::vector<TableModel>& models = world.models();
-  if (opt.max_objects > int(models.size()))
-    throw Error("room scene options: max_objects (" + std::to_string(opt.max_objects) + ") exceeds the world's " +
-                std::to_string(models.size()) + " classes");
-  Rng root(seed);
   Rng rng_objects = root.Split(), rng_support = root.Split(), rng_view = root.Split(), rng_sensor = root.Split(),
       rng_prior = root.Split(), rng_mask = root.Split();
   const Camera& cam = opt.camera;
@@ -436,7 +436,7 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
       taken[0].push_back(synth::Shifted(rest.footprint, at));
     }
   }
-  if (placed.empty()) throw Error("room scene " + std::to_string(seed) + ": no object fits on the support");
+  if (placed.empty()) return std::nullopt;
 
   Vec3 centre = Vec3::Zero();
   for (const PlacedInRoom& p : placed) centre += p.T_R_obj.translation();
@@ -696,7 +696,7 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
     have = true;
     if (view_ok) break;
   }
-  if (!have) throw Error("room scene " + std::to_string(seed) + ": no view shows an object well enough");
+  if (!have) return std::nullopt;
 
   // 4. Prior: targets' boxes, false boxes; targets' masks (as the table world).
   const std::vector<std::string>& classes = s.classes;
@@ -731,6 +731,29 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
       if (m[q] && s.masks[q] == 0) s.masks[q] = std::uint16_t(i + 1);
   }
   return s;
+}
+
+}  // namespace
+
+TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, std::uint64_t seed) {
+  std::string why;
+  if (!opt.IsValid(&why)) throw Error("room scene options: " + why);
+  if (opt.max_objects > int(world.models().size()))
+    throw Error("room scene options: max_objects (" + std::to_string(opt.max_objects) + ") exceeds the world's " +
+                std::to_string(world.models().size()) + " classes");
+  // The first layout draws its six streams from Rng(seed); a layout that shows no object well
+  // enough is drawn again from the seed's later splits (the 7th, 8th, ...), so every other
+  // seed's scene stays as it is.
+  for (int attempt = 0; attempt < kRoomLayoutAttempts; ++attempt) {
+    Rng root(seed);
+    if (attempt > 0) {
+      Rng splits(seed);
+      for (int k = 0; k < 6 + attempt; ++k) root = splits.Split();
+    }
+    if (std::optional<TableScene> s = TryRoomScene(world, opt, root)) return std::move(*s);
+  }
+  throw Error("room scene " + std::to_string(seed) + ": no object fits on a support, or no view shows one well enough, in " +
+              std::to_string(kRoomLayoutAttempts) + " layouts");
 }
 
 }  // namespace posefilter
