@@ -37,6 +37,7 @@ using synth::kDeg;
 using synth::kPad;
 constexpr int kViews = 40;
 constexpr int kRoomLayoutAttempts = 8;  // layouts drawn before a seed is given up
+constexpr int kLayoutStreams = 6;        // the streams one layout splits from its root (TryRoomScene)
 
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
@@ -741,15 +742,13 @@ TableScene MakeRoomScene(const TableWorld& world, const RoomSceneOptions& opt, s
   if (opt.max_objects > int(world.models().size()))
     throw Error("room scene options: max_objects (" + std::to_string(opt.max_objects) + ") exceeds the world's " +
                 std::to_string(world.models().size()) + " classes");
-  // The first layout draws its six streams from Rng(seed); a layout that shows no object well
-  // enough is drawn again from the seed's later splits (the 7th, 8th, ...), so every other
-  // seed's scene stays as it is.
+  // The first layout draws its kLayoutStreams streams from Rng(seed); a layout that shows no
+  // object well enough is drawn again from the seed's later splits (the 7th, 8th, ...), so
+  // every other seed's scene stays as it is.
+  Rng later(seed);
+  for (int k = 0; k < kLayoutStreams; ++k) later.Split();
   for (int attempt = 0; attempt < kRoomLayoutAttempts; ++attempt) {
-    Rng root(seed);
-    if (attempt > 0) {
-      Rng splits(seed);
-      for (int k = 0; k < 6 + attempt; ++k) root = splits.Split();
-    }
+    const Rng root = attempt == 0 ? Rng(seed) : later.Split();
     if (std::optional<TableScene> s = TryRoomScene(world, opt, root)) return std::move(*s);
   }
   throw Error("room scene " + std::to_string(seed) + ": no object fits on a support, or no view shows one well enough, in " +

@@ -283,15 +283,17 @@ TEST(RoomWorldTest, TargetsHaveBoxesAndMasks) {
 }
 
 // Seed 110 of the room world with the YCB-Video meshes (skipped without them): its first
-// layout shows no object well enough, so the seed's later streams draw it again. Where no
-// layout gives a scene, the error names the seed.
+// layout shows no object well enough, so the seed's later streams draw it again.
 TEST(RoomWorldTest, ASeedWhoseFirstLayoutShowsNoObjectIsDrawnAgain) {
   const auto models = testing_util::YcbvDataDir() / "models";
   if (!std::filesystem::exists(models)) GTEST_SKIP() << "no YCB-Video meshes at " << models;
   const TableWorld w = TableWorld::LoadYcbVideo(models.string());
   const TableScene a = MakeRoomScene(w, RoomSceneOptions{}, 110);
   EXPECT_GT(std::count_if(a.objects.begin(), a.objects.end(), [](const TableObject& o) { return o.target; }), 0);
-  // A 2 m crate fits on no support.
+}
+
+// Where no layout gives a scene (a 2 m crate fits on no support), the error names the seed.
+TEST(RoomWorldTest, NoLayoutGivingASceneIsAnErrorNamingTheSeed) {
   RoomSceneOptions one;
   one.min_objects = one.max_objects = 1;
   ExpectError([&] { MakeRoomScene(TableWorld({MakeBox(2, 2, 2, "crate")}), one, 3); }, {"room scene 3", "8 layouts"});
