@@ -16,9 +16,9 @@ first rows are compared (and said so), and the summaries are not.
 The rows are the file's `objects` (ycbv and room worlds: one per target) or `scenes` (shapes
 world: one per scene). Prints "N rows; IDENTICAL (times aside)" and exits 0, or lists the
 differing rows (seed, object, instance and the keys that differ, at most --max-rows of them) and
-exits 1. A missing or
-unreadable file, or one that is not a suite's JSON, exits 2 with a message naming it.
-Only the standard library is used.
+exits 1; files with no rows in common (or rows of different worlds) also exit 1. A missing or
+unreadable file, or one that is not a suite's JSON, exits 2 with a message naming it. Only the
+standard library is used.
 """
 
 import argparse
@@ -51,17 +51,19 @@ def load_suite(path):
         raise ValueError(f"{path}: cannot read: {e.strerror or e}") from e
     except json.JSONDecodeError as e:
         raise ValueError(f"{path}: not JSON: {e}") from e
-    if not isinstance(data, dict) or not any(isinstance(data.get(k), list) for k in ROW_LISTS):
+    if rows_of(data) is None:
         raise ValueError(f"{path}: not a `posefilter suite --json` file (no `objects` or `scenes` list)")
     return data
 
 
 def rows_of(data):
-    """(name, rows) of a suite JSON: `objects` (ycbv, room worlds) or `scenes` (shapes world)."""
-    for key in ROW_LISTS:
-        if isinstance(data.get(key), list):
-            return key, data[key]
-    raise ValueError("no rows")
+    """(name, rows) of a suite JSON: `objects` (ycbv, room worlds) or `scenes` (shapes world);
+    None when `data` holds neither."""
+    if isinstance(data, dict):
+        for key in ROW_LISTS:
+            if isinstance(data.get(key), list):
+                return key, data[key]
+    return None
 
 
 def row_name(row, index):
@@ -83,11 +85,12 @@ def differing_keys(a, b):
 
 
 def compare(old, new):
-    """(lines of the report, whether identical) for two loaded suite JSONs."""
+    """For two loaded suite JSONs: (notes for the report, the differing rows' descriptions, the
+    summary keys that differ, the number of rows compared)."""
     kind_old, raw_old = rows_of(old)
     kind_new, raw_new = rows_of(new)
     if kind_old != kind_new:
-        return [f"the rows are {kind_old} in one file and {kind_new} in the other"], ["(every row)"], [], 0
+        return [f"the rows are {kind_old} in one file and {kind_new} in the other"], [], [], 0
     rows_old = [strip_times(r) for r in raw_old]
     rows_new = [strip_times(r) for r in raw_new]
     n = min(len(rows_old), len(rows_new))
